@@ -1,0 +1,339 @@
+//! Trimming loops in UV space and the UV domain of each face.
+//!
+//! truck's `parameter_range()` is not a face's domain (a plane reports [0,1]); the domain is
+//! what the face's boundary loops enclose. Each loop is sampled along its exact edge curves
+//! and projected onto the face's surface (with hints, so each projection is a few Newton
+//! steps). Periodic parameters are unwrapped continuously along the loop, and a *seam* edge
+//! (an edge the face uses twice) is placed on the side of the period where the face lies:
+//! by the STEP convention a loop has the face on its left when seen against the face normal
+//! (`Su × Sv` when the face's `same_sense` is true), which fixes whether a traversal of the
+//! seam is at `u₀` or `u₀ + P`. That also resolves poles, where `u` is undefined and a loop
+//! jumps across the period.
+
+use super::model::{Face, Loop, Model, UvDomain};
+use glam::{DVec2, DVec3};
+use truck_geometry::prelude::{ParametricCurve, ParametricSurface, Point3};
+
+/// Samples per curved edge when building a loop's UV polygon. Loops are used for
+/// inside/outside tests and domains, not for exact geometry; 32 keeps the chordal deviation of
+/// a full circle below 0.5 % of its radius.
+pub const SAMPLES_PER_CURVED_EDGE: usize = 32;
+
+fn to_dvec(p: Point3) -> DVec3 {
+    DVec3::new(p.x, p.y, p.z)
+}
+
+/// Projects `p` onto `face`'s surface; `None` unless the foot point is within
+/// `ON_SURFACE_TOL` (relative to the coordinates' size) of `p`.
+fn project(face: &Face, p: DVec3, hint: Option<(f64, f64)>) -> Option<(f64, f64)> {
+    let scale = 1.0 + p.abs().max_element();
+    let on = |uv: &(f64, f64)| {
+        to_dvec(face.surface.subs(uv.0, uv.1)).distance(p) <= ON_SURFACE_TOL * scale
+    };
+    // A hint can lead to a far stationary point (the far side of a sphere): retry without.
+    crate::geom::project_point(&face.surface, p, hint)
+        .filter(on)
+        .or_else(|| hint.and_then(|_| crate::geom::project_point(&face.surface, p, None).filter(on)))
+}
+
+/// How far (relative to the size of the coordinates) a boundary point may be from its face's
+/// surface. Real files carry gaps of 1e-6..1e-4 of their size; beyond 1e-3 the edge is not on
+/// the face.
+pub const ON_SURFACE_TOL: f64 = 1e-3;
+
+/// True where the parametrisation is singular (a pole: `Su × Sv` vanishes).
+fn is_singular(face: &Face, uv: (f64, f64)) -> bool {
+    let su = to_dvec_v(face.surface.uder(uv.0, uv.1));
+    let sv = to_dvec_v(face.surface.vder(uv.0, uv.1));
+    su.cross(sv).length() <= 1e-9 * (su.length() * sv.length()).max(1e-300)
+        || su.length() < 1e-12
+        || sv.length() < 1e-12
+}
+
+fn to_dvec_v(v: truck_geometry::prelude::Vector3) -> DVec3 {
+    DVec3::new(v.x, v.y, v.z)
+}
+
+fn wrap_near(x: f64, reference: f64, period: Option<f64>) -> f64 {
+    match period {
+        Some(p) => x + ((reference - x) / p).round() * p,
+        None => x,
+    }
+}
+
+/// The UV polygon of one loop of `face` (see the module docs). A vertex loop gives one point.
+pub fn loop_uv(model: &Model, face: &Face, lp: &Loop) -> Result<Vec<DVec2>, String> {
+    let up = face.surface.u_period();
+    let vp = face.surface.v_period();
+    if let Some(v) = lp.vertex {
+        let p = model.vertices[v].point;
+        let uv = project(face, p, None).ok_or("vertex loop's vertex is not on the face's surface")?;
+        return Ok(vec![DVec2::new(uv.0, uv.1)]);
+    }
+    // Sample the loop in order; remember which samples start a seam traversal.
+    struct Sample {
+        p: DVec3,
+        seam_dir: Option<DVec3>, // 3D direction of travel along a seam edge
+    }
+    let face_index = model
+        .faces
+        .iter()
+        .position(|f| std::ptr::eq(f, face))
+        .unwrap_or(usize::MAX);
+    let mut samples: Vec<Sample> = Vec::new();
+    for oe in &lp.edges {
+        let edge = &model.edges[oe.edge];
+        let seam = edge.faces.iter().filter(|&&f| f == face_index).count() >= 2;
+        let straight = matches!(edge.curve, super::model::Curve3D::Line(_));
+        let n = if straight && !seam { 2 } else { SAMPLES_PER_CURVED_EDGE };
+        let (t0, t1) = if oe.forward {
+            edge.range
+        } else {
+            (edge.range.1, edge.range.0)
+        };
+        for k in 0..n {
+            let t = t0 + (t1 - t0) * (k as f64) / (n as f64);
+            let p = to_dvec(edge.curve.subs(t));
+            let seam_dir = seam.then(|| {
+                let d = to_dvec_v(edge.curve.der(t));
+                if oe.forward {
+                    d
+                } else {
+                    -d
+                }
+            });
+            samples.push(Sample { p, seam_dir });
+        }
+    }
+    let mut raw: Vec<Option<(f64, f64)>> = Vec::with_capacity(samples.len());
+    let mut hint = None;
+    for s in &samples {
+        let uv = project(face, s.p, hint);
+        if let Some(uv) = uv {
+            if !is_singular(face, uv) {
+                hint = Some(uv);
+            }
+        }
+        raw.push(uv);
+    }
+    if raw.iter().any(|x| x.is_none()) {
+        let k = raw.iter().position(|x| x.is_none()).unwrap_or(0);
+        let near = crate::geom::project_point(&face.surface, samples[k].p, None)
+            .map(|uv| to_dvec(face.surface.subs(uv.0, uv.1)).distance(samples[k].p));
+        return Err(format!(
+            "loop point ({:.6}, {:.6}, {:.6}) is not on the face's {} surface (nearest point found at {})",
+            samples[k].p.x,
+            samples[k].p.y,
+            samples[k].p.z,
+            crate::geom::surface_kind(&face.surface),
+            near.map_or("none".to_string(), |d| format!("{d:.3e} mm")),
+        ));
+    }
+    let raw: Vec<(f64, f64)> = raw.into_iter().flatten().collect();
+    let singular: Vec<bool> = raw.iter().map(|uv| is_singular(face, *uv)).collect();
+    // Start at a seam sample if there is one (its placement is absolute).
+    let start = samples
+        .iter()
+        .position(|s| s.seam_dir.is_some())
+        .unwrap_or(0);
+    let n = raw.len();
+    let mut out = vec![DVec2::ZERO; n];
+    let mut prev: Option<DVec2> = None;
+    let mut low = (None, None);
+    for k in 0..n {
+        let i = (start + k) % n;
+        let (mut u, mut v) = raw[i];
+        if singular[i] {
+            // u (or v) is undefined at a pole: take it from the next regular sample.
+            if let Some(j) = (1..n).map(|d| (i + d) % n).find(|&j| !singular[j]) {
+                let pole_v = v;
+                let pole_u = u;
+                let (nu, nv) = raw[j];
+                // Keep the coordinate that is well defined (the one that does not vary at
+                // the pole): the surface evaluates to the same point for any value of the
+                // other one.
+                let su = to_dvec_v(face.surface.uder(pole_u, pole_v)).length();
+                if su < 1e-12 {
+                    u = nu;
+                } else {
+                    v = nv;
+                }
+            }
+        }
+        let placed_seam = samples[i]
+            .seam_dir
+            .and_then(|d| seam_placement(face, (u, v), d, (up, vp), &mut low));
+        // A placed seam coordinate is absolute; everything else follows continuity.
+        let (u2, v2) = match (placed_seam, prev) {
+            (Some((su, _, true)), Some(p)) => (su, wrap_near(v, p.y, vp)),
+            (Some((_, sv, false)), Some(p)) => (wrap_near(u, p.x, up), sv),
+            (Some((su, sv, _)), None) => (su, sv),
+            (None, Some(p)) => (wrap_near(u, p.x, up), wrap_near(v, p.y, vp)),
+            (None, None) => (u, v),
+        };
+        out[i] = DVec2::new(u2, v2);
+        prev = Some(out[i]);
+    }
+    Ok(out)
+}
+
+/// Placement of a sample on a seam. The first seam traversal met fixes `low`, the seam copy
+/// at the low end of the face's period; every traversal is then put at `low` or `low + P`,
+/// whichever has the face on its left (seen against the face normal). Returns `None` when
+/// the edge is not along a periodic direction; the flag says whether `u` (true) or `v` was
+/// placed.
+fn seam_placement(
+    face: &Face,
+    uv: (f64, f64),
+    dir3: DVec3,
+    periods: (Option<f64>, Option<f64>),
+    low: &mut (Option<f64>, Option<f64>),
+) -> Option<(f64, f64, bool)> {
+    let su = to_dvec_v(face.surface.uder(uv.0, uv.1));
+    let sv = to_dvec_v(face.surface.vder(uv.0, uv.1));
+    // Direction of travel in UV (least squares in the tangent plane).
+    let (a, b, c) = (su.dot(su), su.dot(sv), sv.dot(sv));
+    let det = a * c - b * b;
+    if det.abs() <= 1e-300 {
+        return None;
+    }
+    let (r1, r2) = (su.dot(dir3), sv.dot(dir3));
+    let du = (c * r1 - b * r2) / det;
+    let dv = (a * r2 - b * r1) / det;
+    // Left of travel in UV is (-dv, du); mirrored when the face normal is -(Su × Sv).
+    let orient = if face.same_sense { 1.0 } else { -1.0 };
+    let place = |x: f64, left: f64, p: f64, low: &mut Option<f64>| -> f64 {
+        // left > 0: the face lies towards larger values, so this copy is the low side.
+        let is_low = left > 0.0;
+        let l = *low.get_or_insert(if is_low { x } else { x - p });
+        let x0 = if is_low { l } else { l + p };
+        // Same copy of x as x0 (x may come from the projection as x0 ± P).
+        wrap_near(x, x0, Some(p))
+    };
+    if du.abs() <= dv.abs() {
+        let p = periods.0?;
+        Some((place(uv.0, -dv * orient, p, &mut low.0), uv.1, true))
+    } else {
+        let p = periods.1?;
+        Some((uv.0, place(uv.1, du * orient, p, &mut low.1), false))
+    }
+}
+
+/// Signed area of a closed polygon (positive counter-clockwise).
+pub fn signed_area(poly: &[DVec2]) -> f64 {
+    let n = poly.len();
+    (0..n)
+        .map(|i| {
+            let a = poly[i];
+            let b = poly[(i + 1) % n];
+            a.x * b.y - b.x * a.y
+        })
+        .sum::<f64>()
+        * 0.5
+}
+
+/// True when a loop's UV polygon does not close: it goes once around a periodic direction
+/// (a circle loop on a cylinder without a seam edge).
+pub fn wraps(poly: &[DVec2], u_period: Option<f64>, v_period: Option<f64>) -> bool {
+    if poly.len() < 2 {
+        return false;
+    }
+    let first = poly[0];
+    let last = poly[poly.len() - 1];
+    // Closing step from last back to first, before wrapping.
+    let gap_u = first.x - last.x;
+    let gap_v = first.y - last.y;
+    let big = |gap: f64, p: Option<f64>| p.is_some_and(|p| gap.abs() > 0.5 * p);
+    big(gap_u, u_period) || big(gap_v, v_period)
+}
+
+/// The face's UV domain, and its outer loop when one can be told geometrically (the
+/// non-wrapping loop of largest area, when no loop wraps).
+pub fn face_domain(_model: &Model, face: &Face) -> (UvDomain, Option<usize>) {
+    let up = face.surface.u_period();
+    let vp = face.surface.v_period();
+    let mut umin = f64::INFINITY;
+    let mut umax = f64::NEG_INFINITY;
+    let mut vmin = f64::INFINITY;
+    let mut vmax = f64::NEG_INFINITY;
+    let mut wrap_u = false;
+    let mut wrap_v = false;
+    let mut edge_loops = 0;
+    for l in &face.loops {
+        if l.vertex.is_some() {
+            // A pole: only the coordinate that is defined there counts.
+            for p in &l.uv {
+                vmin = vmin.min(p.y);
+                vmax = vmax.max(p.y);
+            }
+            continue;
+        }
+        edge_loops += 1;
+        for p in &l.uv {
+            umin = umin.min(p.x);
+            umax = umax.max(p.x);
+            vmin = vmin.min(p.y);
+            vmax = vmax.max(p.y);
+        }
+        if wraps(&l.uv, up, None) {
+            wrap_u = true;
+        }
+        if wraps(&l.uv, None, vp) {
+            wrap_v = true;
+        }
+    }
+    let full = |p: Option<f64>| p.unwrap_or(0.0);
+    if edge_loops == 0 || !umin.is_finite() {
+        // Only vertex loops (a full sphere or torus): the whole periodic range.
+        let ((u0, _), (v0, _)) = face_parameter_start(face);
+        umin = u0;
+        umax = u0 + full(up);
+        if !vmin.is_finite() || vp.is_some() {
+            vmin = v0;
+            vmax = v0 + full(vp);
+        }
+    }
+    if wrap_u {
+        if let Some(p) = up {
+            umax = umin + p;
+        }
+    }
+    if wrap_v {
+        if let Some(p) = vp {
+            vmax = vmin + p;
+        }
+    }
+    let outer = if !wrap_u && !wrap_v {
+        face.loops
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.vertex.is_none())
+            .max_by(|a, b| {
+                signed_area(&a.1.uv)
+                    .abs()
+                    .total_cmp(&signed_area(&b.1.uv).abs())
+            })
+            .map(|(i, _)| i)
+    } else {
+        None
+    };
+    (
+        UvDomain {
+            u: (umin, umax),
+            v: (vmin, vmax),
+            u_period: up,
+            v_period: vp,
+        },
+        outer,
+    )
+}
+
+fn face_parameter_start(face: &Face) -> ((f64, f64), (f64, f64)) {
+    use std::ops::Bound;
+    let (ur, vr) = face.surface.parameter_range();
+    let lo = |b: Bound<f64>| match b {
+        Bound::Included(x) | Bound::Excluded(x) => x,
+        Bound::Unbounded => 0.0,
+    };
+    ((lo(ur.0), lo(ur.1)), (lo(vr.0), lo(vr.1)))
+}

@@ -1,0 +1,153 @@
+//! Our own B-rep model: solids → shells → faces → loops → oriented edges → vertices.
+//!
+//! Geometry is truck's exact geometry (`Surface`, `Curve3D`), already converted to
+//! millimetres and placed by any assembly transform, so nothing downstream needs to know about
+//! units or placements. Topology is ours, because truck's `Shell`/`Face` cannot represent
+//! periodic faces and loses STEP ids (DESIGN.md, "The truck toolkit").
+//!
+//! Conventions:
+//! - Every entity keeps the STEP id (`#123`) it came from.
+//! - Faces, edges and vertices are numbered in the order the file defines their entities.
+//! - A face's outward normal (pointing **out of the material**) is
+//!   `sign · (Su × Sv) / ‖Su × Sv‖` with `sign` = [`Face::sign`]; the sign folds in the
+//!   surface's `same_sense`, an `ORIENTED_FACE`, and a void shell's orientation.
+//! - An edge's curve runs from `vertices[0]` to `vertices[1]` over `range`.
+
+use glam::DVec3;
+pub use truck_stepio::r#in::alias::{Curve3D, Surface};
+
+/// What the model was read from.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SourceInfo {
+    /// The file, as given.
+    pub path: String,
+    /// `"step"` (later `"iges"`).
+    pub format: String,
+    /// The length unit the file declares, as named there (`"mm"`, `"cm"`, `"m"`, `"inch"`, …).
+    pub file_unit: String,
+    /// Millimetres per file unit; every coordinate in the model has been multiplied by it.
+    pub mm_per_unit: f64,
+}
+
+/// A whole part: one or more solids.
+#[derive(Clone, Debug)]
+pub struct Model {
+    pub source: SourceInfo,
+    pub solids: Vec<Solid>,
+    pub shells: Vec<Shell>,
+    pub faces: Vec<Face>,
+    pub edges: Vec<Edge>,
+    pub vertices: Vec<Vertex>,
+}
+
+/// A solid: its outer shell first, then its void shells.
+#[derive(Clone, Debug)]
+pub struct Solid {
+    pub step_id: u64,
+    pub name: String,
+    pub shells: Vec<usize>,
+}
+
+/// A closed shell.
+#[derive(Clone, Debug)]
+pub struct Shell {
+    pub step_id: u64,
+    pub solid: usize,
+    /// True for the inner boundary of a void (`BREP_WITH_VOIDS`).
+    pub is_void: bool,
+    pub faces: Vec<usize>,
+}
+
+/// The UV rectangle a face's trimming loops cover, with periodic unwrapping resolved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvDomain {
+    pub u: (f64, f64),
+    pub v: (f64, f64),
+    /// Period of the surface in u, if it is periodic (cylinder, cone, sphere, torus, revolution).
+    pub u_period: Option<f64>,
+    /// Period of the surface in v, if it is periodic (torus).
+    pub v_period: Option<f64>,
+}
+
+/// A face: an exact surface trimmed by loops.
+#[derive(Clone, Debug)]
+pub struct Face {
+    pub step_id: u64,
+    pub shell: usize,
+    pub surface: Surface,
+    /// `+1.0` when `Su × Sv` points out of the material, `-1.0` otherwise.
+    pub sign: f64,
+    /// The `ADVANCED_FACE`'s `same_sense`: the loops have the face on their left when seen
+    /// against `Su × Sv` if true, against `−(Su × Sv)` if false (orientation of the loops,
+    /// not of the material; that is `sign`).
+    pub same_sense: bool,
+    pub loops: Vec<Loop>,
+    /// Index into `loops` of the outer loop, when the face has one (a full sphere has none).
+    pub outer: Option<usize>,
+    pub domain: UvDomain,
+}
+
+/// A trimming loop: a cycle of oriented edges, or a single vertex (`VERTEX_LOOP`, e.g. a pole).
+#[derive(Clone, Debug)]
+pub struct Loop {
+    pub step_id: u64,
+    pub edges: Vec<OrientedEdge>,
+    /// Set for a `VERTEX_LOOP`; `edges` is then empty.
+    pub vertex: Option<usize>,
+    /// The loop as a closed polygon in the face's (unwrapped) UV space, densely sampled from
+    /// the exact edge curves; used for inside/outside tests of the trimmed face.
+    pub uv: Vec<glam::DVec2>,
+}
+
+/// An edge used in a loop, in the edge's direction (`forward`) or against it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct OrientedEdge {
+    pub edge: usize,
+    pub forward: bool,
+}
+
+/// An edge: an exact 3D curve between two vertices.
+#[derive(Clone, Debug)]
+pub struct Edge {
+    pub step_id: u64,
+    pub curve: Curve3D,
+    /// Parameter interval of `curve` from `vertices[0]` to `vertices[1]`.
+    pub range: (f64, f64),
+    pub vertices: [usize; 2],
+    /// Faces using the edge, in order of first use (two for a manifold edge; a seam edge of a
+    /// periodic face lists that face twice).
+    pub faces: Vec<usize>,
+}
+
+/// A vertex.
+#[derive(Clone, Copy, Debug)]
+pub struct Vertex {
+    pub step_id: u64,
+    pub point: DVec3,
+}
+
+impl Edge {
+    /// True when both ends are the same vertex (a full circle, a seam of a closed surface).
+    pub fn is_closed(&self) -> bool {
+        self.vertices[0] == self.vertices[1]
+    }
+
+    /// True when the edge is a seam: the same face on both sides.
+    pub fn is_seam(&self) -> bool {
+        self.faces.len() == 2 && self.faces[0] == self.faces[1]
+    }
+}
+
+impl Model {
+    /// Axis-aligned bounding box `(min, max)` of the model, from vertices and sampled edges
+    /// and faces (exact for planar parts, a close inner estimate for curved ones).
+    pub fn bounding_box(&self) -> (DVec3, DVec3) {
+        crate::geom::model_bounding_box(self)
+    }
+
+    /// Length of the bounding-box diagonal: the scale all default tolerances derive from.
+    pub fn diagonal(&self) -> f64 {
+        let (lo, hi) = self.bounding_box();
+        (hi - lo).length()
+    }
+}

@@ -1,0 +1,738 @@
+//! Raw access to a parsed STEP exchange structure: records by id, parameters, and the
+//! pre-processing truck needs before it sees the data.
+//!
+//! truck-stepio's `Table` converts geometry well, but it drops or misreads several things
+//! (DESIGN.md, "The truck toolkit"). Here we work on the parsed records directly:
+//! - [`patch_for_truck`] rewrites `SURFACE_CURVE`/`SEAM_CURVE` master representations to
+//!   `.CURVE_3D.` (truck otherwise uses the 2D pcurve and drops the exact 3D curve), and makes
+//!   `EDGE_CURVE`s that point at a `TRIMMED_CURVE` point at its basis curve (the edge's
+//!   vertices trim it anyway; truck does not read `TRIMMED_CURVE`);
+//! - [`check_knots`] rejects unsorted knot vectors, on which truck panics;
+//! - [`check_acyclic`] rejects reference cycles, on which any recursive reader overflows;
+//! - [`length_units`] and [`placements`] recover units and assembly transforms.
+
+use ruststep::ast::{DataSection, EntityInstance, Name, Parameter, Record};
+use std::collections::HashMap;
+use truck_stepio::r#in::ruststep;
+
+/// Index of the records of a data section by STEP id.
+pub struct Records<'a> {
+    by_id: HashMap<u64, &'a EntityInstance>,
+    position: HashMap<u64, usize>,
+}
+
+/// A 4×4 rigid (or scaling) transform, row-major, acting on column vectors.
+pub type Mat4 = [[f64; 4]; 4];
+
+/// The identity transform.
+pub const IDENTITY: Mat4 = [
+    [1.0, 0.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0, 0.0],
+    [0.0, 0.0, 1.0, 0.0],
+    [0.0, 0.0, 0.0, 1.0],
+];
+
+impl<'a> Records<'a> {
+    /// Indexes every instance of `sections`.
+    pub fn new(sections: &'a [DataSection]) -> Self {
+        let mut by_id = HashMap::new();
+        let mut position = HashMap::new();
+        for (i, inst) in sections.iter().flat_map(|s| &s.entities).enumerate() {
+            let id = instance_id(inst);
+            by_id.insert(id, inst);
+            position.insert(id, i);
+        }
+        Records { by_id, position }
+    }
+
+    /// All instances, in file order.
+    pub fn ids_in_order(&self) -> Vec<u64> {
+        let mut ids: Vec<u64> = self.by_id.keys().copied().collect();
+        ids.sort_by_key(|id| self.position[id]);
+        ids
+    }
+
+    /// Position of an instance in the file (0-based), for numbering in file order.
+    pub fn position(&self, id: u64) -> usize {
+        self.position.get(&id).copied().unwrap_or(usize::MAX)
+    }
+
+    /// The instance with this id.
+    pub fn get(&self, id: u64) -> Option<&'a EntityInstance> {
+        self.by_id.get(&id).copied()
+    }
+
+    /// The record of a simple instance.
+    pub fn simple(&self, id: u64) -> Option<&'a Record> {
+        match self.get(id)? {
+            EntityInstance::Simple { record, .. } => Some(record),
+            EntityInstance::Complex { .. } => None,
+        }
+    }
+
+    /// The entity name of an instance (`"ADVANCED_FACE"`; a complex instance gives its parts
+    /// joined, `"(BOUNDED_SURFACE B_SPLINE_SURFACE ...)"`), or `"<missing>"`.
+    pub fn name(&self, id: u64) -> String {
+        match self.get(id) {
+            Some(EntityInstance::Simple { record, .. }) => record.name.clone(),
+            Some(EntityInstance::Complex { subsuper, .. }) => {
+                let parts: Vec<&str> = subsuper.0.iter().map(|r| r.name.as_str()).collect();
+                format!("({})", parts.join(" "))
+            }
+            None => "<missing>".into(),
+        }
+    }
+
+    /// The part named `part` of a complex instance.
+    pub fn complex_part(&self, id: u64, part: &str) -> Option<&'a Record> {
+        match self.get(id)? {
+            EntityInstance::Complex { subsuper, .. } => subsuper.0.iter().find(|r| r.name == part),
+            EntityInstance::Simple { record, .. } => (record.name == part).then_some(record),
+        }
+    }
+
+    /// True when the instance is (or, if complex, contains) an entity named `name`.
+    pub fn is(&self, id: u64, name: &str) -> bool {
+        self.complex_part(id, name).is_some()
+    }
+}
+
+/// The id of an instance.
+pub fn instance_id(inst: &EntityInstance) -> u64 {
+    match inst {
+        EntityInstance::Simple { id, .. } | EntityInstance::Complex { id, .. } => *id,
+    }
+}
+
+/// The parameters of a record.
+pub fn params(record: &Record) -> &[Parameter] {
+    match &record.parameter {
+        Parameter::List(list) => list,
+        _ => &[],
+    }
+}
+
+/// `#id` reference in a parameter.
+pub fn as_ref(p: &Parameter) -> Option<u64> {
+    match p {
+        Parameter::Ref(Name::Entity(id)) => Some(*id),
+        _ => None,
+    }
+}
+
+/// A list of `#id` references.
+pub fn as_refs(p: &Parameter) -> Option<Vec<u64>> {
+    match p {
+        Parameter::List(list) => list.iter().map(as_ref).collect(),
+        _ => None,
+    }
+}
+
+/// `.T.` / `.F.`.
+pub fn as_bool(p: &Parameter) -> Option<bool> {
+    match p {
+        Parameter::Enumeration(e) if e == "T" => Some(true),
+        Parameter::Enumeration(e) if e == "F" => Some(false),
+        _ => None,
+    }
+}
+
+/// A real (integers accepted), or a typed real such as `LENGTH_MEASURE(25.4)`.
+pub fn as_real(p: &Parameter) -> Option<f64> {
+    match p {
+        Parameter::Real(x) => Some(*x),
+        Parameter::Integer(i) => Some(*i as f64),
+        Parameter::Typed { parameter, .. } => as_real(parameter),
+        _ => None,
+    }
+}
+
+/// A string parameter (empty for `$`).
+pub fn as_string(p: &Parameter) -> String {
+    match p {
+        Parameter::String(s) => s.clone(),
+        _ => String::new(),
+    }
+}
+
+/// Radians per unit of the file's plane-angle unit (`CONVERSION_BASED_UNIT('DEGREE', …)`
+/// gives π/180); 1 when the file uses radians or says nothing.
+fn plane_angle_factor(sections: &[DataSection]) -> f64 {
+    let records = Records::new(sections);
+    for id in records.ids_in_order() {
+        if !records.is(id, "PLANE_ANGLE_UNIT") {
+            continue;
+        }
+        let Some(conv) = records.complex_part(id, "CONVERSION_BASED_UNIT") else {
+            continue;
+        };
+        let Some(measure) = params(conv).get(1).and_then(as_ref) else {
+            continue;
+        };
+        let rec = records
+            .simple(measure)
+            .or_else(|| records.complex_part(measure, "MEASURE_WITH_UNIT"));
+        if let Some(v) = rec.and_then(|r| params(r).first()).and_then(as_real) {
+            if v.is_finite() && v > 0.0 {
+                return v;
+            }
+        }
+    }
+    1.0
+}
+
+/// Rewrites what truck misreads (see the module docs). Returns the number of records changed.
+pub fn patch_for_truck(sections: &mut [DataSection]) -> usize {
+    let angle = plane_angle_factor(sections);
+    // Directions, to repair placements whose implicit x axis is degenerate.
+    let mut directions: HashMap<u64, [f64; 3]> = HashMap::new();
+    let mut max_id = 0;
+    for inst in sections.iter().flat_map(|s| &s.entities) {
+        max_id = max_id.max(instance_id(inst));
+        if let EntityInstance::Simple { id, record } = inst {
+            if record.name == "DIRECTION" {
+                if let Some(Parameter::List(l)) = params(record).get(1) {
+                    let c: Vec<f64> = l.iter().filter_map(as_real).collect();
+                    if c.len() == 3 {
+                        directions.insert(*id, [c[0], c[1], c[2]]);
+                    }
+                }
+            }
+        }
+    }
+    let mut new_directions: Vec<(u64, [f64; 3])> = Vec::new();
+    // Which ids are TRIMMED_CURVEs, and their basis curves.
+    let mut trimmed_basis: HashMap<u64, u64> = HashMap::new();
+    for inst in sections.iter().flat_map(|s| &s.entities) {
+        if let EntityInstance::Simple { id, record } = inst {
+            if record.name == "TRIMMED_CURVE" {
+                if let Some(basis) = params(record).get(1).and_then(as_ref) {
+                    trimmed_basis.insert(*id, basis);
+                }
+            }
+        }
+    }
+    let mut changed = 0;
+    for inst in sections.iter_mut().flat_map(|s| &mut s.entities) {
+        let EntityInstance::Simple { record, .. } = inst else {
+            continue;
+        };
+        let Parameter::List(list) = &mut record.parameter else {
+            continue;
+        };
+        // truck reads every entity's name as a string; some writers (Rhino) put `$` there.
+        if TRUCK_LABELLED.contains(&record.name.as_str()) {
+            if let Some(first @ Parameter::NotProvided) = list.first_mut() {
+                *first = Parameter::String(String::new());
+                changed += 1;
+            }
+        }
+        match record.name.as_str() {
+            // truck takes the semi-angle in radians whatever the file's angle unit.
+            "CONICAL_SURFACE" if angle != 1.0 => {
+                if let Some(p @ Parameter::Real(_)) = list.get_mut(3) {
+                    if let Parameter::Real(x) = p {
+                        *x *= angle;
+                        changed += 1;
+                    }
+                }
+            }
+            // ISO 10303-42 takes x = (1,0,0) when ref_direction is omitted, which is
+            // degenerate when the axis is ±x; truck then builds NaN frames. Give such
+            // placements OCCT's choice of x axis explicitly.
+            "AXIS2_PLACEMENT_3D" if matches!(list.get(3), Some(Parameter::NotProvided)) => {
+                let z = list.get(2).and_then(as_ref).and_then(|d| directions.get(&d));
+                if let Some(z) = z {
+                    let n = (z[0] * z[0] + z[1] * z[1] + z[2] * z[2]).sqrt();
+                    if n > 0.0 && (z[0] / n).abs() > 1.0 - 1e-9 {
+                        max_id += 1;
+                        let x = [-z[2] / n, 0.0, z[0] / n];
+                        let x = if x[0].abs() + x[2].abs() > 0.5 { x } else { [0.0, 1.0, 0.0] };
+                        new_directions.push((max_id, x));
+                        list[3] = Parameter::Ref(Name::Entity(max_id));
+                        changed += 1;
+                    }
+                }
+            }
+            "SURFACE_CURVE" | "SEAM_CURVE" => {
+                if let Some(Parameter::Enumeration(e)) = list.last_mut() {
+                    if e != "CURVE_3D" {
+                        *e = "CURVE_3D".into();
+                        changed += 1;
+                    }
+                }
+            }
+            "EDGE_CURVE" => {
+                if let Some(p) = list.get_mut(3) {
+                    // Follow chains of trimmed curves down to the basis curve.
+                    let mut hops = 0;
+                    while let Some(basis) = as_ref(p).and_then(|id| trimmed_basis.get(&id)) {
+                        *p = Parameter::Ref(Name::Entity(*basis));
+                        changed += 1;
+                        hops += 1;
+                        if hops > 16 {
+                            break;
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    if let Some(section) = sections.first_mut() {
+        for (id, x) in new_directions {
+            section.entities.push(EntityInstance::Simple {
+                id,
+                record: Record {
+                    name: "DIRECTION".into(),
+                    parameter: Parameter::List(vec![
+                        Parameter::String(String::new()),
+                        Parameter::List(x.iter().map(|c| Parameter::Real(*c)).collect()),
+                    ]),
+                },
+            });
+        }
+    }
+    changed
+}
+
+/// Entities truck reads whose first attribute is a label it insists on reading as a string.
+const TRUCK_LABELLED: &[&str] = &[
+    "CARTESIAN_POINT", "DIRECTION", "VECTOR", "PLACEMENT", "AXIS1_PLACEMENT",
+    "AXIS2_PLACEMENT_2D", "AXIS2_PLACEMENT_3D", "LINE", "POLYLINE", "B_SPLINE_CURVE_WITH_KNOTS",
+    "BEZIER_CURVE", "QUASI_UNIFORM_CURVE", "UNIFORM_CURVE", "CIRCLE", "ELLIPSE", "HYPERBOLA",
+    "PARABOLA", "PCURVE", "SURFACE_CURVE", "SEAM_CURVE", "PLANE", "SPHERICAL_SURFACE",
+    "CYLINDRICAL_SURFACE", "TOROIDAL_SURFACE", "CONICAL_SURFACE", "B_SPLINE_SURFACE_WITH_KNOTS",
+    "UNIFORM_SURFACE", "QUASI_UNIFORM_SURFACE", "BEZIER_SURFACE", "SURFACE_OF_LINEAR_EXTRUSION",
+    "SURFACE_OF_REVOLUTION", "VERTEX_POINT", "EDGE_CURVE", "ORIENTED_EDGE", "EDGE_LOOP",
+    "FACE_BOUND", "FACE_OUTER_BOUND", "FACE_SURFACE", "ADVANCED_FACE", "ORIENTED_FACE",
+    "OPEN_SHELL", "CLOSED_SHELL", "ORIENTED_OPEN_SHELL", "ORIENTED_CLOSED_SHELL",
+    "DEFINITIONAL_REPRESENTATION",
+];
+
+/// Finds a knot vector that is not non-decreasing, or a non-finite real anywhere in a
+/// B-spline record. Returns `(id, entity, reason)` for the first offender.
+pub fn check_knots(records: &Records) -> Option<(u64, String, String)> {
+    for id in records.ids_in_order() {
+        let inst = records.get(id)?;
+        let recs: Vec<&Record> = match inst {
+            EntityInstance::Simple { record, .. } => vec![record],
+            EntityInstance::Complex { subsuper, .. } => subsuper.0.iter().collect(),
+        };
+        for rec in recs {
+            if !rec.name.contains("WITH_KNOTS") {
+                continue;
+            }
+            for p in params(rec) {
+                let Parameter::List(list) = p else { continue };
+                if list.is_empty() || !list.iter().all(|x| matches!(x, Parameter::Real(_))) {
+                    continue;
+                }
+                let knots: Vec<f64> = list.iter().filter_map(as_real).collect();
+                if knots.iter().any(|k| !k.is_finite()) {
+                    return Some((id, rec.name.clone(), "knot is not a finite number".into()));
+                }
+                if knots.windows(2).any(|w| w[1] < w[0]) {
+                    return Some((id, rec.name.clone(), "knots not sorted".into()));
+                }
+            }
+        }
+    }
+    None
+}
+
+/// Finds a reference to an id that does not exist, or a reference cycle. Returns
+/// `(id, entity, reason)`.
+pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
+    fn refs_of(inst: &EntityInstance, out: &mut Vec<u64>) {
+        fn walk(p: &Parameter, out: &mut Vec<u64>) {
+            match p {
+                Parameter::Ref(Name::Entity(id)) => out.push(*id),
+                Parameter::List(l) => l.iter().for_each(|q| walk(q, out)),
+                Parameter::Typed { parameter, .. } => walk(parameter, out),
+                _ => {}
+            }
+        }
+        match inst {
+            EntityInstance::Simple { record, .. } => walk(&record.parameter, out),
+            EntityInstance::Complex { subsuper, .. } => {
+                subsuper.0.iter().for_each(|r| walk(&r.parameter, out))
+            }
+        }
+    }
+    // Iterative three-colour depth-first search.
+    let mut state: HashMap<u64, u8> = HashMap::new(); // 1 = on stack, 2 = done
+    let mut buf = Vec::new();
+    for root in records.ids_in_order() {
+        if state.contains_key(&root) {
+            continue;
+        }
+        let mut stack: Vec<(u64, Vec<u64>)> = Vec::new();
+        buf.clear();
+        refs_of(records.get(root)?, &mut buf);
+        state.insert(root, 1);
+        stack.push((root, buf.clone()));
+        while let Some((id, children)) = stack.last_mut() {
+            let id = *id;
+            match children.pop() {
+                None => {
+                    state.insert(id, 2);
+                    stack.pop();
+                }
+                Some(child) => match state.get(&child) {
+                    Some(2) => {}
+                    Some(_) => {
+                        return Some((
+                            child,
+                            records.name(child),
+                            format!("reference cycle through #{id}"),
+                        ))
+                    }
+                    None => {
+                        let Some(inst) = records.get(child) else {
+                            return Some((
+                                id,
+                                records.name(id),
+                                format!("refers to #{child}, which the file does not define"),
+                            ));
+                        };
+                        buf.clear();
+                        refs_of(inst, &mut buf);
+                        state.insert(child, 1);
+                        stack.push((child, buf.clone()));
+                    }
+                },
+            }
+        }
+    }
+    None
+}
+
+/// A length unit: its name as the file gives it, and millimetres per unit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LengthUnit {
+    pub name: String,
+    pub mm: f64,
+}
+
+impl LengthUnit {
+    /// Millimetres.
+    pub fn mm() -> Self {
+        LengthUnit {
+            name: "mm".into(),
+            mm: 1.0,
+        }
+    }
+}
+
+/// The length unit of the instance `id` (a complex `(LENGTH_UNIT NAMED_UNIT SI_UNIT)` or
+/// `(CONVERSION_BASED_UNIT LENGTH_UNIT NAMED_UNIT)`), if it is one.
+pub fn length_unit(records: &Records, id: u64, depth: usize) -> Option<Result<LengthUnit, String>> {
+    if !records.is(id, "LENGTH_UNIT") || depth > 8 {
+        return None;
+    }
+    if let Some(si) = records.complex_part(id, "SI_UNIT") {
+        let p = params(si);
+        let prefix = match p.first() {
+            Some(Parameter::Enumeration(e)) => Some(e.as_str()),
+            _ => None,
+        };
+        let name = match p.get(1) {
+            Some(Parameter::Enumeration(e)) => e.as_str(),
+            _ => "",
+        };
+        if name != "METRE" {
+            return Some(Err(format!("length unit .{name}. is not a metre")));
+        }
+        let (factor, short) = match prefix {
+            None => (1000.0, "m"),
+            Some("MILLI") => (1.0, "mm"),
+            Some("CENTI") => (10.0, "cm"),
+            Some("DECI") => (100.0, "dm"),
+            Some("KILO") => (1.0e6, "km"),
+            Some("MICRO") => (1.0e-3, "um"),
+            Some("NANO") => (1.0e-6, "nm"),
+            Some("DECA") => (1.0e4, "dam"),
+            Some("HECTO") => (1.0e5, "hm"),
+            Some(other) => return Some(Err(format!("unsupported SI prefix .{other}."))),
+        };
+        return Some(Ok(LengthUnit {
+            name: short.into(),
+            mm: factor,
+        }));
+    }
+    if let Some(conv) = records.complex_part(id, "CONVERSION_BASED_UNIT") {
+        let p = params(conv);
+        let name = p.first().map(as_string).unwrap_or_default();
+        let Some(measure) = p.get(1).and_then(as_ref) else {
+            return Some(Err("conversion-based unit without a measure".into()));
+        };
+        // LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(25.4), #unit), simple or complex.
+        let rec = records
+            .simple(measure)
+            .or_else(|| records.complex_part(measure, "MEASURE_WITH_UNIT"));
+        let Some(rec) = rec else {
+            return Some(Err(format!("#{measure} is not a measure with unit")));
+        };
+        let mp = params(rec);
+        let (Some(value), Some(base)) = (mp.first().and_then(as_real), mp.get(1).and_then(as_ref))
+        else {
+            return Some(Err(format!("#{measure}: unreadable measure with unit")));
+        };
+        let base = match length_unit(records, base, depth + 1) {
+            Some(Ok(u)) => u,
+            Some(Err(e)) => return Some(Err(e)),
+            None => return Some(Err(format!("#{base} is not a length unit"))),
+        };
+        let mm = value * base.mm;
+        if !(mm.is_finite() && mm > 0.0) {
+            return Some(Err(format!("conversion factor {value} is not positive")));
+        }
+        let short = match name.to_ascii_uppercase().as_str() {
+            "INCH" => "inch".to_string(),
+            "FOOT" => "foot".to_string(),
+            _ => name.to_lowercase(),
+        };
+        return Some(Ok(LengthUnit { name: short, mm }));
+    }
+    Some(Err("length unit is neither SI nor conversion-based".into()))
+}
+
+/// The length unit of a representation context (`GLOBAL_UNIT_ASSIGNED_CONTEXT`).
+pub fn context_length_unit(records: &Records, context: u64) -> Option<Result<LengthUnit, String>> {
+    let gua = records.complex_part(context, "GLOBAL_UNIT_ASSIGNED_CONTEXT")?;
+    let units = params(gua).first().and_then(as_refs)?;
+    units
+        .into_iter()
+        .find_map(|u| length_unit(records, u, 0))
+}
+
+/// Every length unit in the file (used when no context names one).
+pub fn all_length_units(records: &Records) -> Vec<Result<LengthUnit, String>> {
+    records
+        .ids_in_order()
+        .into_iter()
+        .filter(|id| records.complex_part(*id, "NAMED_UNIT").is_some())
+        .filter_map(|id| length_unit(records, id, 0))
+        .collect()
+}
+
+/// An `AXIS2_PLACEMENT_3D` as a matrix from local to parent coordinates.
+pub fn axis2_placement(records: &Records, id: u64) -> Result<Mat4, String> {
+    let rec = records
+        .simple(id)
+        .filter(|r| r.name == "AXIS2_PLACEMENT_3D")
+        .ok_or_else(|| format!("#{id} is not an AXIS2_PLACEMENT_3D"))?;
+    let p = params(rec);
+    let point = |id: u64| -> Result<[f64; 3], String> {
+        let r = records
+            .simple(id)
+            .ok_or_else(|| format!("#{id} missing"))?;
+        let c: Vec<f64> = params(r)
+            .get(1)
+            .and_then(|l| match l {
+                Parameter::List(l) => Some(l.iter().filter_map(as_real).collect()),
+                _ => None,
+            })
+            .ok_or_else(|| format!("#{id} {}: no coordinates", r.name))?;
+        if c.len() != 3 || c.iter().any(|x| !x.is_finite()) {
+            return Err(format!("#{id} {}: needs three finite coordinates", r.name));
+        }
+        Ok([c[0], c[1], c[2]])
+    };
+    let loc = point(p.get(1).and_then(as_ref).ok_or("placement without location")?)?;
+    let z = match p.get(2).and_then(as_ref) {
+        Some(d) => normalize(point(d)?).ok_or("zero axis direction")?,
+        None => [0.0, 0.0, 1.0],
+    };
+    let xref = match p.get(3).and_then(as_ref) {
+        Some(d) => point(d)?,
+        None => [1.0, 0.0, 0.0],
+    };
+    // x = ref_direction made orthogonal to z (ISO 10303-42 first_proj_axis).
+    let d = dot(xref, z);
+    let x = normalize([xref[0] - d * z[0], xref[1] - d * z[1], xref[2] - d * z[2]])
+        .ok_or("ref_direction parallel to axis")?;
+    let y = cross(z, x);
+    Ok([
+        [x[0], y[0], z[0], loc[0]],
+        [x[1], y[1], z[1], loc[1]],
+        [x[2], y[2], z[2], loc[2]],
+        [0.0, 0.0, 0.0, 1.0],
+    ])
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn normalize(a: [f64; 3]) -> Option<[f64; 3]> {
+    let n = dot(a, a).sqrt();
+    (n > 1e-300 && n.is_finite()).then(|| [a[0] / n, a[1] / n, a[2] / n])
+}
+
+/// Matrix product `a · b`.
+pub fn mat_mul(a: &Mat4, b: &Mat4) -> Mat4 {
+    let mut m = [[0.0; 4]; 4];
+    for (i, row) in m.iter_mut().enumerate() {
+        for (j, cell) in row.iter_mut().enumerate() {
+            *cell = (0..4).map(|k| a[i][k] * b[k][j]).sum();
+        }
+    }
+    m
+}
+
+/// Inverse of a rigid transform (rotation + translation).
+pub fn rigid_inverse(a: &Mat4) -> Mat4 {
+    let mut m = IDENTITY;
+    for i in 0..3 {
+        for j in 0..3 {
+            m[i][j] = a[j][i];
+        }
+    }
+    for i in 0..3 {
+        m[i][3] = -(0..3).map(|k| m[i][k] * a[k][3]).sum::<f64>();
+    }
+    m
+}
+
+/// A representation (`SHAPE_REPRESENTATION`, `ADVANCED_BREP_SHAPE_REPRESENTATION`, …):
+/// its items and its context.
+pub struct Representation {
+    pub id: u64,
+    pub items: Vec<u64>,
+    pub context: Option<u64>,
+}
+
+/// Every representation in the file: an instance whose record (or complex part) is named
+/// `*REPRESENTATION` and has (name, items, context) parameters.
+pub fn representations(records: &Records) -> Vec<Representation> {
+    let mut out = Vec::new();
+    for id in records.ids_in_order() {
+        let rec = match records.get(id) {
+            Some(EntityInstance::Simple { record, .. }) => Some(record),
+            Some(EntityInstance::Complex { subsuper, .. }) => {
+                subsuper.0.iter().find(|r| r.name == "REPRESENTATION")
+                    .or_else(|| subsuper.0.iter().find(|r| r.name.ends_with("_REPRESENTATION") && params(r).len() == 3))
+            }
+            None => None,
+        };
+        let Some(rec) = rec else { continue };
+        if !rec.name.ends_with("REPRESENTATION") || rec.name == "DEFINITIONAL_REPRESENTATION" {
+            continue;
+        }
+        let p = params(rec);
+        if p.len() != 3 {
+            continue;
+        }
+        let Some(items) = as_refs(&p[1]) else { continue };
+        out.push(Representation {
+            id,
+            items,
+            context: as_ref(&p[2]),
+        });
+    }
+    out
+}
+
+/// Links between representations: `(child, parent, child→parent transform)`.
+///
+/// `SHAPE_REPRESENTATION_RELATIONSHIP(name, desc, rep_1, rep_2)` without a transformation
+/// links two views of one shape (identity; we treat `rep_1`… either way round, so both
+/// directions are recorded as identity links, and the search below avoids cycles).
+/// `REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION` places `rep_1` (the component) in
+/// `rep_2` (the assembly) by an `ITEM_DEFINED_TRANSFORMATION(name, desc, item_1, item_2)`:
+/// a point `x` of `rep_1` is `P(item_2) · P(item_1)⁻¹ · x` in `rep_2`.
+pub fn representation_links(records: &Records) -> Result<Vec<(u64, u64, Mat4)>, (u64, String)> {
+    let mut links = Vec::new();
+    for id in records.ids_in_order() {
+        let Some(rel) = records.complex_part(id, "REPRESENTATION_RELATIONSHIP") else {
+            continue;
+        };
+        let p = params(rel);
+        let (Some(r1), Some(r2)) = (p.get(2).and_then(as_ref), p.get(3).and_then(as_ref)) else {
+            continue;
+        };
+        match records.complex_part(id, "REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION") {
+            Some(with) => {
+                let Some(t) = params(with).first().and_then(as_ref) else {
+                    return Err((id, "transformation missing".into()));
+                };
+                let idt = records
+                    .simple(t)
+                    .filter(|r| r.name == "ITEM_DEFINED_TRANSFORMATION")
+                    .ok_or((t, "only ITEM_DEFINED_TRANSFORMATION is supported".to_string()))?;
+                let q = params(idt);
+                let (Some(i1), Some(i2)) = (q.get(2).and_then(as_ref), q.get(3).and_then(as_ref))
+                else {
+                    return Err((t, "transformation items missing".into()));
+                };
+                let p1 = axis2_placement(records, i1).map_err(|e| (t, e))?;
+                let p2 = axis2_placement(records, i2).map_err(|e| (t, e))?;
+                links.push((r1, r2, mat_mul(&p2, &rigid_inverse(&p1))));
+            }
+            None => {
+                links.push((r1, r2, IDENTITY));
+                links.push((r2, r1, IDENTITY));
+            }
+        }
+    }
+    Ok(links)
+}
+
+/// All placements of the representation `rep` in world coordinates: the products of the
+/// transforms along every path to a root (a representation that is not placed in another by
+/// a transformation). A representation that is placed nowhere has one identity placement.
+pub fn placements(rep: u64, links: &[(u64, u64, Mat4)]) -> Vec<Mat4> {
+    fn walk(
+        rep: u64,
+        acc: Mat4,
+        links: &[(u64, u64, Mat4)],
+        seen: &mut Vec<u64>,
+        out: &mut Vec<Mat4>,
+    ) {
+        let ups: Vec<&(u64, u64, Mat4)> = links
+            .iter()
+            .filter(|(c, p, _)| *c == rep && !seen.contains(p))
+            .collect();
+        // Only transformed links make a new placement; identity links just move to the
+        // other view of the same shape.
+        let mut placed = false;
+        for (_, parent, t) in ups {
+            seen.push(*parent);
+            let before = out.len();
+            walk(*parent, mat_mul(t, &acc), links, seen, out);
+            placed |= out.len() > before;
+            seen.pop();
+        }
+        if !placed {
+            out.push(acc);
+        }
+        if seen.len() > 64 {
+            // Absurd nesting: stop rather than explode.
+        }
+    }
+    let mut out = Vec::new();
+    let mut seen = vec![rep];
+    walk(rep, IDENTITY, links, &mut seen, &mut out);
+    // Deduplicate placements reached along equivalent identity paths.
+    let mut unique: Vec<Mat4> = Vec::new();
+    for m in out {
+        let same = |a: &Mat4| {
+            a.iter()
+                .flatten()
+                .zip(m.iter().flatten())
+                .all(|(x, y)| (x - y).abs() < 1e-12 * (1.0 + x.abs()))
+        };
+        if !unique.iter().any(same) {
+            unique.push(m);
+        }
+    }
+    unique
+}

@@ -1,0 +1,916 @@
+//! STEP (ISO 10303-21) ingestion into our [`Model`].
+//!
+//! The file is parsed with ruststep (through truck-stepio), patched where truck misreads it
+//! ([`super::records`]), and then walked by hand: `MANIFOLD_SOLID_BREP` / `BREP_WITH_VOIDS` →
+//! `CLOSED_SHELL` / `ORIENTED_CLOSED_SHELL` → `ADVANCED_FACE` (or `ORIENTED_FACE`) →
+//! `FACE_BOUND` → `EDGE_LOOP` / `VERTEX_LOOP` → `ORIENTED_EDGE` → `EDGE_CURVE` → `VERTEX_POINT`.
+//! Only the geometry (surfaces, edge curves) is converted by truck, one entity at a time, so a
+//! conversion that fails is an error naming that entity instead of a face that silently
+//! disappears. Lengths are converted to millimetres and assembly placements applied to the
+//! geometry itself.
+
+use super::domain::{loop_uv, face_domain};
+use super::model::*;
+use super::records::{self, as_bool, as_ref, as_refs, params, LengthUnit, Mat4, Records};
+use crate::error::{Error, Result};
+use glam::DVec3;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use truck_stepio::r#in::ruststep::ast::{Name, Parameter};
+use truck_stepio::r#in::ruststep::tables::{IntoOwned, PlaceHolder};
+use truck_stepio::r#in::{ruststep, EdgeCurveHolder, SurfaceAnyHolder, Table};
+use truck_geometry::prelude::{Matrix4, Point3, Transformed};
+
+/// Files larger than this are refused before parsing (the parser keeps the whole structure in
+/// memory, several times the file size).
+pub const MAX_FILE_BYTES: u64 = 512 * 1024 * 1024;
+
+/// Reads a STEP file into a [`Model`].
+///
+/// Errors name the file and, where one is to blame, the STEP entity. Nothing the file defines
+/// as part of a solid is dropped: a face, edge or vertex that cannot be converted is an error.
+pub fn read_model(path: &Path) -> Result<Model> {
+    let meta = std::fs::metadata(path).map_err(|source| Error::Io {
+        path: path.into(),
+        source,
+    })?;
+    if meta.is_dir() {
+        return Err(model_err(path, "is a directory, not a STEP file"));
+    }
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(model_err(
+            path,
+            format!(
+                "file is {} MB, more than the {} MB limit",
+                meta.len() / (1 << 20),
+                MAX_FILE_BYTES / (1 << 20)
+            ),
+        ));
+    }
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.into(),
+        source,
+    })?;
+    read_model_from_bytes(path, &bytes)
+}
+
+/// Reads STEP text already in memory; `path` is used in messages and the report.
+pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
+    if bytes.iter().all(|b| b.is_ascii_whitespace()) {
+        return Err(model_err(path, "file is empty"));
+    }
+    let text = std::str::from_utf8(bytes).map_err(|e| Error::Syntax {
+        path: path.into(),
+        reason: format!("not text (invalid UTF-8 at byte {})", e.valid_up_to()),
+    })?;
+    let head = text.trim_start_matches('\u{feff}').trim_start();
+    if !head.starts_with("ISO-10303-21") {
+        return Err(Error::Syntax {
+            path: path.into(),
+            reason: "does not start with ISO-10303-21; (not a STEP file)".into(),
+        });
+    }
+    if !text.contains("END-ISO-10303-21") {
+        return Err(Error::Syntax {
+            path: path.into(),
+            reason: "no END-ISO-10303-21; (file truncated?)".into(),
+        });
+    }
+    let mut exchange = guarded(|| ruststep::parser::parse(text))
+        .map_err(|p| Error::Syntax {
+            path: path.into(),
+            reason: format!("parser failed: {p}"),
+        })?
+        .map_err(|e| Error::Syntax {
+            path: path.into(),
+            reason: first_line(&e.to_string()),
+        })?;
+    if exchange.data.is_empty() {
+        return Err(Error::Syntax {
+            path: path.into(),
+            reason: "no DATA section".into(),
+        });
+    }
+    records::patch_for_truck(&mut exchange.data);
+    let recs = Records::new(&exchange.data);
+    if let Some((id, entity, reason)) = records::check_acyclic(&recs) {
+        return Err(entity_err(path, id, entity, reason));
+    }
+    if let Some((id, entity, reason)) = records::check_knots(&recs) {
+        return Err(entity_err(path, id, entity, reason));
+    }
+    let mut table = Table::default();
+    let mut undecodable: HashMap<u64, String> = HashMap::new();
+    for inst in exchange.data.iter().flat_map(|s| &s.entities) {
+        let id = records::instance_id(inst);
+        match guarded(|| table.push_instance(inst)) {
+            Ok(Ok(())) => {}
+            Ok(Err(e)) => {
+                undecodable.insert(id, first_line(&e.to_string()));
+            }
+            Err(p) => {
+                undecodable.insert(id, format!("reader panicked: {p}"));
+            }
+        }
+    }
+    Ingest {
+        path: path.into(),
+        recs: &recs,
+        table: &table,
+        undecodable: &undecodable,
+        model: Model {
+            source: SourceInfo {
+                path: path.display().to_string(),
+                format: "step".into(),
+                file_unit: "mm".into(),
+                mm_per_unit: 1.0,
+            },
+            solids: vec![],
+            shells: vec![],
+            faces: vec![],
+            edges: vec![],
+            vertices: vec![],
+        },
+        edge_map: HashMap::new(),
+        vertex_map: HashMap::new(),
+    }
+    .run()
+}
+
+/// Runs `f`, turning a panic into an error message (truck panics on some bad data).
+pub(crate) fn guarded<T>(f: impl FnOnce() -> T) -> std::result::Result<T, String> {
+    crate::panic_guard::catch(f)
+}
+
+fn first_line(s: &str) -> String {
+    let line = s.lines().next().unwrap_or("").trim();
+    if line.len() > 200 {
+        format!("{}…", &line[..line.floor_char_boundary(200)])
+    } else {
+        line.to_string()
+    }
+}
+
+fn model_err(path: &Path, reason: impl Into<String>) -> Error {
+    Error::Model {
+        path: path.into(),
+        reason: reason.into(),
+    }
+}
+
+fn entity_err(path: &Path, id: u64, entity: impl Into<String>, reason: impl Into<String>) -> Error {
+    Error::Entity {
+        path: path.into(),
+        id,
+        entity: entity.into(),
+        reason: reason.into(),
+    }
+}
+
+/// One solid to build: its brep entity and where it is placed.
+struct SolidJob {
+    brep: u64,
+    unit: LengthUnit,
+    placement: Mat4,
+}
+
+struct Ingest<'a> {
+    path: PathBuf,
+    recs: &'a Records<'a>,
+    table: &'a Table,
+    undecodable: &'a HashMap<u64, String>,
+    model: Model,
+    /// (EDGE_CURVE id, placement index) → edge index.
+    edge_map: HashMap<(u64, usize), usize>,
+    /// (VERTEX_POINT id, placement index) → vertex index.
+    vertex_map: HashMap<(u64, usize), usize>,
+}
+
+impl Ingest<'_> {
+    fn err(&self, id: u64, reason: impl Into<String>) -> Error {
+        entity_err(&self.path, id, self.recs.name(id), reason)
+    }
+
+    fn run(mut self) -> Result<Model> {
+        let jobs = self.solid_jobs()?;
+        if jobs.is_empty() {
+            let shells = self
+                .recs
+                .ids_in_order()
+                .into_iter()
+                .filter(|id| self.recs.is(*id, "OPEN_SHELL") || self.recs.is(*id, "CLOSED_SHELL"))
+                .count();
+            let what = if shells > 0 {
+                format!("no solid (MANIFOLD_SOLID_BREP or BREP_WITH_VOIDS); {shells} shell(s) not part of a solid")
+            } else {
+                "no solid (MANIFOLD_SOLID_BREP or BREP_WITH_VOIDS) in the file".to_string()
+            };
+            return Err(model_err(&self.path, what));
+        }
+        // Units must agree: the model has one unit (we report it); geometry is in mm anyway.
+        self.model.source.file_unit = jobs[0].unit.name.clone();
+        self.model.source.mm_per_unit = jobs[0].unit.mm;
+        for (k, job) in jobs.iter().enumerate() {
+            self.build_solid(k, job)?;
+        }
+        self.check_everything_used()?;
+        self.renumber_in_file_order();
+        self.compute_domains()?;
+        Ok(self.model)
+    }
+
+    /// Finds every solid, its representation's length unit, and its placements.
+    fn solid_jobs(&self) -> Result<Vec<SolidJob>> {
+        let recs = self.recs;
+        let breps: Vec<u64> = recs
+            .ids_in_order()
+            .into_iter()
+            .filter(|id| {
+                recs.simple(*id)
+                    .is_some_and(|r| r.name == "MANIFOLD_SOLID_BREP" || r.name == "BREP_WITH_VOIDS")
+            })
+            .collect();
+        let reps = records::representations(recs);
+        let links = records::representation_links(recs)
+            .map_err(|(id, reason)| self.err(id, reason))?;
+        let fallback_unit = || -> Result<LengthUnit> {
+            let units = records::all_length_units(recs);
+            let mut ok: Vec<LengthUnit> = vec![];
+            for u in units {
+                let u = u.map_err(|e| model_err(&self.path, e))?;
+                if !ok.contains(&u) {
+                    ok.push(u);
+                }
+            }
+            match ok.len() {
+                0 => Ok(LengthUnit::mm()),
+                1 => Ok(ok.remove(0)),
+                _ => Err(model_err(
+                    &self.path,
+                    "several length units and no representation context says which applies",
+                )),
+            }
+        };
+        let mut jobs = Vec::new();
+        for brep in breps {
+            let holders: Vec<&records::Representation> =
+                reps.iter().filter(|r| r.items.contains(&brep)).collect();
+            if holders.is_empty() {
+                jobs.push(SolidJob {
+                    brep,
+                    unit: fallback_unit()?,
+                    placement: records::IDENTITY,
+                });
+                continue;
+            }
+            let rep = holders[0];
+            let unit = match rep.context.and_then(|c| records::context_length_unit(recs, c)) {
+                Some(Ok(u)) => u,
+                Some(Err(e)) => return Err(self.err(rep.context.unwrap_or(rep.id), e)),
+                None => fallback_unit()?,
+            };
+            for placement in records::placements(rep.id, &links) {
+                jobs.push(SolidJob {
+                    brep,
+                    unit: unit.clone(),
+                    placement,
+                });
+            }
+        }
+        if let Some(first) = jobs.first() {
+            if let Some(other) = jobs.iter().find(|j| (j.unit.mm - first.unit.mm).abs() > 1e-12 * first.unit.mm) {
+                return Err(model_err(
+                    &self.path,
+                    format!(
+                        "solids in different length units ({} and {}) are not supported",
+                        first.unit.name, other.unit.name
+                    ),
+                ));
+            }
+        }
+        Ok(jobs)
+    }
+
+    fn build_solid(&mut self, instance: usize, job: &SolidJob) -> Result<()> {
+        let recs = self.recs;
+        let rec = recs.simple(job.brep).expect("brep id came from the records");
+        let p = params(rec);
+        let name = p.first().map(records::as_string).unwrap_or_default();
+        let outer = p
+            .get(1)
+            .and_then(as_ref)
+            .ok_or_else(|| self.err(job.brep, "outer shell missing"))?;
+        let voids = if rec.name == "BREP_WITH_VOIDS" {
+            p.get(2)
+                .and_then(as_refs)
+                .ok_or_else(|| self.err(job.brep, "void shell list unreadable"))?
+        } else {
+            vec![]
+        };
+        // Length scaling then placement: x_world = P · (s · x_file).
+        let s = job.unit.mm;
+        let mut m = job.placement;
+        for row in m.iter_mut().take(3) {
+            row[3] *= s;
+            for cell in row.iter_mut().take(3) {
+                *cell *= s;
+            }
+        }
+        // The translation of a placement is in file units too.
+        let solid = self.model.solids.len();
+        self.model.solids.push(Solid {
+            step_id: job.brep,
+            name,
+            shells: vec![],
+        });
+        for (k, shell) in std::iter::once(outer).chain(voids).enumerate() {
+            let idx = self.build_shell(shell, solid, k > 0, instance, &m)?;
+            self.model.solids[solid].shells.push(idx);
+        }
+        Ok(())
+    }
+
+    fn build_shell(
+        &mut self,
+        id: u64,
+        solid: usize,
+        is_void: bool,
+        instance: usize,
+        m: &Mat4,
+    ) -> Result<usize> {
+        let recs = self.recs;
+        let rec = recs
+            .simple(id)
+            .ok_or_else(|| self.err(id, "expected a shell"))?;
+        let (shell_id, orientation) = match rec.name.as_str() {
+            "CLOSED_SHELL" => (id, true),
+            "ORIENTED_CLOSED_SHELL" => {
+                let p = params(rec);
+                let inner = p
+                    .get(2)
+                    .and_then(as_ref)
+                    .ok_or_else(|| self.err(id, "shell element missing"))?;
+                let o = p
+                    .get(3)
+                    .and_then(as_bool)
+                    .ok_or_else(|| self.err(id, "orientation missing"))?;
+                (inner, o)
+            }
+            "OPEN_SHELL" | "ORIENTED_OPEN_SHELL" => {
+                return Err(self.err(id, "open shell: the solid is not closed"))
+            }
+            _ => return Err(self.err(id, "expected CLOSED_SHELL")),
+        };
+        let srec = recs
+            .simple(shell_id)
+            .filter(|r| r.name == "CLOSED_SHELL")
+            .ok_or_else(|| self.err(shell_id, "expected CLOSED_SHELL"))?;
+        let faces = params(srec)
+            .get(1)
+            .and_then(as_refs)
+            .ok_or_else(|| self.err(shell_id, "face list unreadable"))?;
+        if faces.is_empty() {
+            return Err(self.err(shell_id, "shell has no faces"));
+        }
+        let shell = self.model.shells.len();
+        self.model.shells.push(Shell {
+            step_id: shell_id,
+            solid,
+            is_void,
+            faces: vec![],
+        });
+        let shell_sign = if orientation { 1.0 } else { -1.0 };
+        let first_edge = self.model.edges.len();
+        for face in faces {
+            let f = self.build_face(face, shell, shell_sign, instance, m)?;
+            self.model.shells[shell].faces.push(f);
+        }
+        // Closedness: every edge of the shell is used exactly twice, once each way.
+        for e in first_edge..self.model.edges.len() {
+            let edge = &self.model.edges[e];
+            if edge.faces.len() != 2 {
+                return Err(self.err(
+                    edge.step_id,
+                    format!(
+                        "edge used by {} face(s) of shell #{shell_id}; a closed shell uses each edge twice (open shell?)",
+                        edge.faces.len()
+                    ),
+                ));
+            }
+        }
+        Ok(shell)
+    }
+
+    fn build_face(
+        &mut self,
+        id: u64,
+        shell: usize,
+        shell_sign: f64,
+        instance: usize,
+        m: &Mat4,
+    ) -> Result<usize> {
+        let recs = self.recs;
+        let rec = recs
+            .simple(id)
+            .ok_or_else(|| self.err(id, "expected a face"))?;
+        let (face_id, face_sign) = match rec.name.as_str() {
+            "ADVANCED_FACE" | "FACE_SURFACE" => (id, 1.0),
+            "ORIENTED_FACE" => {
+                let p = params(rec);
+                let inner = p
+                    .get(2)
+                    .and_then(as_ref)
+                    .ok_or_else(|| self.err(id, "face element missing"))?;
+                let o = p.get(3).and_then(as_bool).unwrap_or(true);
+                (inner, if o { 1.0 } else { -1.0 })
+            }
+            _ => return Err(self.err(id, "expected ADVANCED_FACE")),
+        };
+        let frec = recs
+            .simple(face_id)
+            .filter(|r| r.name == "ADVANCED_FACE" || r.name == "FACE_SURFACE")
+            .ok_or_else(|| self.err(face_id, "expected ADVANCED_FACE"))?;
+        let p = params(frec);
+        let bounds = p
+            .get(1)
+            .and_then(as_refs)
+            .ok_or_else(|| self.err(face_id, "bounds unreadable"))?;
+        let geometry = p
+            .get(2)
+            .and_then(as_ref)
+            .ok_or_else(|| self.err(face_id, "surface missing"))?;
+        let same_sense = p
+            .get(3)
+            .and_then(as_bool)
+            .ok_or_else(|| self.err(face_id, "same_sense missing"))?;
+        let surface = self.convert_surface(geometry, m)?;
+        let index = self.model.faces.len();
+        let mut loops = Vec::new();
+        let mut outer = None;
+        for b in bounds {
+            let brec = recs
+                .simple(b)
+                .ok_or_else(|| self.err(b, "expected FACE_BOUND"))?;
+            if brec.name != "FACE_BOUND" && brec.name != "FACE_OUTER_BOUND" {
+                return Err(self.err(b, "expected FACE_BOUND"));
+            }
+            let bp = params(brec);
+            let lp = bp
+                .get(1)
+                .and_then(as_ref)
+                .ok_or_else(|| self.err(b, "loop missing"))?;
+            let orientation = bp
+                .get(2)
+                .and_then(as_bool)
+                .ok_or_else(|| self.err(b, "orientation missing"))?;
+            if brec.name == "FACE_OUTER_BOUND" {
+                outer = Some(loops.len());
+            }
+            loops.push(self.build_loop(lp, orientation, index, instance, m)?);
+        }
+        let sign = shell_sign * face_sign * if same_sense { 1.0 } else { -1.0 };
+        self.model.faces.push(Face {
+            step_id: face_id,
+            shell,
+            surface,
+            sign,
+            same_sense,
+            loops,
+            outer,
+            domain: UvDomain {
+                u: (0.0, 0.0),
+                v: (0.0, 0.0),
+                u_period: None,
+                v_period: None,
+            },
+        });
+        Ok(index)
+    }
+
+    fn build_loop(
+        &mut self,
+        id: u64,
+        orientation: bool,
+        face: usize,
+        instance: usize,
+        m: &Mat4,
+    ) -> Result<Loop> {
+        let recs = self.recs;
+        let rec = recs
+            .simple(id)
+            .ok_or_else(|| self.err(id, "expected EDGE_LOOP"))?;
+        match rec.name.as_str() {
+            "VERTEX_LOOP" => {
+                let v = params(rec)
+                    .get(1)
+                    .and_then(as_ref)
+                    .ok_or_else(|| self.err(id, "vertex missing"))?;
+                let vi = self.vertex(v, instance, m)?;
+                Ok(Loop {
+                    step_id: id,
+                    edges: vec![],
+                    vertex: Some(vi),
+                    uv: vec![],
+                })
+            }
+            "EDGE_LOOP" => {
+                let oes = params(rec)
+                    .get(1)
+                    .and_then(as_refs)
+                    .ok_or_else(|| self.err(id, "edge list unreadable"))?;
+                if oes.is_empty() {
+                    return Err(self.err(id, "empty edge loop"));
+                }
+                let mut edges = Vec::with_capacity(oes.len());
+                for oe in oes {
+                    let orec = recs
+                        .simple(oe)
+                        .ok_or_else(|| self.err(oe, "expected ORIENTED_EDGE"))?;
+                    let (ec, forward) = match orec.name.as_str() {
+                        "ORIENTED_EDGE" => {
+                            let op = params(orec);
+                            let ec = op
+                                .get(3)
+                                .and_then(as_ref)
+                                .ok_or_else(|| self.err(oe, "edge element missing"))?;
+                            let o = op
+                                .get(4)
+                                .and_then(as_bool)
+                                .ok_or_else(|| self.err(oe, "orientation missing"))?;
+                            (ec, o)
+                        }
+                        "EDGE_CURVE" => (oe, true),
+                        _ => return Err(self.err(oe, "expected ORIENTED_EDGE")),
+                    };
+                    let e = self.edge(ec, instance, m)?;
+                    self.model.edges[e].faces.push(face);
+                    edges.push(OrientedEdge { edge: e, forward });
+                }
+                if !orientation {
+                    edges.reverse();
+                    for e in &mut edges {
+                        e.forward = !e.forward;
+                    }
+                }
+                // The loop must be connected end to start.
+                for k in 0..edges.len() {
+                    let a = edges[k];
+                    let b = edges[(k + 1) % edges.len()];
+                    let end = self.model.edges[a.edge].vertices[usize::from(a.forward)];
+                    let start = self.model.edges[b.edge].vertices[usize::from(!b.forward)];
+                    if end != start {
+                        return Err(self.err(id, "edges of the loop do not connect end to start"));
+                    }
+                }
+                Ok(Loop {
+                    step_id: id,
+                    edges,
+                    vertex: None,
+                    uv: vec![],
+                })
+            }
+            "POLY_LOOP" => Err(self.err(id, "POLY_LOOP (faceted B-rep) is not supported")),
+            _ => Err(self.err(id, "expected EDGE_LOOP or VERTEX_LOOP")),
+        }
+    }
+
+    fn vertex(&mut self, id: u64, instance: usize, m: &Mat4) -> Result<usize> {
+        if let Some(&v) = self.vertex_map.get(&(id, instance)) {
+            return Ok(v);
+        }
+        let recs = self.recs;
+        let rec = recs
+            .simple(id)
+            .filter(|r| r.name == "VERTEX_POINT")
+            .ok_or_else(|| self.err(id, "expected VERTEX_POINT"))?;
+        let pid = params(rec)
+            .get(1)
+            .and_then(as_ref)
+            .ok_or_else(|| self.err(id, "point missing"))?;
+        let prec = recs
+            .simple(pid)
+            .filter(|r| r.name == "CARTESIAN_POINT")
+            .ok_or_else(|| self.err(pid, "expected CARTESIAN_POINT"))?;
+        let c: Vec<f64> = match params(prec).get(1) {
+            Some(Parameter::List(l)) => l.iter().filter_map(records::as_real).collect(),
+            _ => vec![],
+        };
+        if c.len() != 3 || c.iter().any(|x| !x.is_finite()) {
+            return Err(self.err(pid, "needs three finite coordinates"));
+        }
+        let point = transform_point(m, DVec3::new(c[0], c[1], c[2]));
+        let v = self.model.vertices.len();
+        self.model.vertices.push(Vertex { step_id: id, point });
+        self.vertex_map.insert((id, instance), v);
+        Ok(v)
+    }
+
+    fn edge(&mut self, id: u64, instance: usize, m: &Mat4) -> Result<usize> {
+        if let Some(&e) = self.edge_map.get(&(id, instance)) {
+            return Ok(e);
+        }
+        let recs = self.recs;
+        let rec = recs
+            .simple(id)
+            .filter(|r| r.name == "EDGE_CURVE")
+            .ok_or_else(|| self.err(id, "expected EDGE_CURVE"))?;
+        let p = params(rec);
+        let v0 = p
+            .get(1)
+            .and_then(as_ref)
+            .ok_or_else(|| self.err(id, "start vertex missing"))?;
+        let v1 = p
+            .get(2)
+            .and_then(as_ref)
+            .ok_or_else(|| self.err(id, "end vertex missing"))?;
+        let geometry = p
+            .get(3)
+            .and_then(as_ref)
+            .ok_or_else(|| self.err(id, "curve missing"))?;
+        let a = self.vertex(v0, instance, m)?;
+        let b = self.vertex(v1, instance, m)?;
+        let curve = self.convert_edge_curve(id, geometry, m)?;
+        let range = self.edge_range(id, &curve, a, b)?;
+        let e = self.model.edges.len();
+        self.model.edges.push(Edge {
+            step_id: id,
+            curve,
+            range,
+            vertices: [a, b],
+            faces: vec![],
+        });
+        self.edge_map.insert((id, instance), e);
+        Ok(e)
+    }
+
+    /// The parameter interval of `curve` between the edge's vertices; truck trims lines and
+    /// conics to the vertices, B-splines keep their own range (check it, project if needed).
+    fn edge_range(&self, id: u64, curve: &Curve3D, a: usize, b: usize) -> Result<(f64, f64)> {
+        use truck_geometry::prelude::{ParametricCurve, SearchNearestParameter};
+        let (t0, t1) = match curve {
+            // An unclamped (periodic-style) knot vector is only valid between the p-th and
+            // the (m−p)-th knot; truck reports the whole knot range, where the curve is
+            // undefined.
+            Curve3D::BSplineCurve(c) => valid_knot_range(c.knot_vec(), c.degree()),
+            Curve3D::NurbsCurve(c) => valid_knot_range(c.knot_vec(), c.degree()),
+            _ => None,
+        }
+        .or_else(|| guarded(|| curve.try_range_tuple()).ok().flatten())
+        .ok_or_else(|| self.err(id, "edge curve is unbounded"))?;
+        let pa = self.model.vertices[a].point;
+        let pb = self.model.vertices[b].point;
+        let at = |t: f64| {
+            let q = curve.subs(t);
+            DVec3::new(q.x, q.y, q.z)
+        };
+        let scale = 1.0 + pa.abs().max_element().max(pb.abs().max_element());
+        let tol = 1e-6 * scale;
+        if at(t0).distance(pa) <= tol && at(t1).distance(pb) <= tol {
+            return Ok((t0, t1));
+        }
+        // Project the vertices (hint: the nearer end).
+        let proj = |p: DVec3, hint: f64| {
+            guarded(|| curve.search_nearest_parameter(Point3::new(p.x, p.y, p.z), Some(hint), 100))
+                .ok()
+                .flatten()
+        };
+        let s0 = proj(pa, t0);
+        let s1 = proj(pb, t1);
+        match (s0, s1) {
+            (Some(s0), Some(s1))
+                if at(s0).distance(pa) <= 1e-4 * scale && at(s1).distance(pb) <= 1e-4 * scale =>
+            {
+                if a == b || (s1 - s0).abs() < 1e-12 {
+                    Ok((t0, t1))
+                } else {
+                    Ok((s0, s1))
+                }
+            }
+            _ => Err(self.err(
+                id,
+                format!(
+                    "the edge's vertices are not on its curve (distance {:.3e} mm and {:.3e} mm)",
+                    at(t0).distance(pa),
+                    at(t1).distance(pb)
+                ),
+            )),
+        }
+    }
+
+    fn undecodable(&self, id: u64) -> Option<Error> {
+        self.undecodable
+            .get(&id)
+            .map(|reason| self.err(id, format!("cannot be read: {reason}")))
+    }
+
+    fn convert_surface(&self, id: u64, m: &Mat4) -> Result<Surface> {
+        if let Some(e) = self.undecodable(id) {
+            return Err(e);
+        }
+        let known = [
+            "PLANE",
+            "CYLINDRICAL_SURFACE",
+            "CONICAL_SURFACE",
+            "SPHERICAL_SURFACE",
+            "TOROIDAL_SURFACE",
+            "B_SPLINE_SURFACE_WITH_KNOTS",
+            "BEZIER_SURFACE",
+            "UNIFORM_SURFACE",
+            "QUASI_UNIFORM_SURFACE",
+            "SURFACE_OF_LINEAR_EXTRUSION",
+            "SURFACE_OF_REVOLUTION",
+            "RATIONAL_B_SPLINE_SURFACE",
+        ];
+        if !known.iter().any(|k| self.recs.is(id, k)) {
+            return Err(self.err(id, "unsupported surface type"));
+        }
+        let table = self.table;
+        let converted = guarded(|| -> std::result::Result<Surface, String> {
+            let any = PlaceHolder::<SurfaceAnyHolder>::Ref(Name::Entity(id))
+                .into_owned(table)
+                .map_err(|e| first_line(&e.to_string()))?;
+            Surface::try_from(&any).map_err(|e| first_line(&e.to_string()))
+        });
+        let mut surface = match converted {
+            Ok(Ok(s)) => s,
+            Ok(Err(e)) => return Err(self.err(id, format!("cannot be converted: {e}"))),
+            Err(p) => return Err(self.err(id, format!("reader panicked: {p}"))),
+        };
+        if *m != records::IDENTITY {
+            surface.transform_by(to_matrix4(m));
+        }
+        Ok(surface)
+    }
+
+    fn convert_edge_curve(&self, id: u64, geometry: u64, m: &Mat4) -> Result<Curve3D> {
+        if let Some(e) = self.undecodable(id).or_else(|| self.undecodable(geometry)) {
+            return Err(e);
+        }
+        let known = [
+            "LINE",
+            "CIRCLE",
+            "ELLIPSE",
+            "B_SPLINE_CURVE_WITH_KNOTS",
+            "BEZIER_CURVE",
+            "UNIFORM_CURVE",
+            "QUASI_UNIFORM_CURVE",
+            "RATIONAL_B_SPLINE_CURVE",
+            "POLYLINE",
+            "SURFACE_CURVE",
+            "SEAM_CURVE",
+            "HYPERBOLA",
+            "PARABOLA",
+        ];
+        if !known.iter().any(|k| self.recs.is(geometry, k)) {
+            return Err(self.err(geometry, "unsupported curve type"));
+        }
+        let table = self.table;
+        let converted = guarded(|| -> std::result::Result<Curve3D, String> {
+            let ec = PlaceHolder::<EdgeCurveHolder>::Ref(Name::Entity(id))
+                .into_owned(table)
+                .map_err(|e| first_line(&e.to_string()))?;
+            ec.parse_curve3d().map_err(|e| first_line(&e.to_string()))
+        });
+        let mut curve = match converted {
+            Ok(Ok(c)) => c,
+            Ok(Err(e)) => return Err(self.err(id, format!("curve cannot be converted: {e}"))),
+            Err(p) => return Err(self.err(id, format!("reader panicked: {p}"))),
+        };
+        if matches!(curve, Curve3D::PCurve(_)) {
+            return Err(self.err(id, "edge has only a pcurve, no 3D curve"));
+        }
+        if *m != records::IDENTITY {
+            curve.transform_by(to_matrix4(m));
+        }
+        Ok(curve)
+    }
+
+    /// Compares what the file defines with what the model holds: every `ADVANCED_FACE`,
+    /// `EDGE_CURVE` and `VERTEX_POINT` in the file must belong to a solid.
+    fn check_everything_used(&self) -> Result<()> {
+        let used_faces: std::collections::HashSet<u64> =
+            self.model.faces.iter().map(|f| f.step_id).collect();
+        let used_edges: std::collections::HashSet<u64> =
+            self.model.edges.iter().map(|e| e.step_id).collect();
+        let used_vertices: std::collections::HashSet<u64> =
+            self.model.vertices.iter().map(|v| v.step_id).collect();
+        for id in self.recs.ids_in_order() {
+            let Some(rec) = self.recs.simple(id) else { continue };
+            let lost = match rec.name.as_str() {
+                "ADVANCED_FACE" | "FACE_SURFACE" => !used_faces.contains(&id),
+                "EDGE_CURVE" => !used_edges.contains(&id),
+                "VERTEX_POINT" => !used_vertices.contains(&id),
+                _ => false,
+            };
+            if lost {
+                return Err(self.err(id, "defined in the file but not part of any solid"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Faces, edges and vertices numbered in the order the file defines them (then by
+    /// placement instance).
+    fn renumber_in_file_order(&mut self) {
+        let recs = self.recs;
+        let m = &mut self.model;
+        // Instance of an entity = order of first creation among copies with the same id.
+        let key_f: Vec<(usize, usize)> = order_keys(m.faces.iter().map(|f| f.step_id), recs);
+        let key_e: Vec<(usize, usize)> = order_keys(m.edges.iter().map(|e| e.step_id), recs);
+        let key_v: Vec<(usize, usize)> = order_keys(m.vertices.iter().map(|v| v.step_id), recs);
+        let perm_f = permutation(&key_f);
+        let perm_e = permutation(&key_e);
+        let perm_v = permutation(&key_v);
+        // new_of[old] = new index
+        let inv = |perm: &[usize]| {
+            let mut inv = vec![0; perm.len()];
+            for (new, &old) in perm.iter().enumerate() {
+                inv[old] = new;
+            }
+            inv
+        };
+        let (nf, ne, nv) = (inv(&perm_f), inv(&perm_e), inv(&perm_v));
+        m.faces = perm_f.iter().map(|&o| m.faces[o].clone()).collect();
+        m.edges = perm_e.iter().map(|&o| m.edges[o].clone()).collect();
+        m.vertices = perm_v.iter().map(|&o| m.vertices[o]).collect();
+        for s in &mut m.shells {
+            for f in &mut s.faces {
+                *f = nf[*f];
+            }
+        }
+        for f in &mut m.faces {
+            for l in &mut f.loops {
+                for oe in &mut l.edges {
+                    oe.edge = ne[oe.edge];
+                }
+                if let Some(v) = &mut l.vertex {
+                    *v = nv[*v];
+                }
+            }
+        }
+        for e in &mut m.edges {
+            for v in &mut e.vertices {
+                *v = nv[*v];
+            }
+            for f in &mut e.faces {
+                *f = nf[*f];
+            }
+        }
+    }
+
+    fn compute_domains(&mut self) -> Result<()> {
+        let m = &mut self.model;
+        for fi in 0..m.faces.len() {
+            let mut loops = std::mem::take(&mut m.faces[fi].loops);
+            for l in &mut loops {
+                l.uv = loop_uv(m, &m.faces[fi], l).map_err(|reason| {
+                    entity_err(&self.path, l.step_id, self.recs.name(l.step_id), reason)
+                })?;
+            }
+            m.faces[fi].loops = loops;
+            let (domain, outer) = face_domain(m, &m.faces[fi]);
+            m.faces[fi].domain = domain;
+            if m.faces[fi].outer.is_none() {
+                m.faces[fi].outer = outer;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `[k_p, k_{m−p}]` of a knot vector of degree `p` (m + 1 knots).
+fn valid_knot_range(knots: &truck_geometry::prelude::KnotVec, degree: usize) -> Option<(f64, f64)> {
+    let m = knots.len();
+    (m > 2 * degree + 1).then(|| (knots[degree], knots[m - degree - 1]))
+}
+
+fn order_keys(ids: impl Iterator<Item = u64>, recs: &Records) -> Vec<(usize, usize)> {
+    let mut seen: HashMap<u64, usize> = HashMap::new();
+    ids.map(|id| {
+        let k = seen.entry(id).or_insert(0);
+        let inst = *k;
+        *k += 1;
+        (inst, recs.position(id))
+    })
+    .collect()
+}
+
+fn permutation(keys: &[(usize, usize)]) -> Vec<usize> {
+    let mut perm: Vec<usize> = (0..keys.len()).collect();
+    perm.sort_by_key(|&i| keys[i]);
+    perm
+}
+
+fn transform_point(m: &Mat4, p: DVec3) -> DVec3 {
+    let a = [p.x, p.y, p.z, 1.0];
+    let r = |i: usize| (0..4).map(|k| m[i][k] * a[k]).sum::<f64>();
+    DVec3::new(r(0), r(1), r(2))
+}
+
+fn to_matrix4(m: &Mat4) -> Matrix4 {
+    // cgmath matrices are column-major: Matrix4::new takes columns.
+    Matrix4::new(
+        m[0][0], m[1][0], m[2][0], m[3][0], m[0][1], m[1][1], m[2][1], m[3][1], m[0][2], m[1][2],
+        m[2][2], m[3][2], m[0][3], m[1][3], m[2][3], m[3][3],
+    )
+}

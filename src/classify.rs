@@ -1,0 +1,237 @@
+//! Classification of edges (convex / reflex / smooth) and vertices (convex / reflex / mixed /
+//! crease / smooth).
+//!
+//! An edge's kind comes from the dihedral angle sampled along its whole length, not at one
+//! point: at each sample `p = e(t)` with unit tangent `T`, let `n₁`, `n₂` be the outward
+//! (out-of-material) normals of the two faces and `b₁` the direction in face 1's tangent plane
+//! that leaves the edge into face 1. The faces meet at angle `θ = ∠(n₁, n₂)`; the edge is
+//! *smooth* there when `θ ≤ angle_tol`, otherwise *convex* when `b₁ · n₂ < 0` (face 2 bends
+//! away from face 1: interior angle `π − θ`) and *reflex* when `b₁ · n₂ > 0` (interior angle
+//! `π + θ`). `b₁` is `n_t × d`, with `n_t` face 1's topological normal and `d` the direction
+//! in which face 1's loop runs along the edge: by ISO 10303-42 a loop has its face on the
+//! left seen against `n_t`. An edge whose samples disagree is [`EdgeKind::Mixed`] and keeps
+//! its samples, so a user sees where it changes.
+//!
+//! A vertex's kind counts the ends of non-smooth edges at it (a closed edge has both ends
+//! there): none → smooth; one or two → crease (a point on a crease line, or a crease ending in
+//! a smooth region); three or more → convex if all are convex, reflex if all are reflex,
+//! mixed otherwise (the corners the paper's tracer starts from are the convex ones).
+
+use crate::brep::Model;
+use crate::geom::{eval_surface, project_point};
+use glam::DVec3;
+use truck_geometry::prelude::ParametricCurve;
+
+/// Default angle below which two faces count as tangent: 1°. CAD tangency is exact to far
+/// better than this; true creases in parts are rarely below a few degrees.
+pub const DEFAULT_ANGLE_TOL_DEG: f64 = 1.0;
+
+/// Default number of samples along each edge (interior points, evenly spaced in parameter).
+pub const DEFAULT_EDGE_SAMPLES: usize = 9;
+
+/// Kind of an edge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EdgeKind {
+    /// The solid is locally convex along the edge (interior angle < 180°).
+    Convex,
+    /// The solid is locally concave along the edge (interior angle > 180°).
+    Reflex,
+    /// The faces are tangent along the edge (fillets, split faces, periodic seams).
+    Smooth,
+    /// The kind changes along the edge.
+    Mixed,
+}
+
+/// Kind of a vertex.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum VertexKind {
+    Convex,
+    Reflex,
+    Mixed,
+    Crease,
+    Smooth,
+}
+
+impl EdgeKind {
+    /// Lower-case name, as in the report.
+    pub fn name(self) -> &'static str {
+        match self {
+            EdgeKind::Convex => "convex",
+            EdgeKind::Reflex => "reflex",
+            EdgeKind::Smooth => "smooth",
+            EdgeKind::Mixed => "mixed",
+        }
+    }
+}
+
+impl VertexKind {
+    /// Lower-case name, as in the report.
+    pub fn name(self) -> &'static str {
+        match self {
+            VertexKind::Convex => "convex",
+            VertexKind::Reflex => "reflex",
+            VertexKind::Mixed => "mixed",
+            VertexKind::Crease => "crease",
+            VertexKind::Smooth => "smooth",
+        }
+    }
+}
+
+/// Options of [`classify`].
+#[derive(Clone, Debug)]
+pub struct ClassifyOptions {
+    /// Faces meeting at less than this angle (radians) are tangent.
+    pub angle_tol: f64,
+    /// Samples along each edge.
+    pub edge_samples: usize,
+}
+
+impl Default for ClassifyOptions {
+    fn default() -> Self {
+        ClassifyOptions {
+            angle_tol: DEFAULT_ANGLE_TOL_DEG.to_radians(),
+            edge_samples: DEFAULT_EDGE_SAMPLES,
+        }
+    }
+}
+
+/// One sample of an edge's dihedral angle.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct DihedralSample {
+    /// Curve parameter.
+    pub t: f64,
+    /// Interior angle of the solid at the edge, degrees (180 = tangent).
+    pub angle_deg: f64,
+    pub kind: EdgeKind,
+}
+
+/// Classification of one edge.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct EdgeClass {
+    pub kind: EdgeKind,
+    /// Smallest and largest interior angle over the samples, degrees.
+    pub angle_range_deg: (f64, f64),
+    pub samples: Vec<DihedralSample>,
+}
+
+/// Classification of a model.
+#[derive(Clone, Debug)]
+pub struct Classification {
+    pub edges: Vec<EdgeClass>,
+    pub vertices: Vec<VertexKind>,
+}
+
+/// Classifies every edge and vertex of `model`.
+pub fn classify(model: &Model, opts: &ClassifyOptions) -> Classification {
+    let edges: Vec<EdgeClass> = (0..model.edges.len())
+        .map(|e| classify_edge(model, e, opts))
+        .collect();
+    let vertices = classify_vertices(model, &edges);
+    Classification { edges, vertices }
+}
+
+/// Where face `face` uses edge `edge`: the direction of its loop along the edge (`true` =
+/// along the curve), for each use (a seam is used twice).
+fn uses(model: &Model, face: usize, edge: usize) -> Vec<bool> {
+    model.faces[face]
+        .loops
+        .iter()
+        .flat_map(|l| &l.edges)
+        .filter(|oe| oe.edge == edge)
+        .map(|oe| oe.forward)
+        .collect()
+}
+
+fn classify_edge(model: &Model, e: usize, opts: &ClassifyOptions) -> EdgeClass {
+    let edge = &model.edges[e];
+    let (f1, f2) = (edge.faces[0], edge.faces[1]);
+    let dir1 = uses(model, f1, e)[0];
+    let n = opts.edge_samples.max(1);
+    let mut hints: [Option<(f64, f64)>; 2] = [None, None];
+    let mut samples = Vec::with_capacity(n);
+    for k in 0..n {
+        let t = edge.range.0 + (edge.range.1 - edge.range.0) * (k as f64 + 0.5) / n as f64;
+        let p = edge.curve.subs(t);
+        let p = DVec3::new(p.x, p.y, p.z);
+        let d = edge.curve.der(t);
+        let tangent = DVec3::new(d.x, d.y, d.z).normalize_or_zero();
+        let mut normals = [DVec3::ZERO; 2];
+        let mut topo1 = DVec3::ZERO;
+        for (i, f) in [f1, f2].into_iter().enumerate() {
+            let face = &model.faces[f];
+            let Some(uv) = project_point(&face.surface, p, hints[i]) else {
+                continue;
+            };
+            hints[i] = Some(uv);
+            let s = eval_surface(&face.surface, uv.0, uv.1);
+            let raw = s.su.cross(s.sv).normalize_or_zero();
+            normals[i] = raw * face.sign;
+            if i == 0 {
+                topo1 = if face.same_sense { raw } else { -raw };
+            }
+        }
+        let (n1, n2) = (normals[0], normals[1]);
+        let theta = n1.dot(n2).clamp(-1.0, 1.0).acos();
+        let travel = if dir1 { tangent } else { -tangent };
+        let b1 = topo1.cross(travel);
+        let (kind, angle) = if theta <= opts.angle_tol || f1 == f2 {
+            (EdgeKind::Smooth, std::f64::consts::PI)
+        } else if b1.dot(n2) < 0.0 {
+            (EdgeKind::Convex, std::f64::consts::PI - theta)
+        } else {
+            (EdgeKind::Reflex, std::f64::consts::PI + theta)
+        };
+        samples.push(DihedralSample {
+            t,
+            angle_deg: angle.to_degrees(),
+            kind,
+        });
+    }
+    let first = samples[0].kind;
+    let kind = if samples.iter().all(|s| s.kind == first) {
+        first
+    } else {
+        EdgeKind::Mixed
+    };
+    let lo = samples.iter().map(|s| s.angle_deg).fold(f64::INFINITY, f64::min);
+    let hi = samples
+        .iter()
+        .map(|s| s.angle_deg)
+        .fold(f64::NEG_INFINITY, f64::max);
+    EdgeClass {
+        kind,
+        angle_range_deg: (lo, hi),
+        samples,
+    }
+}
+
+fn classify_vertices(model: &Model, edges: &[EdgeClass]) -> Vec<VertexKind> {
+    let mut convex = vec![0usize; model.vertices.len()];
+    let mut reflex = vec![0usize; model.vertices.len()];
+    for (e, class) in edges.iter().enumerate() {
+        let vs = model.edges[e].vertices;
+        // The kind at each end: the sample nearest that end.
+        let ends = [
+            class.samples.first().map(|s| s.kind),
+            class.samples.last().map(|s| s.kind),
+        ];
+        for (v, kind) in vs.into_iter().zip(ends) {
+            match kind {
+                Some(EdgeKind::Convex) => convex[v] += 1,
+                Some(EdgeKind::Reflex) => reflex[v] += 1,
+                _ => {}
+            }
+        }
+    }
+    (0..model.vertices.len())
+        .map(|v| match (convex[v], reflex[v]) {
+            (0, 0) => VertexKind::Smooth,
+            (c, r) if c + r <= 2 => VertexKind::Crease,
+            (_, 0) => VertexKind::Convex,
+            (0, _) => VertexKind::Reflex,
+            _ => VertexKind::Mixed,
+        })
+        .collect()
+}

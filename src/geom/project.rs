@@ -1,0 +1,218 @@
+//! Projecting a point onto an untrimmed surface: the foot point `(u, v)` minimising
+//! `‖S(u, v) − p‖`.
+//!
+//! truck's `search_nearest_parameter` is fast with a good hint but fails outright on some
+//! inputs (cones, high-degree B-splines, poles of spheres, measured on the real-world corpus).
+//! [`project_point`] tries it first and falls back to damped Newton (Levenberg–Marquardt on
+//! `½‖S − p‖²` with the exact second derivatives of [`super::eval`]) started from a grid of
+//! seeds over the surface's parameter range (unbounded directions are seeded at 0 and around
+//! the hint).
+
+use super::eval::eval_surface;
+use crate::brep::model::Surface;
+use glam::DVec3;
+use std::ops::Bound;
+use truck_geometry::prelude::{ParametricSurface, Point3, SearchNearestParameter};
+
+/// Newton iterations per seed.
+pub const MAX_ITER: usize = 50;
+
+/// Seeds per bounded direction of the fallback grid.
+pub const GRID: usize = 12;
+
+/// The foot point of `p` on `surface`, or `None` when no seed converges. `hint` is a nearby
+/// parameter (the previous foot point along a curve) and makes the common case a few Newton
+/// steps. The result is a local minimum of the distance; with a hint, the one nearest the
+/// hint; without one, the best over the seed grid.
+pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> Option<(f64, f64)> {
+    let q = Point3::new(p.x, p.y, p.z);
+    let truck = crate::panic_guard::catch(|| surface.search_nearest_parameter(q, hint, 100))
+        .ok()
+        .flatten()
+        .filter(|uv| is_foot(surface, p, *uv));
+    if let Some(h) = hint {
+        if truck.is_some() {
+            return truck;
+        }
+        if let Some(uv) = newton(surface, p, h) {
+            return Some(uv);
+        }
+    }
+    let (ur, vr) = surface.parameter_range();
+    let seeds = |r: (Bound<f64>, Bound<f64>), h: Option<f64>| -> Vec<f64> {
+        match (r.0, r.1) {
+            (Bound::Included(a) | Bound::Excluded(a), Bound::Included(b) | Bound::Excluded(b))
+                if a.is_finite() && b.is_finite() =>
+            {
+                (0..GRID)
+                    .map(|k| a + (b - a) * (k as f64 + 0.5) / GRID as f64)
+                    .collect()
+            }
+            _ => {
+                let mut s = vec![0.0, 1.0, -1.0];
+                s.extend(h);
+                s
+            }
+        }
+    };
+    // B-splines can wind many times over their range (a helical thread): seed every knot
+    // span, not just a fixed grid.
+    let (us, vs) = match knot_seeds(surface) {
+        Some(kv) => kv,
+        None => (seeds(ur, hint.map(|h| h.0)), seeds(vr, hint.map(|h| h.1))),
+    };
+    // Best seed by distance, then Newton from the few best.
+    let mut scored: Vec<(f64, (f64, f64))> = us
+        .iter()
+        .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+        .map(|(u, v)| (eval_surface(surface, u, v).p.distance_squared(p), (u, v)))
+        .filter(|(d, _)| d.is_finite())
+        .collect();
+    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Without a hint, truck's answer is only one candidate: it can stop at a local minimum.
+    let mut best: Option<(f64, (f64, f64))> = truck
+        .filter(|_| hint.is_none())
+        .map(|uv| (eval_surface(surface, uv.0, uv.1).p.distance(p), uv));
+    for (_, seed) in scored.into_iter().take(NEWTON_SEEDS) {
+        if let Some(uv) = newton(surface, p, seed) {
+            let d = eval_surface(surface, uv.0, uv.1).p.distance(p);
+            if best.is_none_or(|b| d < b.0) {
+                best = Some((d, uv));
+            }
+        }
+    }
+    best.map(|b| b.1)
+}
+
+/// Seeds of a B-spline/NURBS surface: `degree + 1` (at least three) per knot span in each direction (at most
+/// `MAX_SPAN_SEEDS` per direction).
+fn knot_seeds(surface: &Surface) -> Option<(Vec<f64>, Vec<f64>)> {
+    let (ku, kv, pu, pv) = match surface {
+        Surface::BSplineSurface(b) => (b.knot_vecs().0.clone(), b.knot_vecs().1.clone(), b.udegree(), b.vdegree()),
+        Surface::NurbsSurface(n) => {
+            let b = n.non_rationalized();
+            (b.knot_vecs().0.clone(), b.knot_vecs().1.clone(), b.udegree(), b.vdegree())
+        }
+        _ => return None,
+    };
+    let spans = |k: &truck_geometry::prelude::KnotVec, p: usize| -> Vec<f64> {
+        let m = k.len();
+        if m < 2 * p + 2 {
+            return vec![];
+        }
+        let (a, b) = (k[p], k[m - p - 1]);
+        let mut distinct: Vec<f64> = (p..m - p).map(|i| k[i]).filter(|x| *x >= a && *x <= b).collect();
+        distinct.dedup_by(|x, y| (*x - *y).abs() <= 1e-14 * (1.0 + y.abs()));
+        // A span of degree p can turn about p/2 times: seed it p + 1 times (at least 3).
+        let per = (p + 1).max(3);
+        let mut out = Vec::new();
+        for w in distinct.windows(2) {
+            for j in 0..per {
+                out.push(w[0] + (w[1] - w[0]) * (j as f64 + 0.5) / per as f64);
+            }
+        }
+        if out.len() > MAX_SPAN_SEEDS {
+            let step = out.len() as f64 / MAX_SPAN_SEEDS as f64;
+            out = (0..MAX_SPAN_SEEDS).map(|i| out[(i as f64 * step) as usize]).collect();
+        }
+        out
+    };
+    let (us, vs) = (spans(&ku, pu), spans(&kv, pv));
+    (!us.is_empty() && !vs.is_empty()).then_some((us, vs))
+}
+
+/// Newton runs from this many of the best seeds.
+pub const NEWTON_SEEDS: usize = 8;
+
+/// Cap on seeds per direction from knot spans.
+pub const MAX_SPAN_SEEDS: usize = 400;
+
+/// True when `uv` is a foot point of `p`: `S(uv) − p` is normal to the surface (or `p` is on
+/// it), to a relative tolerance.
+fn is_foot(surface: &Surface, p: DVec3, uv: (f64, f64)) -> bool {
+    let d = eval_surface(surface, uv.0, uv.1);
+    let r = d.p - p;
+    let scale = 1.0 + p.abs().max_element();
+    if r.length() <= 1e-9 * scale {
+        return true;
+    }
+    let g = (d.su.dot(r).abs() / (d.su.length() * r.length()).max(1e-300))
+        .max(d.sv.dot(r).abs() / (d.sv.length() * r.length()).max(1e-300));
+    g < 1e-6
+}
+
+/// Levenberg–Marquardt on `½‖S(u,v) − p‖²` from `start`.
+///
+/// Iterates are clamped to the parameter range where it is finite (a B-spline patch), so a
+/// point beyond the patch's border gets its nearest point on the border, not on the
+/// polynomial's extrapolation.
+fn newton(surface: &Surface, p: DVec3, start: (f64, f64)) -> Option<(f64, f64)> {
+    let (ur, vr) = surface.parameter_range();
+    let finite = |r: (Bound<f64>, Bound<f64>)| match r {
+        (Bound::Included(a) | Bound::Excluded(a), Bound::Included(b) | Bound::Excluded(b))
+            if a.is_finite() && b.is_finite() && matches!(surface, Surface::BSplineSurface(_) | Surface::NurbsSurface(_)) =>
+        {
+            (a, b)
+        }
+        _ => (f64::NEG_INFINITY, f64::INFINITY),
+    };
+    let (ur, vr) = (finite(ur), finite(vr));
+    let (mut u, mut v) = start;
+    let mut lambda = 1e-3;
+    let scale = 1.0 + p.abs().max_element();
+    let mut d = eval_surface(surface, u, v);
+    let mut f = 0.5 * (d.p - p).length_squared();
+    for _ in 0..MAX_ITER {
+        let r: DVec3 = d.p - p;
+        let g = [d.su.dot(r), d.sv.dot(r)];
+        let h = [
+            [d.su.dot(d.su) + d.suu.dot(r), d.su.dot(d.sv) + d.suv.dot(r)],
+            [d.su.dot(d.sv) + d.suv.dot(r), d.sv.dot(d.sv) + d.svv.dot(r)],
+        ];
+        // Gradient components pushing out of a clamped border do not count.
+        let free = |x: f64, gx: f64, r: (f64, f64)| !((x <= r.0 && gx > 0.0) || (x >= r.1 && gx < 0.0));
+        let g0 = if free(u, g[0], ur) { g[0] } else { 0.0 };
+        let g1 = if free(v, g[1], vr) { g[1] } else { 0.0 };
+        let gn = (g0.abs() / d.su.length().max(1e-300)).max(g1.abs() / d.sv.length().max(1e-300));
+        if r.length() <= 1e-12 * scale || gn <= 1e-12 * scale {
+            return Some((u, v));
+        }
+        let mut accepted = false;
+        for _ in 0..20 {
+            let diag = (h[0][0].abs() + h[1][1].abs()).max(1e-300) * lambda;
+            let a = h[0][0] + diag;
+            let b = h[0][1];
+            let c = h[1][1] + diag;
+            let det = a * c - b * b;
+            if det.abs() < 1e-300 || !det.is_finite() {
+                lambda *= 10.0;
+                continue;
+            }
+            let du = -(c * g[0] - b * g[1]) / det;
+            let dv = -(a * g[1] - b * g[0]) / det;
+            let (nu, nv) = ((u + du).clamp(ur.0, ur.1), (v + dv).clamp(vr.0, vr.1));
+            let (du, dv) = (nu - u, nv - v);
+            let nd = eval_surface(surface, nu, nv);
+            let nf = 0.5 * (nd.p - p).length_squared();
+            if nf.is_finite() && nf <= f {
+                let small = du.abs() + dv.abs() <= 1e-15 * (1.0 + u.abs() + v.abs());
+                u = nu;
+                v = nv;
+                d = nd;
+                f = nf;
+                lambda = (lambda * 0.3).max(1e-12);
+                accepted = true;
+                if small {
+                    return Some((u, v));
+                }
+                break;
+            }
+            lambda *= 10.0;
+        }
+        if !accepted {
+            // No descent possible: a (possibly degenerate) minimum.
+            return is_foot(surface, p, (u, v)).then_some((u, v)).or(Some((u, v)));
+        }
+    }
+    Some((u, v))
+}

@@ -1,0 +1,1 @@
+//! Inside/outside a face's trimming loops, in UV space.
