@@ -13,7 +13,7 @@ fn knots(p: usize, n_cp: usize) -> KnotVec {
     let spans = n_cp - p;
     let mut k = vec![0.0; p + 1];
     k.extend((1..spans).map(|i| i as f64 / spans as f64 + 0.013 * (i as f64).sin()));
-    k.extend(std::iter::repeat(1.0).take(p + 1));
+    k.extend(std::iter::repeat_n(1.0, p + 1));
     KnotVec::from(k)
 }
 

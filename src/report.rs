@@ -1,1 +1,279 @@
-//! The JSON report (`matrace.report/1`).
+//! The JSON report, schema `matrace.report/1` (DESIGN.md, "Outputs").
+//!
+//! This module builds the `input` and `model` objects (what `matrace inspect --json` prints);
+//! the `mat` and `stats` objects are added by the tracer. Everything is plain serde data so
+//! the binary only serialises it.
+
+use crate::brep::Model;
+use crate::classify::{Classification, EdgeKind, VertexKind};
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// The schema name written into every report.
+pub const SCHEMA: &str = "matrace.report/1";
+
+/// A report with the parts available so far.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    pub schema: &'static str,
+    pub input: InputReport,
+    pub model: ModelReport,
+}
+
+/// What was read.
+#[derive(Clone, Debug, Serialize)]
+pub struct InputReport {
+    pub path: String,
+    pub format: String,
+    /// Unit of every length in the report (always millimetres).
+    pub length_unit: &'static str,
+    /// The unit the file declares.
+    pub file_unit: String,
+    /// Millimetres per file unit (the factor applied on reading).
+    pub mm_per_unit: f64,
+}
+
+/// The B-rep and its classification.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModelReport {
+    pub solids: usize,
+    pub shells: usize,
+    /// `[[xmin, ymin, zmin], [xmax, ymax, zmax]]`, millimetres.
+    pub bbox: [[f64; 3]; 2],
+    pub diagonal: f64,
+    /// Counts by kind: `surfaces`, `edge_kinds`, `vertex_kinds`.
+    pub counts: Counts,
+    pub faces: Vec<FaceReport>,
+    pub edges: Vec<EdgeReport>,
+    pub vertices: Vec<VertexReport>,
+}
+
+/// Counts by kind (keys sorted, so reports are stable).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Counts {
+    pub faces: usize,
+    pub edges: usize,
+    pub vertices: usize,
+    pub surfaces: BTreeMap<&'static str, usize>,
+    pub edge_kinds: BTreeMap<&'static str, usize>,
+    pub vertex_kinds: BTreeMap<&'static str, usize>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct FaceReport {
+    pub id: usize,
+    pub step_id: u64,
+    pub surface: &'static str,
+    pub shell: usize,
+    /// Loops bounding the face (vertex loops included).
+    pub loops: usize,
+    /// True when `Su × Sv` points into the material (the outward normal is its negative).
+    pub reversed: bool,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct EdgeReport {
+    pub id: usize,
+    pub step_id: u64,
+    pub curve: &'static str,
+    pub vertices: [usize; 2],
+    pub faces: Vec<usize>,
+    pub kind: EdgeKind,
+    /// Smallest and largest interior dihedral angle along the edge, degrees.
+    pub angle_deg: [f64; 2],
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct VertexReport {
+    pub id: usize,
+    pub step_id: u64,
+    pub point: [f64; 3],
+    pub kind: VertexKind,
+}
+
+/// The kind of an edge curve, as the report names it.
+pub fn curve_kind(curve: &crate::brep::model::Curve3D) -> &'static str {
+    use crate::brep::model::Curve3D as C;
+    use truck_stepio::r#in::alias::Conic3D;
+    match curve {
+        C::Line(_) => "line",
+        C::Polyline(_) => "polyline",
+        C::Conic(Conic3D::Ellipse(_)) => "ellipse",
+        C::Conic(Conic3D::Hyperbola(_)) => "hyperbola",
+        C::Conic(Conic3D::Parabola(_)) => "parabola",
+        C::BSplineCurve(_) => "bspline",
+        C::NurbsCurve(_) => "nurbs",
+        C::PCurve(_) => "pcurve",
+    }
+}
+
+impl Report {
+    /// The `input` and `model` parts of the report for a model and its classification.
+    pub fn new(model: &Model, class: &Classification) -> Report {
+        let (lo, hi) = model.bounding_box();
+        let mut counts = Counts {
+            faces: model.faces.len(),
+            edges: model.edges.len(),
+            vertices: model.vertices.len(),
+            ..Counts::default()
+        };
+        let faces = model
+            .faces
+            .iter()
+            .enumerate()
+            .map(|(id, f)| {
+                let surface = crate::geom::surface_kind(&f.surface);
+                *counts.surfaces.entry(surface).or_default() += 1;
+                FaceReport {
+                    id,
+                    step_id: f.step_id,
+                    surface,
+                    shell: f.shell,
+                    loops: f.loops.len(),
+                    reversed: f.sign < 0.0,
+                }
+            })
+            .collect();
+        for k in [EdgeKind::Convex, EdgeKind::Reflex, EdgeKind::Smooth] {
+            counts.edge_kinds.insert(k.name(), 0);
+        }
+        for k in [
+            VertexKind::Convex,
+            VertexKind::Reflex,
+            VertexKind::Mixed,
+            VertexKind::Crease,
+            VertexKind::Smooth,
+        ] {
+            counts.vertex_kinds.insert(k.name(), 0);
+        }
+        let edges = model
+            .edges
+            .iter()
+            .zip(&class.edges)
+            .enumerate()
+            .map(|(id, (e, c))| {
+                *counts.edge_kinds.entry(c.kind.name()).or_default() += 1;
+                EdgeReport {
+                    id,
+                    step_id: e.step_id,
+                    curve: curve_kind(&e.curve),
+                    vertices: e.vertices,
+                    faces: e.faces.clone(),
+                    kind: c.kind,
+                    angle_deg: [c.angle_range_deg.0, c.angle_range_deg.1],
+                }
+            })
+            .collect();
+        let vertices = model
+            .vertices
+            .iter()
+            .zip(&class.vertices)
+            .enumerate()
+            .map(|(id, (v, k))| {
+                *counts.vertex_kinds.entry(k.name()).or_default() += 1;
+                VertexReport {
+                    id,
+                    step_id: v.step_id,
+                    point: v.point.to_array(),
+                    kind: *k,
+                }
+            })
+            .collect();
+        Report {
+            schema: SCHEMA,
+            input: InputReport {
+                path: model.source.path.clone(),
+                format: model.source.format.clone(),
+                length_unit: "mm",
+                file_unit: model.source.file_unit.clone(),
+                mm_per_unit: model.source.mm_per_unit,
+            },
+            model: ModelReport {
+                solids: model.solids.len(),
+                shells: model.shells.len(),
+                bbox: [lo.to_array(), hi.to_array()],
+                diagonal: (hi - lo).length(),
+                counts,
+                faces,
+                edges,
+                vertices,
+            },
+        }
+    }
+}
+
+/// A human-readable table of the `input` and `model` parts (what `matrace inspect` prints).
+pub fn render_table(r: &Report) -> String {
+    use std::fmt::Write;
+    let m = &r.model;
+    let mut s = String::new();
+    let kinds = |map: &BTreeMap<&'static str, usize>| {
+        map.iter()
+            .filter(|(_, n)| **n > 0)
+            .map(|(k, n)| format!("{n} {k}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let _ = writeln!(s, "{}", r.input.path);
+    let _ = writeln!(
+        s,
+        "  format {}  file unit {} ({} mm)  lengths below in mm",
+        r.input.format, r.input.file_unit, r.input.mm_per_unit
+    );
+    let _ = writeln!(
+        s,
+        "  solids {}  shells {}  faces {}  edges {}  vertices {}",
+        m.solids, m.shells, m.counts.faces, m.counts.edges, m.counts.vertices
+    );
+    let _ = writeln!(
+        s,
+        "  bbox [{:.4}, {:.4}, {:.4}] .. [{:.4}, {:.4}, {:.4}]  diagonal {:.4}",
+        m.bbox[0][0], m.bbox[0][1], m.bbox[0][2], m.bbox[1][0], m.bbox[1][1], m.bbox[1][2], m.diagonal
+    );
+    let _ = writeln!(s, "  surfaces: {}", kinds(&m.counts.surfaces));
+    let _ = writeln!(s, "  edges:    {}", kinds(&m.counts.edge_kinds));
+    let _ = writeln!(s, "  vertices: {}", kinds(&m.counts.vertex_kinds));
+    let _ = writeln!(s, "\nFaces\n  {:>5} {:>8} {:<11} {:>5} {:>5} {:>8}", "id", "step", "surface", "shell", "loops", "normal");
+    for f in &m.faces {
+        let _ = writeln!(
+            s,
+            "  {:>5} {:>8} {:<11} {:>5} {:>5} {:>8}",
+            format!("F{}", f.id),
+            format!("#{}", f.step_id),
+            f.surface,
+            f.shell,
+            f.loops,
+            if f.reversed { "-Su×Sv" } else { "+Su×Sv" }
+        );
+    }
+    let _ = writeln!(s, "\nEdges\n  {:>5} {:>8} {:<9} {:>11} {:>13} {:<7} {:>17}", "id", "step", "curve", "vertices", "faces", "kind", "angle° min..max");
+    for e in &m.edges {
+        let faces: Vec<String> = e.faces.iter().map(|f| format!("F{f}")).collect();
+        let _ = writeln!(
+            s,
+            "  {:>5} {:>8} {:<9} {:>11} {:>13} {:<7} {:>8.2}..{:<8.2}",
+            format!("E{}", e.id),
+            format!("#{}", e.step_id),
+            e.curve,
+            format!("V{}-V{}", e.vertices[0], e.vertices[1]),
+            faces.join(","),
+            e.kind.name(),
+            e.angle_deg[0],
+            e.angle_deg[1]
+        );
+    }
+    let _ = writeln!(s, "\nVertices\n  {:>5} {:>8} {:<7} point", "id", "step", "kind");
+    for v in &m.vertices {
+        let _ = writeln!(
+            s,
+            "  {:>5} {:>8} {:<7} ({:.6}, {:.6}, {:.6})",
+            format!("V{}", v.id),
+            format!("#{}", v.step_id),
+            v.kind.name(),
+            v.point[0],
+            v.point[1],
+            v.point[2]
+        );
+    }
+    s
+}

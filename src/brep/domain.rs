@@ -282,16 +282,14 @@ pub fn face_domain(_model: &Model, face: &Face) -> (UvDomain, Option<usize>) {
             wrap_v = true;
         }
     }
-    let full = |p: Option<f64>| p.unwrap_or(0.0);
     if edge_loops == 0 || !umin.is_finite() {
-        // Only vertex loops (a full sphere or torus): the whole periodic range.
-        let ((u0, _), (v0, _)) = face_parameter_start(face);
+        // Only vertex loops (a full sphere or torus): the whole parameter range (a periodic
+        // direction one period from its start).
+        let ((u0, u1), (v0, v1)) = face_parameter_range(face);
         umin = u0;
-        umax = u0 + full(up);
-        if !vmin.is_finite() || vp.is_some() {
-            vmin = v0;
-            vmax = v0 + full(vp);
-        }
+        umax = up.map_or(u1, |p| u0 + p);
+        vmin = v0;
+        vmax = vp.map_or(v1, |p| v0 + p);
     }
     if wrap_u {
         if let Some(p) = up {
@@ -328,12 +326,12 @@ pub fn face_domain(_model: &Model, face: &Face) -> (UvDomain, Option<usize>) {
     )
 }
 
-fn face_parameter_start(face: &Face) -> ((f64, f64), (f64, f64)) {
+fn face_parameter_range(face: &Face) -> ((f64, f64), (f64, f64)) {
     use std::ops::Bound;
     let (ur, vr) = face.surface.parameter_range();
-    let lo = |b: Bound<f64>| match b {
+    let end = |b: Bound<f64>| match b {
         Bound::Included(x) | Bound::Excluded(x) => x,
         Bound::Unbounded => 0.0,
     };
-    ((lo(ur.0), lo(ur.1)), (lo(vr.0), lo(vr.1)))
+    ((end(ur.0), end(ur.1)), (end(vr.0), end(vr.1)))
 }

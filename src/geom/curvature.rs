@@ -142,8 +142,14 @@ mod tests {
         assert!((c.d1.length() - 1.0).abs() < TOL && (c.d2.length() - 1.0).abs() < TOL);
         assert!(c.d1.dot(c.d2).abs() < TOL && c.d1.dot(n).abs() < TOL && c.d2.dot(n).abs() < TOL);
         assert!((c.d1.cross(c.d2) - n).length() < TOL);
-        assert!(close(normal_curvature(d, sign, c.d1), c.k1, scale), "k1 direction");
-        assert!(close(normal_curvature(d, sign, c.d2), c.k2, scale), "k2 direction");
+        assert!(
+            close(normal_curvature(d, sign, c.d1), c.k1, scale),
+            "k1 direction"
+        );
+        assert!(
+            close(normal_curvature(d, sign, c.d2), c.k2, scale),
+            "k2 direction"
+        );
         assert!(close(c.mean, 0.5 * (c.k1 + c.k2), scale));
         assert!(close(c.gauss, c.k1 * c.k2, scale * scale));
         for phi in [0.3f64, 1.1, 2.0] {
@@ -179,7 +185,9 @@ mod tests {
             let c1 = d.p + r * n;
             let c2 = d.p - r * n;
             let d2 = eval_surface(&s, 2.0, -0.7);
-            if (d2.p - c1).length() < (d2.p - c2).length() + 1e-9 && ((d2.p - c1).length() - r).abs() < 1e-9 {
+            if (d2.p - c1).length() < (d2.p - c2).length() + 1e-9
+                && ((d2.p - c1).length() - r).abs() < 1e-9
+            {
                 c1
             } else {
                 c2
@@ -190,12 +198,18 @@ mod tests {
             assert!(((d.p - centre).length() - r).abs() < 1e-12 * r);
             let ball = sign_towards(&d, d.p - centre);
             let c = principal_curvatures(&d, ball).unwrap();
-            assert!(close(c.k1, 1.0 / r, 1.0 / r) && close(c.k2, 1.0 / r, 1.0 / r), "{c:?}");
+            assert!(
+                close(c.k1, 1.0 / r, 1.0 / r) && close(c.k2, 1.0 / r, 1.0 / r),
+                "{c:?}"
+            );
             let n = unit_normal(&d, ball).unwrap();
             assert!((n - (d.p - centre) / r).length() < 1e-12);
             check_invariants(&d, ball, &c);
             let c = principal_curvatures(&d, -ball).unwrap();
-            assert!(close(c.k1, -1.0 / r, 1.0 / r) && close(c.k2, -1.0 / r, 1.0 / r), "{c:?}");
+            assert!(
+                close(c.k1, -1.0 / r, 1.0 / r) && close(c.k2, -1.0 / r, 1.0 / r),
+                "{c:?}"
+            );
             check_invariants(&d, -ball, &c);
         }
     }
@@ -213,11 +227,17 @@ mod tests {
             let radial = -(if d.suu.length() < 1e-12 { d.svv } else { d.suu }).normalize();
             let shaft = sign_towards(&d, radial);
             let c = principal_curvatures(&d, shaft).unwrap();
-            assert!(close(c.k1, 1.0 / r, 1.0 / r) && close(c.k2, 0.0, 1.0 / r), "{c:?}");
+            assert!(
+                close(c.k1, 1.0 / r, 1.0 / r) && close(c.k2, 0.0, 1.0 / r),
+                "{c:?}"
+            );
             assert!(c.d1.dot(axis).abs() < 1e-12 && c.d2.cross(axis).length() < 1e-12);
             check_invariants(&d, shaft, &c);
             let c = principal_curvatures(&d, -shaft).unwrap();
-            assert!(close(c.k1, 0.0, 1.0 / r) && close(c.k2, -1.0 / r, 1.0 / r), "{c:?}");
+            assert!(
+                close(c.k1, 0.0, 1.0 / r) && close(c.k2, -1.0 / r, 1.0 / r),
+                "{c:?}"
+            );
             assert!(c.d1.cross(axis).length() < 1e-12);
             check_invariants(&d, -shaft, &c);
         }
@@ -236,8 +256,14 @@ mod tests {
                 // Outward = away from the tube's centre circle = −Svv direction (Svv = −r·n).
                 let sign = sign_towards(&d, -d.svv);
                 let c = principal_curvatures(&d, sign).unwrap();
-                assert!(close(c.k1, 1.0 / small, 1.0) && close(c.k2, k2, 1.0), "v = {v}: {c:?}");
-                assert!(c.d1.cross(d.sv).length() < 1e-12 * d.sv.length(), "k1 along the tube");
+                assert!(
+                    close(c.k1, 1.0 / small, 1.0) && close(c.k2, k2, 1.0),
+                    "v = {v}: {c:?}"
+                );
+                assert!(
+                    c.d1.cross(d.sv).length() < 1e-12 * d.sv.length(),
+                    "k1 along the tube"
+                );
                 check_invariants(&d, sign, &c);
             }
         }
@@ -247,7 +273,9 @@ mod tests {
             let c = principal_curvatures(&d, sign_towards(&d, -d.svv)).unwrap();
             let k_tube = 1.0 / small;
             let k_ring = v.cos() / (big + small * v.cos());
-            assert!(close(c.gauss, k_tube * k_ring, 1.0) && close(c.mean, 0.5 * (k_tube + k_ring), 1.0));
+            assert!(
+                close(c.gauss, k_tube * k_ring, 1.0) && close(c.mean, 0.5 * (k_tube + k_ring), 1.0)
+            );
         }
     }
 
@@ -283,7 +311,10 @@ mod tests {
             let c = principal_curvatures(&d, sign_towards(&d, DVec3::Z)).unwrap();
             let w2: f64 = 1.0 + x * x + y * y;
             let (h, k) = (x * y / w2.powf(1.5), -1.0 / (w2 * w2));
-            assert!(close(c.mean, h, 1.0) && close(c.gauss, k, 1.0), "({x}, {y}): {c:?}");
+            assert!(
+                close(c.mean, h, 1.0) && close(c.gauss, k, 1.0),
+                "({x}, {y}): {c:?}"
+            );
             assert!(c.k1 > 0.0 && c.k2 < 0.0);
             check_invariants(&d, 1.0, &c);
         }
@@ -333,7 +364,10 @@ mod tests {
         let apex = Point3::new(0.0, 0.0, 1.0);
         let b = BSplineSurface::new(
             (KnotVec::bezier_knot(1), KnotVec::bezier_knot(1)),
-            vec![vec![apex, apex], vec![Point3::new(1.0, 0.0, 0.0), Point3::new(0.0, 1.0, 0.0)]],
+            vec![
+                vec![apex, apex],
+                vec![Point3::new(1.0, 0.0, 0.0), Point3::new(0.0, 1.0, 0.0)],
+            ],
         );
         let s = Surface::BSplineSurface(Box::new(b));
         let d = eval_surface(&s, 0.0, 0.5);
@@ -351,7 +385,10 @@ mod tests {
             svv: DVec3::Y,
         };
         assert!(principal_curvatures(&folded, 1.0).is_none());
-        let nan = SurfaceDerivs { su: DVec3::NAN, ..folded };
+        let nan = SurfaceDerivs {
+            su: DVec3::NAN,
+            ..folded
+        };
         assert!(unit_normal(&nan, 1.0).is_none());
     }
 }

@@ -111,7 +111,14 @@ pub fn eval_curve(curve: &Curve3D, t: f64) -> CurveDerivs {
 /// Evaluates a B-spline surface (our code, not truck's `uuder`/`vvder`).
 pub fn eval_bspline_surface(s: &BSplineSurface<Point3>, u: f64, v: f64) -> SurfaceDerivs {
     let (uk, vk) = s.knot_vecs();
-    let h = bspline_surface_ders(uk, vk, s.control_points(), |p: &Point3| [p.x, p.y, p.z], u, v);
+    let h = bspline_surface_ders(
+        uk,
+        vk,
+        s.control_points(),
+        |p: &Point3| [p.x, p.y, p.z],
+        u,
+        v,
+    );
     match h {
         Some(h) => SurfaceDerivs {
             p: DVec3::from_array(h[0]),
@@ -156,7 +163,12 @@ pub fn eval_bspline_curve(c: &BSplineCurve<Point3>, t: f64) -> CurveDerivs {
 
 /// Evaluates a NURBS curve (homogeneous B-spline + quotient rule).
 pub fn eval_nurbs_curve(c: &NurbsCurve<Vector4>, t: f64) -> CurveDerivs {
-    match bspline_curve_ders(c.knot_vec(), c.control_points(), |p| [p.x, p.y, p.z, p.w], t) {
+    match bspline_curve_ders(
+        c.knot_vec(),
+        c.control_points(),
+        |p| [p.x, p.y, p.z, p.w],
+        t,
+    ) {
         Some(h) => {
             let a = h.map(DVec4::from_array);
             let (p, d1, d2) = rational_curve(
@@ -618,8 +630,7 @@ fn basis_ders<'a>(knots: &[f64], p: usize, span: usize, t: f64, buf: &'a mut [f6
             for j in 0..p {
                 let a = if j > 0 { q[j - 1] } else { 0.0 };
                 let b = if j < p - 1 { q[j] } else { 0.0 };
-                n1[j] =
-                    pm * (a - b) * inv_or_zero(knots[span + 1 + j] - knots[span + 1 + j - p]);
+                n1[j] = pm * (a - b) * inv_or_zero(knots[span + 1 + j] - knots[span + 1 + j - p]);
             }
             for r in 0..=p {
                 let a = if r > 0 { n1[r - 1] } else { 0.0 };
@@ -730,13 +741,12 @@ pub(crate) mod tests {
     use super::*;
     use std::f64::consts::PI;
     use std::str::FromStr;
+    use truck_geometry::prelude::ExtrudedCurve;
     use truck_geometry::prelude::{
         BSplineCurve, BSplineSurface, Invertible, KnotVec, Matrix4, NurbsCurve, NurbsSurface,
-        PCurve, ParametricCurve, ParametricSurface, Point2, Point3, Processor, Rad,
-        RevolutedCurve, Transformed, TrimmedCurve, UnitCircle, UnitHyperbola, UnitParabola,
-        Vector3, Vector4,
+        PCurve, ParametricCurve, ParametricSurface, Point2, Point3, Processor, Rad, RevolutedCurve,
+        Transformed, TrimmedCurve, UnitCircle, UnitHyperbola, UnitParabola, Vector3, Vector4,
     };
-    use truck_geometry::prelude::ExtrudedCurve;
     use truck_stepio::r#in::alias::{Conic3D, Curve2D, SweptCurve};
 
     pub(crate) const FD_H: f64 = 1e-5;
@@ -791,7 +801,7 @@ pub(crate) mod tests {
     pub(crate) fn knots(p: usize, a: f64, b: f64, interior: &[f64]) -> KnotVec {
         let mut k = vec![a; p + 1];
         k.extend_from_slice(interior);
-        k.extend(std::iter::repeat(b).take(p + 1));
+        k.extend(std::iter::repeat_n(b, p + 1));
         KnotVec::from(k)
     }
 
@@ -940,12 +950,14 @@ pub(crate) mod tests {
         let mut worst = [0.0f64; 6];
         for &(u, v) in params {
             let d = eval(u, v);
-            let (up, um, vp, vm) = (eval(u + h, v), eval(u - h, v), eval(u, v + h), eval(u, v - h));
-            let sigma = d.su.length()
-                + d.sv.length()
-                + d.suu.length()
-                + d.suv.length()
-                + d.svv.length();
+            let (up, um, vp, vm) = (
+                eval(u + h, v),
+                eval(u - h, v),
+                eval(u, v + h),
+                eval(u, v - h),
+            );
+            let sigma =
+                d.su.length() + d.sv.length() + d.suu.length() + d.suv.length() + d.svv.length();
             let fd = [
                 (up.p - um.p) / (2.0 * h),
                 (vp.p - vm.p) / (2.0 * h),
@@ -966,7 +978,11 @@ pub(crate) mod tests {
 
     /// Asserts [`surface_fd_errors`] ≤ [`FD_TOL`] for `eval_surface(s)` on `params`.
     pub(crate) fn assert_surface_fd(name: &str, s: &Surface, params: &[(f64, f64)]) {
-        assert!(params.len() >= 16, "{name}: only {} sample points", params.len());
+        assert!(
+            params.len() >= 16,
+            "{name}: only {} sample points",
+            params.len()
+        );
         let worst = surface_fd_errors(params, |u, v| eval_surface(s, u, v));
         let names = ["su", "sv", "suu", "suv(u)", "suv(v)", "svv"];
         for k in 0..6 {
@@ -980,7 +996,11 @@ pub(crate) mod tests {
     }
 
     pub(crate) fn assert_curve_fd(name: &str, c: &Curve3D, params: &[f64]) {
-        assert!(params.len() >= 10, "{name}: only {} sample points", params.len());
+        assert!(
+            params.len() >= 10,
+            "{name}: only {} sample points",
+            params.len()
+        );
         let h = FD_H;
         for &t in params {
             let d = eval_curve(c, t);
@@ -1072,7 +1092,8 @@ pub(crate) mod tests {
 
     // ------------------------------------------------------------------ B-splines and NURBS
 
-    const DEGREE_PAIRS: [(usize, usize); 7] = [(1, 1), (2, 1), (1, 3), (2, 2), (3, 3), (4, 3), (4, 4)];
+    const DEGREE_PAIRS: [(usize, usize); 7] =
+        [(1, 1), (2, 1), (1, 3), (2, 2), (3, 3), (4, 3), (4, 4)];
 
     #[test]
     fn bspline_surfaces_match_finite_differences() {
@@ -1171,8 +1192,14 @@ pub(crate) mod tests {
                 "degree {p}: truck |uuder|/|FD| = {ratio_uu:.6}, |vvder|/|FD| = {ratio_vv:.6} \
                  (1/(p−1) = {expected:.6})"
             );
-            assert!((ratio_uu - expected).abs() < 1e-6, "truck uuder ratio {ratio_uu}");
-            assert!((ratio_vv - expected).abs() < 1e-6, "truck vvder ratio {ratio_vv}");
+            assert!(
+                (ratio_uu - expected).abs() < 1e-6,
+                "truck uuder ratio {ratio_uu}"
+            );
+            assert!(
+                (ratio_vv - expected).abs() < 1e-6,
+                "truck vvder ratio {ratio_vv}"
+            );
         }
         // NURBS inherit it through the quotient rule.
         let n = nurbs_surface(3, 3);
@@ -1187,7 +1214,10 @@ pub(crate) mod tests {
         });
         let ours = surface_fd_errors(&params, |u, v| eval_nurbs_surface(&n, u, v));
         eprintln!("cubic NURBS, worst FD error/σ [su sv suu suv suv svv]: truck {truck_err:?}, ours {ours:?}");
-        assert!(truck_err[2] > 1e-2 && truck_err[5] > 1e-2, "truck NURBS uuder/vvder now right?");
+        assert!(
+            truck_err[2] > 1e-2 && truck_err[5] > 1e-2,
+            "truck NURBS uuder/vvder now right?"
+        );
         assert!(ours.iter().all(|e| *e < FD_TOL));
     }
 
@@ -1199,7 +1229,14 @@ pub(crate) mod tests {
         let n = Surface::NurbsSurface(Box::new(nurbs_surface(3, 2)));
         // A tenth of a span or so outside: far out, an extrapolated weight function may come
         // near zero and the rational surface is ill-conditioned (which is no bug).
-        let outside = [(-1.1, 0.4), (2.6, 0.4), (0.4, -0.08), (0.4, 1.08), (-1.05, 1.05), (2.6, -0.05)];
+        let outside = [
+            (-1.1, 0.4),
+            (2.6, 0.4),
+            (0.4, -0.08),
+            (0.4, 1.08),
+            (-1.05, 1.05),
+            (2.6, -0.05),
+        ];
         let mut params = Vec::new();
         for (u, v) in outside {
             for k in 0..4 {
@@ -1237,24 +1274,46 @@ pub(crate) mod tests {
     fn swept_surfaces_match_finite_differences() {
         let k3 = u_knots(3);
         let cases = [
-            ("extruded cubic B-spline", extrusion(Curve3D::BSplineCurve(bspline_curve(3)))),
-            ("extruded cubic NURBS", extrusion(Curve3D::NurbsCurve(nurbs_curve(3)))),
-            ("revolved cubic B-spline", revolution(Curve3D::BSplineCurve(bspline_curve(3)), false)),
-            ("revolved cubic NURBS", revolution(Curve3D::NurbsCurve(nurbs_curve(3)), false)),
-            ("revolved quartic B-spline, inverted", revolution(Curve3D::BSplineCurve(bspline_curve(4)), true)),
+            (
+                "extruded cubic B-spline",
+                extrusion(Curve3D::BSplineCurve(bspline_curve(3))),
+            ),
+            (
+                "extruded cubic NURBS",
+                extrusion(Curve3D::NurbsCurve(nurbs_curve(3))),
+            ),
+            (
+                "revolved cubic B-spline",
+                revolution(Curve3D::BSplineCurve(bspline_curve(3)), false),
+            ),
+            (
+                "revolved cubic NURBS",
+                revolution(Curve3D::NurbsCurve(nurbs_curve(3)), false),
+            ),
+            (
+                "revolved quartic B-spline, inverted",
+                revolution(Curve3D::BSplineCurve(bspline_curve(4)), true),
+            ),
         ];
         for (name, s) in cases {
             // After inversion u ↔ v, so the knots may sit on either parameter.
             let params = grid((-1.0, 2.5), (-1.0, 2.5), 10, &k3, &k3);
             let params: Vec<_> = params
                 .into_iter()
-                .filter(|(u, v)| u_knots(4).iter().all(|k| (u - k).abs() > 1e-3 && (v - k).abs() > 1e-3))
+                .filter(|(u, v)| {
+                    u_knots(4)
+                        .iter()
+                        .all(|k| (u - k).abs() > 1e-3 && (v - k).abs() > 1e-3)
+                })
                 .collect();
             assert_surface_fd(name, &s, &params);
             // Values equal truck's.
             for &(u, v) in &params {
                 let theirs = p3(s.subs(u, v));
-                assert!(rel(eval_surface(&s, u, v).p, theirs, theirs.length()) < 1e-12, "{name}");
+                assert!(
+                    rel(eval_surface(&s, u, v).p, theirs, theirs.length()) < 1e-12,
+                    "{name}"
+                );
             }
         }
     }
@@ -1263,15 +1322,27 @@ pub(crate) mod tests {
 
     fn conics() -> Vec<(&'static str, Curve3D)> {
         let m = placement() * Matrix4::from_nonuniform_scale(3.0, 1.5, 1.0);
-        let ellipse = Processor::new(TrimmedCurve::new(UnitCircle::<Point3>::new(), (0.0, 2.0 * PI)))
-            .transformed(m);
-        let hyperbola = Processor::new(TrimmedCurve::new(UnitHyperbola::<Point3>::new(), (-1.0, 1.0)))
-            .transformed(m);
-        let parabola = Processor::new(TrimmedCurve::new(UnitParabola::<Point3>::new(), (-1.0, 1.0)))
-            .transformed(m);
+        let ellipse = Processor::new(TrimmedCurve::new(
+            UnitCircle::<Point3>::new(),
+            (0.0, 2.0 * PI),
+        ))
+        .transformed(m);
+        let hyperbola = Processor::new(TrimmedCurve::new(
+            UnitHyperbola::<Point3>::new(),
+            (-1.0, 1.0),
+        ))
+        .transformed(m);
+        let parabola = Processor::new(TrimmedCurve::new(
+            UnitParabola::<Point3>::new(),
+            (-1.0, 1.0),
+        ))
+        .transformed(m);
         vec![
             ("ellipse", Curve3D::Conic(Conic3D::Ellipse(ellipse))),
-            ("ellipse inverted", Curve3D::Conic(Conic3D::Ellipse(ellipse.inverse()))),
+            (
+                "ellipse inverted",
+                Curve3D::Conic(Conic3D::Ellipse(ellipse.inverse())),
+            ),
             ("hyperbola", Curve3D::Conic(Conic3D::Hyperbola(hyperbola))),
             ("parabola", Curve3D::Conic(Conic3D::Parabola(parabola))),
         ]
@@ -1289,17 +1360,29 @@ pub(crate) mod tests {
             Point3::new(1.0, 0.5, 0.0),
             Point3::new(1.5, 2.0, 1.0),
         ]));
-        assert_curve_fd("polyline", &poly, &curve_params((-0.5, 2.5), 13, &[0.0, 1.0, 2.0]));
+        assert_curve_fd(
+            "polyline",
+            &poly,
+            &curve_params((-0.5, 2.5), 13, &[0.0, 1.0, 2.0]),
+        );
         for (name, c) in conics() {
             assert_curve_fd(name, &c, &curve_params((-0.9, 0.9), 17, &[]));
         }
         for p in 1..=4 {
             let c = Curve3D::BSplineCurve(bspline_curve(p));
-            assert_curve_fd(&format!("B-spline curve degree {p}"), &c, &curve_params((-1.3, 2.8), 41, &u_knots(p)));
+            assert_curve_fd(
+                &format!("B-spline curve degree {p}"),
+                &c,
+                &curve_params((-1.3, 2.8), 41, &u_knots(p)),
+            );
         }
         for p in [2, 3] {
             let c = Curve3D::NurbsCurve(nurbs_curve(p));
-            assert_curve_fd(&format!("NURBS curve degree {p}"), &c, &curve_params((-1.3, 2.8), 41, &u_knots(p)));
+            assert_curve_fd(
+                &format!("NURBS curve degree {p}"),
+                &c,
+                &curve_params((-1.3, 2.8), 41, &u_knots(p)),
+            );
         }
     }
 
@@ -1309,7 +1392,10 @@ pub(crate) mod tests {
             let b = bspline_curve(p);
             let n = nurbs_curve(p);
             let k = u_knots(p);
-            for t in curve_params((-1.0, 2.5), 37, &k).into_iter().chain(k.iter().copied()) {
+            for t in curve_params((-1.0, 2.5), 37, &k)
+                .into_iter()
+                .chain(k.iter().copied())
+            {
                 let theirs = p3(b.subs(t));
                 assert!(rel(eval_bspline_curve(&b, t).p, theirs, theirs.length()) < 1e-12);
                 let theirs = p3(n.subs(t));
@@ -1351,16 +1437,26 @@ pub(crate) mod tests {
             Surface::BSplineSurface(Box::new(bspline_surface(3, 3))),
             Surface::NurbsSurface(Box::new(nurbs_surface(3, 2))),
         ];
-        let knot_list: Vec<f64> = u_knots(3).iter().chain(v_knots(3).iter()).chain(v_knots(2).iter()).copied().collect();
+        let knot_list: Vec<f64> = u_knots(3)
+            .iter()
+            .chain(v_knots(3).iter())
+            .chain(v_knots(2).iter())
+            .copied()
+            .collect();
         for s in &surfaces {
-            for (name, c) in [("cubic", Curve2D::BSplineCurve(c2.clone())), ("conic", Curve2D::NurbsCurve(n2.clone()))] {
+            for (name, c) in [
+                ("cubic", Curve2D::BSplineCurve(c2.clone())),
+                ("conic", Curve2D::NurbsCurve(n2.clone())),
+            ] {
                 let pc = Curve3D::PCurve(PCurve::new(Box::new(c.clone()), Box::new(s.clone())));
                 // Avoid parameters whose image crosses a surface knot line.
                 let ts: Vec<f64> = curve_params((0.0, 1.0), 41, &[0.4])
                     .into_iter()
                     .filter(|&t| {
                         let (uv, _, _) = eval_curve2d(&c, t);
-                        knot_list.iter().all(|k| (uv.x - k).abs() > 2e-3 && (uv.y - k).abs() > 2e-3)
+                        knot_list
+                            .iter()
+                            .all(|k| (uv.x - k).abs() > 2e-3 && (uv.y - k).abs() > 2e-3)
                     })
                     .collect();
                 assert_curve_fd(&format!("pcurve {name}"), &pc, &ts);

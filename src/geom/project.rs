@@ -29,7 +29,14 @@ pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> O
     let truck = crate::panic_guard::catch(|| surface.search_nearest_parameter(q, hint, 100))
         .ok()
         .flatten()
-        .filter(|uv| is_foot(surface, p, *uv));
+        .filter(|uv| is_foot(surface, p, *uv))
+        .filter(|uv| {
+            // Outside a bounded direction (past a sphere's pole) the parametrisation folds
+            // back and the normal flips: not an answer.
+            let (ur, vr) = clamp_ranges(surface);
+            let inside = |x: f64, r: (f64, f64)| x >= r.0 - 1e-12 * (1.0 + r.0.abs()) && x <= r.1 + 1e-12 * (1.0 + r.1.abs());
+            inside(uv.0, ur) && inside(uv.1, vr)
+        });
     if let Some(h) = hint {
         if truck.is_some() {
             return truck;
@@ -128,10 +135,19 @@ pub const NEWTON_SEEDS: usize = 8;
 pub const MAX_SPAN_SEEDS: usize = 400;
 
 /// True when `uv` is a foot point of `p`: `S(uv) − p` is normal to the surface (or `p` is on
-/// it), to a relative tolerance.
+/// it), to a relative tolerance, and the distance is a local minimum there, not a maximum or
+/// saddle (the far side of a sphere is a stationary point too; truck's search can land on it).
 fn is_foot(surface: &Surface, p: DVec3, uv: (f64, f64)) -> bool {
     let d = eval_surface(surface, uv.0, uv.1);
     let r = d.p - p;
+    // Hessian of ½‖S − p‖²: positive semi-definite at a minimum (up to rounding).
+    let h00 = d.su.dot(d.su) + d.suu.dot(r);
+    let h01 = d.su.dot(d.sv) + d.suv.dot(r);
+    let h11 = d.sv.dot(d.sv) + d.svv.dot(r);
+    let scale2 = d.su.length_squared().max(d.sv.length_squared()).max(1e-300);
+    if h00 < -1e-9 * scale2 || h11 < -1e-9 * scale2 || h00 * h11 - h01 * h01 < -1e-9 * scale2 * scale2 {
+        return false;
+    }
     let scale = 1.0 + p.abs().max_element();
     if r.length() <= 1e-9 * scale {
         return true;
@@ -141,22 +157,43 @@ fn is_foot(surface: &Surface, p: DVec3, uv: (f64, f64)) -> bool {
     g < 1e-6
 }
 
+/// The ranges iterates are clamped to: the parameter range in each direction that is bounded
+/// and not periodic (a B-spline patch; a sphere's latitude), unbounded otherwise.
+///
+/// Only B-spline/NURBS patches and spheres are trusted: truck reports [0, 1] for a plane,
+/// which is not a bound at all.
+fn clamp_ranges(surface: &Surface) -> ((f64, f64), (f64, f64)) {
+    use truck_stepio::r#in::alias::ElementarySurface;
+    let trusted = match surface {
+        Surface::BSplineSurface(_) | Surface::NurbsSurface(_) => true,
+        Surface::ElementarySurface(e) => matches!(e.as_ref(), ElementarySurface::Sphere(_)),
+        Surface::SweptCurve(_) => false,
+    };
+    if !trusted {
+        return ((f64::NEG_INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::INFINITY));
+    }
+    let (ur, vr) = surface.parameter_range();
+    let finite = |r: (Bound<f64>, Bound<f64>), periodic: bool| match r {
+        (Bound::Included(a) | Bound::Excluded(a), Bound::Included(b) | Bound::Excluded(b))
+            if a.is_finite() && b.is_finite() && !periodic =>
+        {
+            (a, b)
+        }
+        _ => (f64::NEG_INFINITY, f64::INFINITY),
+    };
+    (
+        finite(ur, surface.u_period().is_some()),
+        finite(vr, surface.v_period().is_some()),
+    )
+}
+
 /// Levenberg–Marquardt on `½‖S(u,v) − p‖²` from `start`.
 ///
 /// Iterates are clamped to the parameter range where it is finite (a B-spline patch), so a
 /// point beyond the patch's border gets its nearest point on the border, not on the
 /// polynomial's extrapolation.
 fn newton(surface: &Surface, p: DVec3, start: (f64, f64)) -> Option<(f64, f64)> {
-    let (ur, vr) = surface.parameter_range();
-    let finite = |r: (Bound<f64>, Bound<f64>)| match r {
-        (Bound::Included(a) | Bound::Excluded(a), Bound::Included(b) | Bound::Excluded(b))
-            if a.is_finite() && b.is_finite() && matches!(surface, Surface::BSplineSurface(_) | Surface::NurbsSurface(_)) =>
-        {
-            (a, b)
-        }
-        _ => (f64::NEG_INFINITY, f64::INFINITY),
-    };
-    let (ur, vr) = (finite(ur), finite(vr));
+    let (ur, vr) = clamp_ranges(surface);
     let (mut u, mut v) = start;
     let mut lambda = 1e-3;
     let scale = 1.0 + p.abs().max_element();

@@ -1,1 +1,8 @@
-mod stub {}
+//! Integration tests (one binary, see HOUSE-STYLE.md).
+
+mod bad_input;
+mod cli;
+mod common;
+mod realworld;
+mod regenerate;
+mod samples;
