@@ -1,1 +1,173 @@
-//! TODO
+//! Bad input: each case gives exit status 2 and one clear line on stderr naming the file and
+//! the problem, never a panic. Each test writes its input into its own temp dir.
+
+use crate::common::{matrace, sample};
+use std::path::Path;
+
+/// Runs `matrace inspect FILE` and checks: status 2, stderr one line, naming the file, and
+/// containing `needle`; no panic message.
+fn rejects(file: &Path, needle: &str) {
+    let out = matrace(&["inspect", file.to_str().unwrap()], file.parent().unwrap());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "status for {file:?}; stderr: {err}");
+    assert!(out.stdout.is_empty(), "stdout for a bad file: {}", String::from_utf8_lossy(&out.stdout));
+    assert_eq!(err.trim_end().lines().count(), 1, "one line expected: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    let name = file.file_name().unwrap().to_str().unwrap();
+    assert!(err.contains(name), "error does not name the file: {err}");
+    assert!(err.contains(needle), "error does not say {needle:?}: {err}");
+}
+
+fn write(dir: &Path, name: &str, bytes: &[u8]) -> std::path::PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, bytes).unwrap();
+    p
+}
+
+fn box_text() -> String {
+    std::fs::read_to_string(sample("box.step")).unwrap()
+}
+
+#[test]
+fn missing_file() {
+    let dir = tempfile::tempdir().unwrap();
+    rejects(&dir.path().join("nope.step"), "cannot read file");
+}
+
+#[test]
+fn empty_file() {
+    let dir = tempfile::tempdir().unwrap();
+    rejects(&write(dir.path(), "empty.step", b""), "file is empty");
+}
+
+#[test]
+fn random_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    // Deterministic pseudo-random bytes (xorshift), not valid UTF-8.
+    let mut x: u64 = 0x9e3779b97f4a7c15;
+    let bytes: Vec<u8> = (0..4096)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 24) as u8
+        })
+        .collect();
+    rejects(&write(dir.path(), "noise.step", &bytes), "not a readable STEP file");
+}
+
+#[test]
+fn not_a_step_file() {
+    let dir = tempfile::tempdir().unwrap();
+    rejects(&write(dir.path(), "part.step", b"solid cube\nfacet normal 0 0 1\n"), "not a STEP file");
+}
+
+#[test]
+fn truncated_step() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = box_text();
+    let cut = &text[..text.len() / 2];
+    rejects(&write(dir.path(), "truncated.step", cut.as_bytes()), "truncated");
+}
+
+#[test]
+fn truncated_inside_an_entity_with_end_marker() {
+    // Cut mid-record, but keep the end marker: the parser itself must report it.
+    let dir = tempfile::tempdir().unwrap();
+    let text = box_text();
+    let cut = format!("{}\nENDSEC;\nEND-ISO-10303-21;\n", &text[..text.len() / 2]);
+    rejects(&write(dir.path(), "cut.step", cut.as_bytes()), "not a readable STEP file");
+}
+
+#[test]
+fn step_without_a_solid() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nFILE_NAME('x','',(''),(''),'','','');\nFILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\n#1=CARTESIAN_POINT('',(0.,0.,0.));\nENDSEC;\nEND-ISO-10303-21;\n";
+    rejects(&write(dir.path(), "nosolid.step", text.as_bytes()), "no solid");
+}
+
+#[test]
+fn unsupported_surface_type() {
+    // Replace the box's first PLANE by an OFFSET_SURFACE of it (a type we do not read).
+    let dir = tempfile::tempdir().unwrap();
+    let text = box_text();
+    let (id, rest) = first_instance_of(&text, "PLANE(");
+    let plane_args = &rest[rest.find('(').unwrap()..];
+    let new_id = 99999;
+    let patched = text.replacen(
+        &format!("#{id} = PLANE{plane_args};"),
+        &format!("#{id} = OFFSET_SURFACE('',#{new_id},1.,.F.);\n#{new_id} = PLANE{plane_args};"),
+        1,
+    );
+    assert_ne!(patched, text, "patch applied");
+    rejects(&write(dir.path(), "offset.step", patched.as_bytes()), "unsupported surface type");
+}
+
+#[test]
+fn unsorted_knots() {
+    // The bicubic top is written `...,(4,1,4),(4,1,4),(0.,0.5,1.),(0.,0.5,1.)`: reverse the
+    // u-knots.
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(sample("box_bspline_top.step")).unwrap();
+    let patched = text.replacen("(4,1,4),(0.,0.5,1.),", "(4,1,4),(1.,0.5,0.),", 1);
+    assert_ne!(patched, text, "the sample's knot vector changed: update this test");
+    rejects(&write(dir.path(), "knots.step", patched.as_bytes()), "knots not sorted");
+}
+
+#[test]
+fn open_shell() {
+    // Drop one face from the box's shell: its edges are then used once.
+    let dir = tempfile::tempdir().unwrap();
+    let text = box_text();
+    let (id, rest) = first_instance_of(&text, "CLOSED_SHELL(");
+    let list_start = rest.find("(#").unwrap() + 1;
+    let first_face_end = rest[list_start..].find(',').unwrap() + list_start;
+    let patched_rest = format!("{}{}", &rest[..list_start], &rest[first_face_end + 1..]);
+    let patched = text.replacen(rest, &patched_rest, 1);
+    assert_ne!(patched, text);
+    let _ = id;
+    rejects(&write(dir.path(), "open.step", patched.as_bytes()), "closed shell");
+}
+
+#[test]
+fn reference_to_undefined_entity() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = box_text();
+    let (id, rest) = first_instance_of(&text, "VERTEX_POINT(");
+    let patched_rest = rest.replacen("#", "#777777", 1);
+    let patched = text.replacen(rest, &patched_rest, 1);
+    let _ = id;
+    rejects(&write(dir.path(), "dangling.step", patched.as_bytes()), "does not define");
+}
+
+#[test]
+fn reference_cycle() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = box_text();
+    let (id, rest) = first_instance_of(&text, "EDGE_CURVE(");
+    // Make the edge its own start vertex.
+    let open = rest.find("#").unwrap();
+    let comma = open + rest[open..].find(',').unwrap();
+    let patched_rest = format!("{}#{id}{}", &rest[..open], &rest[comma..]);
+    let patched = text.replacen(rest, &patched_rest, 1);
+    rejects(&write(dir.path(), "cycle.step", patched.as_bytes()), "reference cycle");
+}
+
+#[test]
+fn a_directory() {
+    let dir = tempfile::tempdir().unwrap();
+    let sub = dir.path().join("part.step");
+    std::fs::create_dir(&sub).unwrap();
+    rejects(&sub, "directory");
+}
+
+/// The id and the text (from `NAME(` to the end of the record) of the first instance of
+/// entity `name_paren` (e.g. `"PLANE("`), as written by FreeCAD (`#12 = PLANE(...);`).
+fn first_instance_of<'a>(text: &'a str, name_paren: &str) -> (u64, &'a str) {
+    let at = text.find(&format!("= {name_paren}")).expect("entity present");
+    let line_start = text[..at].rfind('#').unwrap();
+    let id: u64 = text[line_start + 1..at].trim().parse().unwrap();
+    let body_start = at + 2;
+    let end = body_start + text[body_start..].find(';').unwrap();
+    (id, &text[body_start..end])
+}

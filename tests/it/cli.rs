@@ -1,1 +1,57 @@
-//! TODO
+//! The command line: `inspect` prints a table and `--json` the report's `input` and `model`.
+
+use crate::common::{matrace, root, sample};
+
+#[test]
+fn inspect_prints_a_table() {
+    let out = matrace(&["inspect", sample("l_bracket.step").to_str().unwrap()], &root());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("faces 8  edges 18  vertices 12"), "{text}");
+    assert!(text.contains("17 convex, 1 reflex"), "{text}");
+    assert!(text.contains("reflex    270.00"), "{text}");
+}
+
+#[test]
+fn inspect_json_follows_the_report_schema() {
+    let out = matrace(
+        &["inspect", "--json", sample("box_inch.step").to_str().unwrap()],
+        &root(),
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["schema"], "matrace.report/1");
+    assert_eq!(v["input"]["format"], "step");
+    assert_eq!(v["input"]["length_unit"], "mm");
+    assert_eq!(v["input"]["file_unit"], "inch");
+    assert_eq!(v["input"]["mm_per_unit"], 25.4);
+    assert_eq!(v["model"]["solids"], 1);
+    assert_eq!(v["model"]["faces"].as_array().unwrap().len(), 6);
+    assert_eq!(v["model"]["faces"][0]["surface"], "plane");
+    let e0 = &v["model"]["edges"][0];
+    assert_eq!(e0["id"], 0);
+    assert_eq!(e0["kind"], "convex");
+    assert_eq!(e0["faces"].as_array().unwrap().len(), 2);
+    let v0 = &v["model"]["vertices"][0];
+    assert_eq!(v0["kind"], "convex");
+    assert_eq!(v0["point"].as_array().unwrap().len(), 3);
+    // The inch box is the 60×40×20 mm box: its far corner comes out in millimetres.
+    let hi = &v["model"]["bbox"][1];
+    for (k, want) in [60.0, 40.0, 20.0].iter().enumerate() {
+        let got = hi[k].as_f64().unwrap();
+        assert!((got - want).abs() < 1e-9, "bbox max {k}: {got} vs {want}");
+    }
+}
+
+#[test]
+fn bad_arguments_exit_2() {
+    let out = matrace(&["inspect"], &root());
+    assert_eq!(out.status.code(), Some(2));
+    let out = matrace(&["frobnicate"], &root());
+    assert_eq!(out.status.code(), Some(2));
+    let out = matrace(
+        &["inspect", "--angle-tol", "-3", sample("box.step").to_str().unwrap()],
+        &root(),
+    );
+    assert_eq!(out.status.code(), Some(2));
+}
