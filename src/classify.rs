@@ -195,7 +195,10 @@ fn classify_edge(model: &Model, e: usize, opts: &ClassifyOptions) -> EdgeClass {
     } else {
         EdgeKind::Mixed
     };
-    let lo = samples.iter().map(|s| s.angle_deg).fold(f64::INFINITY, f64::min);
+    let lo = samples
+        .iter()
+        .map(|s| s.angle_deg)
+        .fold(f64::INFINITY, f64::min);
     let hi = samples
         .iter()
         .map(|s| s.angle_deg)

@@ -6,7 +6,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "matrace", version, about = "Exact 3D medial axis transform of CAD solids")]
+#[command(
+    name = "matrace",
+    version,
+    about = "Exact 3D medial axis transform of CAD solids"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -228,12 +228,22 @@ pub fn render_table(r: &Report) -> String {
     let _ = writeln!(
         s,
         "  bbox [{:.4}, {:.4}, {:.4}] .. [{:.4}, {:.4}, {:.4}]  diagonal {:.4}",
-        m.bbox[0][0], m.bbox[0][1], m.bbox[0][2], m.bbox[1][0], m.bbox[1][1], m.bbox[1][2], m.diagonal
+        m.bbox[0][0],
+        m.bbox[0][1],
+        m.bbox[0][2],
+        m.bbox[1][0],
+        m.bbox[1][1],
+        m.bbox[1][2],
+        m.diagonal
     );
     let _ = writeln!(s, "  surfaces: {}", kinds(&m.counts.surfaces));
     let _ = writeln!(s, "  edges:    {}", kinds(&m.counts.edge_kinds));
     let _ = writeln!(s, "  vertices: {}", kinds(&m.counts.vertex_kinds));
-    let _ = writeln!(s, "\nFaces\n  {:>5} {:>8} {:<11} {:>5} {:>5} {:>8}", "id", "step", "surface", "shell", "loops", "normal");
+    let _ = writeln!(
+        s,
+        "\nFaces\n  {:>5} {:>8} {:<11} {:>5} {:>5} {:>8}",
+        "id", "step", "surface", "shell", "loops", "normal"
+    );
     for f in &m.faces {
         let _ = writeln!(
             s,
@@ -246,7 +256,11 @@ pub fn render_table(r: &Report) -> String {
             if f.reversed { "-Su×Sv" } else { "+Su×Sv" }
         );
     }
-    let _ = writeln!(s, "\nEdges\n  {:>5} {:>8} {:<9} {:>11} {:>13} {:<7} {:>17}", "id", "step", "curve", "vertices", "faces", "kind", "angle° min..max");
+    let _ = writeln!(
+        s,
+        "\nEdges\n  {:>5} {:>8} {:<9} {:>11} {:>13} {:<7} {:>17}",
+        "id", "step", "curve", "vertices", "faces", "kind", "angle° min..max"
+    );
     for e in &m.edges {
         let faces: Vec<String> = e.faces.iter().map(|f| format!("F{f}")).collect();
         let _ = writeln!(
@@ -262,7 +276,11 @@ pub fn render_table(r: &Report) -> String {
             e.angle_deg[1]
         );
     }
-    let _ = writeln!(s, "\nVertices\n  {:>5} {:>8} {:<7} point", "id", "step", "kind");
+    let _ = writeln!(
+        s,
+        "\nVertices\n  {:>5} {:>8} {:<7} point",
+        "id", "step", "kind"
+    );
     for v in &m.vertices {
         let _ = writeln!(
             s,

@@ -33,7 +33,9 @@ fn project(face: &Face, p: DVec3, hint: Option<(f64, f64)>) -> Option<(f64, f64)
     // A hint can lead to a far stationary point (the far side of a sphere): retry without.
     crate::geom::project_point(&face.surface, p, hint)
         .filter(on)
-        .or_else(|| hint.and_then(|_| crate::geom::project_point(&face.surface, p, None).filter(on)))
+        .or_else(|| {
+            hint.and_then(|_| crate::geom::project_point(&face.surface, p, None).filter(on))
+        })
 }
 
 /// How far (relative to the size of the coordinates) a boundary point may be from its face's
@@ -67,7 +69,8 @@ pub fn loop_uv(model: &Model, face: &Face, lp: &Loop) -> Result<Vec<DVec2>, Stri
     let vp = face.surface.v_period();
     if let Some(v) = lp.vertex {
         let p = model.vertices[v].point;
-        let uv = project(face, p, None).ok_or("vertex loop's vertex is not on the face's surface")?;
+        let uv =
+            project(face, p, None).ok_or("vertex loop's vertex is not on the face's surface")?;
         return Ok(vec![DVec2::new(uv.0, uv.1)]);
     }
     // Sample the loop in order; remember which samples start a seam traversal.
@@ -85,7 +88,11 @@ pub fn loop_uv(model: &Model, face: &Face, lp: &Loop) -> Result<Vec<DVec2>, Stri
         let edge = &model.edges[oe.edge];
         let seam = edge.faces.iter().filter(|&&f| f == face_index).count() >= 2;
         let straight = matches!(edge.curve, super::model::Curve3D::Line(_));
-        let n = if straight && !seam { 2 } else { SAMPLES_PER_CURVED_EDGE };
+        let n = if straight && !seam {
+            2
+        } else {
+            SAMPLES_PER_CURVED_EDGE
+        };
         let (t0, t1) = if oe.forward {
             edge.range
         } else {

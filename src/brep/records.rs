@@ -230,24 +230,29 @@ pub fn patch_for_truck(sections: &mut [DataSection]) -> usize {
         match record.name.as_str() {
             // truck takes the semi-angle in radians whatever the file's angle unit.
             "CONICAL_SURFACE" if angle != 1.0 => {
-                if let Some(p @ Parameter::Real(_)) = list.get_mut(3) {
-                    if let Parameter::Real(x) = p {
-                        *x *= angle;
-                        changed += 1;
-                    }
+                if let Some(Parameter::Real(x)) = list.get_mut(3) {
+                    *x *= angle;
+                    changed += 1;
                 }
             }
             // ISO 10303-42 takes x = (1,0,0) when ref_direction is omitted, which is
             // degenerate when the axis is ±x; truck then builds NaN frames. Give such
             // placements OCCT's choice of x axis explicitly.
             "AXIS2_PLACEMENT_3D" if matches!(list.get(3), Some(Parameter::NotProvided)) => {
-                let z = list.get(2).and_then(as_ref).and_then(|d| directions.get(&d));
+                let z = list
+                    .get(2)
+                    .and_then(as_ref)
+                    .and_then(|d| directions.get(&d));
                 if let Some(z) = z {
                     let n = (z[0] * z[0] + z[1] * z[1] + z[2] * z[2]).sqrt();
                     if n > 0.0 && (z[0] / n).abs() > 1.0 - 1e-9 {
                         max_id += 1;
                         let x = [-z[2] / n, 0.0, z[0] / n];
-                        let x = if x[0].abs() + x[2].abs() > 0.5 { x } else { [0.0, 1.0, 0.0] };
+                        let x = if x[0].abs() + x[2].abs() > 0.5 {
+                            x
+                        } else {
+                            [0.0, 1.0, 0.0]
+                        };
                         new_directions.push((max_id, x));
                         list[3] = Parameter::Ref(Name::Entity(max_id));
                         changed += 1;
@@ -298,15 +303,50 @@ pub fn patch_for_truck(sections: &mut [DataSection]) -> usize {
 
 /// Entities truck reads whose first attribute is a label it insists on reading as a string.
 const TRUCK_LABELLED: &[&str] = &[
-    "CARTESIAN_POINT", "DIRECTION", "VECTOR", "PLACEMENT", "AXIS1_PLACEMENT",
-    "AXIS2_PLACEMENT_2D", "AXIS2_PLACEMENT_3D", "LINE", "POLYLINE", "B_SPLINE_CURVE_WITH_KNOTS",
-    "BEZIER_CURVE", "QUASI_UNIFORM_CURVE", "UNIFORM_CURVE", "CIRCLE", "ELLIPSE", "HYPERBOLA",
-    "PARABOLA", "PCURVE", "SURFACE_CURVE", "SEAM_CURVE", "PLANE", "SPHERICAL_SURFACE",
-    "CYLINDRICAL_SURFACE", "TOROIDAL_SURFACE", "CONICAL_SURFACE", "B_SPLINE_SURFACE_WITH_KNOTS",
-    "UNIFORM_SURFACE", "QUASI_UNIFORM_SURFACE", "BEZIER_SURFACE", "SURFACE_OF_LINEAR_EXTRUSION",
-    "SURFACE_OF_REVOLUTION", "VERTEX_POINT", "EDGE_CURVE", "ORIENTED_EDGE", "EDGE_LOOP",
-    "FACE_BOUND", "FACE_OUTER_BOUND", "FACE_SURFACE", "ADVANCED_FACE", "ORIENTED_FACE",
-    "OPEN_SHELL", "CLOSED_SHELL", "ORIENTED_OPEN_SHELL", "ORIENTED_CLOSED_SHELL",
+    "CARTESIAN_POINT",
+    "DIRECTION",
+    "VECTOR",
+    "PLACEMENT",
+    "AXIS1_PLACEMENT",
+    "AXIS2_PLACEMENT_2D",
+    "AXIS2_PLACEMENT_3D",
+    "LINE",
+    "POLYLINE",
+    "B_SPLINE_CURVE_WITH_KNOTS",
+    "BEZIER_CURVE",
+    "QUASI_UNIFORM_CURVE",
+    "UNIFORM_CURVE",
+    "CIRCLE",
+    "ELLIPSE",
+    "HYPERBOLA",
+    "PARABOLA",
+    "PCURVE",
+    "SURFACE_CURVE",
+    "SEAM_CURVE",
+    "PLANE",
+    "SPHERICAL_SURFACE",
+    "CYLINDRICAL_SURFACE",
+    "TOROIDAL_SURFACE",
+    "CONICAL_SURFACE",
+    "B_SPLINE_SURFACE_WITH_KNOTS",
+    "UNIFORM_SURFACE",
+    "QUASI_UNIFORM_SURFACE",
+    "BEZIER_SURFACE",
+    "SURFACE_OF_LINEAR_EXTRUSION",
+    "SURFACE_OF_REVOLUTION",
+    "VERTEX_POINT",
+    "EDGE_CURVE",
+    "ORIENTED_EDGE",
+    "EDGE_LOOP",
+    "FACE_BOUND",
+    "FACE_OUTER_BOUND",
+    "FACE_SURFACE",
+    "ADVANCED_FACE",
+    "ORIENTED_FACE",
+    "OPEN_SHELL",
+    "CLOSED_SHELL",
+    "ORIENTED_OPEN_SHELL",
+    "ORIENTED_CLOSED_SHELL",
     "DEFINITIONAL_REPRESENTATION",
 ];
 
@@ -502,9 +542,7 @@ pub fn length_unit(records: &Records, id: u64, depth: usize) -> Option<Result<Le
 pub fn context_length_unit(records: &Records, context: u64) -> Option<Result<LengthUnit, String>> {
     let gua = records.complex_part(context, "GLOBAL_UNIT_ASSIGNED_CONTEXT")?;
     let units = params(gua).first().and_then(as_refs)?;
-    units
-        .into_iter()
-        .find_map(|u| length_unit(records, u, 0))
+    units.into_iter().find_map(|u| length_unit(records, u, 0))
 }
 
 /// Every length unit in the file (used when no context names one).
@@ -525,9 +563,7 @@ pub fn axis2_placement(records: &Records, id: u64) -> Result<Mat4, String> {
         .ok_or_else(|| format!("#{id} is not an AXIS2_PLACEMENT_3D"))?;
     let p = params(rec);
     let point = |id: u64| -> Result<[f64; 3], String> {
-        let r = records
-            .simple(id)
-            .ok_or_else(|| format!("#{id} missing"))?;
+        let r = records.simple(id).ok_or_else(|| format!("#{id} missing"))?;
         let c: Vec<f64> = params(r)
             .get(1)
             .and_then(|l| match l {
@@ -540,7 +576,11 @@ pub fn axis2_placement(records: &Records, id: u64) -> Result<Mat4, String> {
         }
         Ok([c[0], c[1], c[2]])
     };
-    let loc = point(p.get(1).and_then(as_ref).ok_or("placement without location")?)?;
+    let loc = point(
+        p.get(1)
+            .and_then(as_ref)
+            .ok_or("placement without location")?,
+    )?;
     let z = match p.get(2).and_then(as_ref) {
         Some(d) => normalize(point(d)?).ok_or("zero axis direction")?,
         None => [0.0, 0.0, 1.0],
@@ -596,8 +636,8 @@ pub fn rigid_inverse(a: &Mat4) -> Mat4 {
             m[i][j] = a[j][i];
         }
     }
-    for i in 0..3 {
-        m[i][3] = -(0..3).map(|k| m[i][k] * a[k][3]).sum::<f64>();
+    for row in m.iter_mut().take(3) {
+        row[3] = -(0..3).map(|k| row[k] * a[k][3]).sum::<f64>();
     }
     m
 }
@@ -617,10 +657,16 @@ pub fn representations(records: &Records) -> Vec<Representation> {
     for id in records.ids_in_order() {
         let rec = match records.get(id) {
             Some(EntityInstance::Simple { record, .. }) => Some(record),
-            Some(EntityInstance::Complex { subsuper, .. }) => {
-                subsuper.0.iter().find(|r| r.name == "REPRESENTATION")
-                    .or_else(|| subsuper.0.iter().find(|r| r.name.ends_with("_REPRESENTATION") && params(r).len() == 3))
-            }
+            Some(EntityInstance::Complex { subsuper, .. }) => subsuper
+                .0
+                .iter()
+                .find(|r| r.name == "REPRESENTATION")
+                .or_else(|| {
+                    subsuper
+                        .0
+                        .iter()
+                        .find(|r| r.name.ends_with("_REPRESENTATION") && params(r).len() == 3)
+                }),
             None => None,
         };
         let Some(rec) = rec else { continue };
@@ -631,7 +677,9 @@ pub fn representations(records: &Records) -> Vec<Representation> {
         if p.len() != 3 {
             continue;
         }
-        let Some(items) = as_refs(&p[1]) else { continue };
+        let Some(items) = as_refs(&p[1]) else {
+            continue;
+        };
         out.push(Representation {
             id,
             items,
@@ -641,6 +689,9 @@ pub fn representations(records: &Records) -> Vec<Representation> {
     out
 }
 
+/// `(child representation, parent representation, child→parent transform)`.
+pub type Link = (u64, u64, Mat4);
+
 /// Links between representations: `(child, parent, child→parent transform)`.
 ///
 /// `SHAPE_REPRESENTATION_RELATIONSHIP(name, desc, rep_1, rep_2)` without a transformation
@@ -649,7 +700,7 @@ pub fn representations(records: &Records) -> Vec<Representation> {
 /// `REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION` places `rep_1` (the component) in
 /// `rep_2` (the assembly) by an `ITEM_DEFINED_TRANSFORMATION(name, desc, item_1, item_2)`:
 /// a point `x` of `rep_1` is `P(item_2) · P(item_1)⁻¹ · x` in `rep_2`.
-pub fn representation_links(records: &Records) -> Result<Vec<(u64, u64, Mat4)>, (u64, String)> {
+pub fn representation_links(records: &Records) -> Result<Vec<Link>, (u64, String)> {
     let mut links = Vec::new();
     for id in records.ids_in_order() {
         let Some(rel) = records.complex_part(id, "REPRESENTATION_RELATIONSHIP") else {
@@ -667,7 +718,10 @@ pub fn representation_links(records: &Records) -> Result<Vec<(u64, u64, Mat4)>, 
                 let idt = records
                     .simple(t)
                     .filter(|r| r.name == "ITEM_DEFINED_TRANSFORMATION")
-                    .ok_or((t, "only ITEM_DEFINED_TRANSFORMATION is supported".to_string()))?;
+                    .ok_or((
+                        t,
+                        "only ITEM_DEFINED_TRANSFORMATION is supported".to_string(),
+                    ))?;
                 let q = params(idt);
                 let (Some(i1), Some(i2)) = (q.get(2).and_then(as_ref), q.get(3).and_then(as_ref))
                 else {

@@ -9,17 +9,17 @@
 //! disappears. Lengths are converted to millimetres and assembly placements applied to the
 //! geometry itself.
 
-use super::domain::{loop_uv, face_domain};
+use super::domain::{face_domain, loop_uv};
 use super::model::*;
 use super::records::{self, as_bool, as_ref, as_refs, params, LengthUnit, Mat4, Records};
 use crate::error::{Error, Result};
 use glam::DVec3;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use truck_geometry::prelude::{Matrix4, Point3, Transformed};
 use truck_stepio::r#in::ruststep::ast::{Name, Parameter};
 use truck_stepio::r#in::ruststep::tables::{IntoOwned, PlaceHolder};
 use truck_stepio::r#in::{ruststep, EdgeCurveHolder, SurfaceAnyHolder, Table};
-use truck_geometry::prelude::{Matrix4, Point3, Transformed};
 
 /// Files larger than this are refused before parsing (the parser keeps the whole structure in
 /// memory, several times the file size).
@@ -231,8 +231,8 @@ impl Ingest<'_> {
             })
             .collect();
         let reps = records::representations(recs);
-        let links = records::representation_links(recs)
-            .map_err(|(id, reason)| self.err(id, reason))?;
+        let links =
+            records::representation_links(recs).map_err(|(id, reason)| self.err(id, reason))?;
         let fallback_unit = || -> Result<LengthUnit> {
             let units = records::all_length_units(recs);
             let mut ok: Vec<LengthUnit> = vec![];
@@ -264,7 +264,10 @@ impl Ingest<'_> {
                 continue;
             }
             let rep = holders[0];
-            let unit = match rep.context.and_then(|c| records::context_length_unit(recs, c)) {
+            let unit = match rep
+                .context
+                .and_then(|c| records::context_length_unit(recs, c))
+            {
                 Some(Ok(u)) => u,
                 Some(Err(e)) => return Err(self.err(rep.context.unwrap_or(rep.id), e)),
                 None => fallback_unit()?,
@@ -278,7 +281,10 @@ impl Ingest<'_> {
             }
         }
         if let Some(first) = jobs.first() {
-            if let Some(other) = jobs.iter().find(|j| (j.unit.mm - first.unit.mm).abs() > 1e-12 * first.unit.mm) {
+            if let Some(other) = jobs
+                .iter()
+                .find(|j| (j.unit.mm - first.unit.mm).abs() > 1e-12 * first.unit.mm)
+            {
                 return Err(model_err(
                     &self.path,
                     format!(
@@ -293,7 +299,9 @@ impl Ingest<'_> {
 
     fn build_solid(&mut self, instance: usize, job: &SolidJob) -> Result<()> {
         let recs = self.recs;
-        let rec = recs.simple(job.brep).expect("brep id came from the records");
+        let rec = recs
+            .simple(job.brep)
+            .expect("brep id came from the records");
         let p = params(rec);
         let name = p.first().map(records::as_string).unwrap_or_default();
         let outer = p
@@ -795,7 +803,9 @@ impl Ingest<'_> {
         let used_vertices: std::collections::HashSet<u64> =
             self.model.vertices.iter().map(|v| v.step_id).collect();
         for id in self.recs.ids_in_order() {
-            let Some(rec) = self.recs.simple(id) else { continue };
+            let Some(rec) = self.recs.simple(id) else {
+                continue;
+            };
             let lost = match rec.name.as_str() {
                 "ADVANCED_FACE" | "FACE_SURFACE" => !used_faces.contains(&id),
                 "EDGE_CURVE" => !used_edges.contains(&id),

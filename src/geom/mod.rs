@@ -11,9 +11,9 @@ pub mod project;
 pub mod trim;
 
 pub use bbox::{model_bounding_box, Aabb};
-pub use project::project_point;
 pub use curvature::{principal_curvatures, unit_normal, Curvature};
 pub use eval::{eval_curve, eval_surface, CurveDerivs, SurfaceDerivs};
+pub use project::project_point;
 
 use crate::brep::model::Surface;
 

@@ -34,7 +34,9 @@ pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> O
             // Outside a bounded direction (past a sphere's pole) the parametrisation folds
             // back and the normal flips: not an answer.
             let (ur, vr) = clamp_ranges(surface);
-            let inside = |x: f64, r: (f64, f64)| x >= r.0 - 1e-12 * (1.0 + r.0.abs()) && x <= r.1 + 1e-12 * (1.0 + r.1.abs());
+            let inside = |x: f64, r: (f64, f64)| {
+                x >= r.0 - 1e-12 * (1.0 + r.0.abs()) && x <= r.1 + 1e-12 * (1.0 + r.1.abs())
+            };
             inside(uv.0, ur) && inside(uv.1, vr)
         });
     if let Some(h) = hint {
@@ -95,10 +97,20 @@ pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> O
 /// `MAX_SPAN_SEEDS` per direction).
 fn knot_seeds(surface: &Surface) -> Option<(Vec<f64>, Vec<f64>)> {
     let (ku, kv, pu, pv) = match surface {
-        Surface::BSplineSurface(b) => (b.knot_vecs().0.clone(), b.knot_vecs().1.clone(), b.udegree(), b.vdegree()),
+        Surface::BSplineSurface(b) => (
+            b.knot_vecs().0.clone(),
+            b.knot_vecs().1.clone(),
+            b.udegree(),
+            b.vdegree(),
+        ),
         Surface::NurbsSurface(n) => {
             let b = n.non_rationalized();
-            (b.knot_vecs().0.clone(), b.knot_vecs().1.clone(), b.udegree(), b.vdegree())
+            (
+                b.knot_vecs().0.clone(),
+                b.knot_vecs().1.clone(),
+                b.udegree(),
+                b.vdegree(),
+            )
         }
         _ => return None,
     };
@@ -108,7 +120,10 @@ fn knot_seeds(surface: &Surface) -> Option<(Vec<f64>, Vec<f64>)> {
             return vec![];
         }
         let (a, b) = (k[p], k[m - p - 1]);
-        let mut distinct: Vec<f64> = (p..m - p).map(|i| k[i]).filter(|x| *x >= a && *x <= b).collect();
+        let mut distinct: Vec<f64> = (p..m - p)
+            .map(|i| k[i])
+            .filter(|x| *x >= a && *x <= b)
+            .collect();
         distinct.dedup_by(|x, y| (*x - *y).abs() <= 1e-14 * (1.0 + y.abs()));
         // A span of degree p can turn about p/2 times: seed it p + 1 times (at least 3).
         let per = (p + 1).max(3);
@@ -120,7 +135,9 @@ fn knot_seeds(surface: &Surface) -> Option<(Vec<f64>, Vec<f64>)> {
         }
         if out.len() > MAX_SPAN_SEEDS {
             let step = out.len() as f64 / MAX_SPAN_SEEDS as f64;
-            out = (0..MAX_SPAN_SEEDS).map(|i| out[(i as f64 * step) as usize]).collect();
+            out = (0..MAX_SPAN_SEEDS)
+                .map(|i| out[(i as f64 * step) as usize])
+                .collect();
         }
         out
     };
@@ -145,7 +162,10 @@ fn is_foot(surface: &Surface, p: DVec3, uv: (f64, f64)) -> bool {
     let h01 = d.su.dot(d.sv) + d.suv.dot(r);
     let h11 = d.sv.dot(d.sv) + d.svv.dot(r);
     let scale2 = d.su.length_squared().max(d.sv.length_squared()).max(1e-300);
-    if h00 < -1e-9 * scale2 || h11 < -1e-9 * scale2 || h00 * h11 - h01 * h01 < -1e-9 * scale2 * scale2 {
+    if h00 < -1e-9 * scale2
+        || h11 < -1e-9 * scale2
+        || h00 * h11 - h01 * h01 < -1e-9 * scale2 * scale2
+    {
         return false;
     }
     let scale = 1.0 + p.abs().max_element();
@@ -170,7 +190,10 @@ fn clamp_ranges(surface: &Surface) -> ((f64, f64), (f64, f64)) {
         Surface::SweptCurve(_) => false,
     };
     if !trusted {
-        return ((f64::NEG_INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::INFINITY));
+        return (
+            (f64::NEG_INFINITY, f64::INFINITY),
+            (f64::NEG_INFINITY, f64::INFINITY),
+        );
     }
     let (ur, vr) = surface.parameter_range();
     let finite = |r: (Bound<f64>, Bound<f64>), periodic: bool| match r {
@@ -207,7 +230,8 @@ fn newton(surface: &Surface, p: DVec3, start: (f64, f64)) -> Option<(f64, f64)> 
             [d.su.dot(d.sv) + d.suv.dot(r), d.sv.dot(d.sv) + d.svv.dot(r)],
         ];
         // Gradient components pushing out of a clamped border do not count.
-        let free = |x: f64, gx: f64, r: (f64, f64)| !((x <= r.0 && gx > 0.0) || (x >= r.1 && gx < 0.0));
+        let free =
+            |x: f64, gx: f64, r: (f64, f64)| !((x <= r.0 && gx > 0.0) || (x >= r.1 && gx < 0.0));
         let g0 = if free(u, g[0], ur) { g[0] } else { 0.0 };
         let g1 = if free(v, g[1], vr) { g[1] } else { 0.0 };
         let gn = (g0.abs() / d.su.length().max(1e-300)).max(g1.abs() / d.sv.length().max(1e-300));
@@ -248,7 +272,9 @@ fn newton(surface: &Surface, p: DVec3, start: (f64, f64)) -> Option<(f64, f64)> 
         }
         if !accepted {
             // No descent possible: a (possibly degenerate) minimum.
-            return is_foot(surface, p, (u, v)).then_some((u, v)).or(Some((u, v)));
+            return is_foot(surface, p, (u, v))
+                .then_some((u, v))
+                .or(Some((u, v)));
         }
     }
     Some((u, v))

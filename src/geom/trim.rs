@@ -135,7 +135,10 @@ fn for_each_crossing(
             let mut b = poly[(i + 1) % n];
             if i + 1 == n && (wu || wv) {
                 // Close a wrapping loop to the copy of its first point next to its last one.
-                b = DVec2::new(wrap_near(b.x, a.x, periods.0), wrap_near(b.y, a.y, periods.1));
+                b = DVec2::new(
+                    wrap_near(b.x, a.x, periods.0),
+                    wrap_near(b.y, a.y, periods.1),
+                );
             }
             let (a, b) = (get(a), get(b));
             let (lo, hi) = if a.x <= b.x { (a.x, b.x) } else { (b.x, a.x) };
@@ -172,7 +175,11 @@ fn for_each_crossing(
 /// Even–odd rule with a ray from `q` towards decreasing `y`.
 fn even_odd(face: &Face, q: DVec2, swap: bool, px: Option<f64>, py: Option<f64>) -> bool {
     // Move q into the period of the loops in the ray's direction (loops are closed there).
-    let y_start = if swap { face.domain.u.0 } else { face.domain.v.0 };
+    let y_start = if swap {
+        face.domain.u.0
+    } else {
+        face.domain.v.0
+    };
     let qy = match py {
         Some(p) => y_start + (q.y - y_start).rem_euclid(p),
         None => q.y,
@@ -276,6 +283,290 @@ impl Nearest {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+    use crate::brep::model::{Loop, Model};
+    use glam::DVec3;
+    use std::f64::consts::{PI, TAU};
+
+    fn sample(name: &str) -> Model {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("samples")
+            .join(name);
+        crate::read_model(&path).expect("sample reads")
+    }
+
+    /// UV of a 3D point on `face`'s surface.
+    fn uv_of(face: &Face, p: DVec3) -> DVec2 {
+        let uv = crate::geom::project_point(&face.surface, p, None).expect("projects");
+        let q = crate::geom::eval_surface(&face.surface, uv.0, uv.1).p;
+        assert!(q.distance(p) < 1e-9, "{p} is not on the surface ({q})");
+        DVec2::new(uv.0, uv.1)
+    }
+
+    /// The face all of whose loop points satisfy `on`.
+    fn face_where(m: &Model, on: impl Fn(DVec3) -> bool) -> usize {
+        (0..m.faces.len())
+            .find(|&f| {
+                m.faces[f].loops.iter().all(|l| {
+                    l.edges.iter().all(|oe| {
+                        let e = &m.edges[oe.edge];
+                        m.vertices[e.vertices[0]].point.is_finite()
+                            && on(m.vertices[e.vertices[0]].point)
+                            && on(m.vertices[e.vertices[1]].point)
+                    })
+                })
+            })
+            .expect("face found")
+    }
+
+    #[test]
+    fn plate_with_holes_top_face() {
+        let m = sample("plate_with_holes.step");
+        let top = face_where(&m, |p| (p.z - 10.0).abs() < 1e-9);
+        let face = &m.faces[top];
+        assert_eq!(face.loops.len(), 4, "outer loop and three holes");
+        let inside = |x: f64, y: f64| contains(face, uv_of(face, DVec3::new(x, y, 10.0)));
+        // Holes r = 5 at (15, 25), r = 8 at (40, 25), r = 5 at (65, 25).
+        for (x, y) in [
+            (15.0, 25.0),
+            (40.0, 25.0),
+            (65.0, 25.0),
+            (19.9, 25.0),
+            (40.0, 32.9),
+        ] {
+            assert!(!inside(x, y), "({x}, {y}) is in a hole");
+        }
+        for (x, y) in [
+            (1.0, 1.0),
+            (79.0, 49.0),
+            (40.0, 33.1),
+            (20.1, 25.0),
+            (27.5, 25.0),
+            (40.0, 5.0),
+        ] {
+            assert!(inside(x, y), "({x}, {y}) is on the plate");
+        }
+        for (x, y) in [(-1.0, 25.0), (81.0, 25.0), (40.0, -0.1), (40.0, 50.1)] {
+            assert!(!inside(x, y), "({x}, {y}) is beyond the plate");
+        }
+    }
+
+    #[test]
+    fn cylinder_side_face_any_period() {
+        let m = sample("cylinder.step");
+        let side = (0..m.faces.len())
+            .find(|&f| crate::geom::surface_kind(&m.faces[f].surface) == "cylinder")
+            .unwrap();
+        let face = &m.faces[side];
+        for k in -3..=3 {
+            for a in [0.0, 0.3, 1.0, PI, 5.0, TAU - 1e-6] {
+                let p = DVec3::new(10.0 * a.cos(), 10.0 * a.sin(), 15.0);
+                let uv = uv_of(face, p) + DVec2::new(k as f64 * TAU, 0.0);
+                assert!(contains(face, uv), "angle {a} shifted {k} periods");
+                for z in [-0.5, 30.5] {
+                    let uv = uv_of(face, DVec3::new(p.x, p.y, z)) + DVec2::new(k as f64 * TAU, 0.0);
+                    assert!(
+                        !contains(face, uv),
+                        "angle {a}, z = {z} is off the side face"
+                    );
+                }
+            }
+        }
+    }
+
+    /// A loop whose polygon is `n` points of `f(t)`, `t ∈ [0, 1)`.
+    fn synthetic_loop(n: usize, f: impl Fn(f64) -> DVec2) -> Loop {
+        Loop {
+            step_id: 0,
+            edges: vec![],
+            vertex: None,
+            uv: (0..n).map(|k| f(k as f64 / n as f64)).collect(),
+        }
+    }
+
+    #[test]
+    fn band_between_two_wrapping_circles() {
+        // The cylinder's side face re-bounded like a face without a seam edge: two circle
+        // loops at v = 0 (travelling +u: face above, to its left) and v = 30 (travelling −u),
+        // slightly wavy so that crossings are not all at one height.
+        let m = sample("cylinder.step");
+        let mut face = m
+            .faces
+            .iter()
+            .find(|f| crate::geom::surface_kind(&f.surface) == "cylinder")
+            .unwrap()
+            .clone();
+        assert!(face.same_sense);
+        let wave = |t: f64| 0.5 * (TAU * 3.0 * t).sin();
+        face.loops = vec![
+            synthetic_loop(40, |t| DVec2::new(1.0 + TAU * t, wave(t))),
+            synthetic_loop(40, |t| DVec2::new(1.0 - TAU * t, 30.0 + wave(-t))),
+        ];
+        assert!(face
+            .loops
+            .iter()
+            .all(|l| wrapping(&l.uv, (Some(TAU), None)).0));
+        for k in -2..=2 {
+            for u in [0.0, 0.7, 1.0, 2.5, 4.0, 6.2] {
+                let u = u + k as f64 * TAU;
+                let w = wave((u - 1.0) / TAU);
+                assert!(
+                    contains(&face, DVec2::new(u, w + 0.01)),
+                    "u {u} just above the bottom"
+                );
+                assert!(contains(&face, DVec2::new(u, 15.0)), "u {u} mid-band");
+                assert!(
+                    !contains(&face, DVec2::new(u, w - 0.01)),
+                    "u {u} below the band"
+                );
+                assert!(
+                    !contains(&face, DVec2::new(u, 31.0)),
+                    "u {u} above the band"
+                );
+            }
+        }
+        // A cone cap: the bottom circle alone (with a vertex loop at an apex above it).
+        face.loops.truncate(1);
+        face.loops.push(Loop {
+            step_id: 0,
+            edges: vec![],
+            vertex: Some(0),
+            uv: vec![DVec2::new(0.0, 40.0)],
+        });
+        assert!(contains(&face, DVec2::new(3.0, 20.0)));
+        assert!(contains(&face, DVec2::new(3.0, 39.0)));
+        assert!(!contains(&face, DVec2::new(3.0, -1.0)));
+        // The same circle travelled the other way: the face is below it.
+        face.loops[0].uv.reverse();
+        assert!(!contains(&face, DVec2::new(3.0, 20.0)));
+        assert!(contains(&face, DVec2::new(3.0, -1.0)));
+    }
+
+    #[test]
+    fn torus_band_and_full_torus() {
+        let m = sample("torus.step");
+        let full = &m.faces[0];
+        for u in [-7.0, 0.0, 1.0, 3.0, 6.0, 12.0] {
+            for v in [-7.0, -0.1, 0.0, 1.0, 3.0, 6.2, 9.0] {
+                assert!(contains(full, DVec2::new(u, v)), "full torus at ({u}, {v})");
+            }
+        }
+        // Band a < v < b on the torus (both directions periodic, the ray's direction too).
+        let mut face = full.clone();
+        let (a, b) = (2.0, 4.0);
+        let o = if face.same_sense { 1.0 } else { -1.0 };
+        face.loops = vec![
+            synthetic_loop(24, |t| DVec2::new(o * TAU * t, a)),
+            synthetic_loop(24, |t| DVec2::new(-o * TAU * t, b)),
+        ];
+        for k in -2..=2 {
+            let shift = k as f64 * TAU;
+            for u in [0.1, 2.0, 5.0] {
+                assert!(contains(&face, DVec2::new(u + shift, 3.0 + shift)));
+                assert!(!contains(&face, DVec2::new(u - shift, 1.0 + shift)));
+                assert!(!contains(&face, DVec2::new(u, 5.0 + shift)));
+                assert!(!contains(&face, DVec2::new(u, 0.0 + shift)));
+            }
+        }
+    }
+
+    #[test]
+    fn sphere_with_only_a_vertex_loop_is_all_inside() {
+        let m = sample("sphere.step");
+        let face = &m.faces[0];
+        assert!(face.loops.iter().all(|l| l.vertex.is_some()));
+        for u in [-10.0, 0.0, 1.0, 6.0, 20.0] {
+            for v in [-PI / 2.0, -1.0, 0.0, 1.5, PI / 2.0] {
+                assert!(contains(face, DVec2::new(u, v)));
+            }
+        }
+        assert!(!contains(face, DVec2::new(0.0, 2.0)), "beyond the pole");
+    }
+
+    #[test]
+    fn triangle_face_of_the_tetrahedron() {
+        let m = sample("tetrahedron.step");
+        // The slanted face through (36,0,0), (0,28,0), (0,0,24): x/36 + y/28 + z/24 = 1.
+        let (a, b, c) = (
+            DVec3::new(36.0, 0.0, 0.0),
+            DVec3::new(0.0, 28.0, 0.0),
+            DVec3::new(0.0, 0.0, 24.0),
+        );
+        let on = |p: DVec3| (p.x / 36.0 + p.y / 28.0 + p.z / 24.0 - 1.0).abs() < 1e-9;
+        let face = &m.faces[face_where(&m, on)];
+        let at = |wa: f64, wb: f64| uv_of(face, a * wa + b * wb + c * (1.0 - wa - wb));
+        assert!(contains(face, at(1.0 / 3.0, 1.0 / 3.0)), "centroid");
+        assert!(contains(face, at(0.98, 0.01)), "near a corner");
+        assert!(contains(face, at(0.5, 0.49)), "near an edge");
+        assert!(!contains(face, at(0.5, 0.51)), "beyond an edge");
+        assert!(!contains(face, at(-0.01, 0.5)), "beyond another edge");
+        assert!(!contains(face, at(1.2, 0.3)), "far outside");
+    }
+
+    fn signed_area(poly: &[DVec2]) -> f64 {
+        let n = poly.len();
+        (0..n)
+            .map(|i| poly[i].perp_dot(poly[(i + 1) % n]))
+            .sum::<f64>()
+            * 0.5
+    }
+
+    /// On every sample face without wrapping loops, the fraction of a UV grid inside the face
+    /// times the domain's area equals the oriented area of the loops (outer loops count +,
+    /// holes −, by the STEP orientation rule), up to the grid's resolution.
+    #[test]
+    fn grid_area_matches_loop_area_on_all_samples() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples");
+        let mut checked = 0;
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_none_or(|e| e != "step") {
+                continue;
+            }
+            let Ok(m) = crate::read_model(&path) else {
+                continue;
+            };
+            for (i, face) in m.faces.iter().enumerate() {
+                let periods = (face.domain.u_period, face.domain.v_period);
+                let edge_loops: Vec<&Loop> =
+                    face.loops.iter().filter(|l| is_edge_loop(l)).collect();
+                if edge_loops.is_empty()
+                    || edge_loops.iter().any(|l| {
+                        let w = wrapping(&l.uv, periods);
+                        w.0 || w.1
+                    })
+                {
+                    continue;
+                }
+                let o = if face.same_sense { 1.0 } else { -1.0 };
+                let loops_area: f64 = edge_loops.iter().map(|l| o * signed_area(&l.uv)).sum();
+                let d = face.domain;
+                let n = 200;
+                let (du, dv) = ((d.u.1 - d.u.0) / n as f64, (d.v.1 - d.v.0) / n as f64);
+                let hits = (0..n * n)
+                    .filter(|k| {
+                        let uv = DVec2::new(
+                            d.u.0 + (k % n) as f64 * du + 0.5 * du,
+                            d.v.0 + (k / n) as f64 * dv + 0.5 * dv,
+                        );
+                        contains(face, uv)
+                    })
+                    .count();
+                let grid_area = hits as f64 * du * dv;
+                let total = (d.u.1 - d.u.0) * (d.v.1 - d.v.0);
+                // Cells cut by a loop are counted or not by their centre: the error is at most
+                // the loops' length times a cell's diagonal; 2 % of the domain covers it.
+                assert!(
+                    (grid_area - loops_area).abs() <= 0.02 * total,
+                    "{} face {i}: grid {grid_area}, loops {loops_area}, domain {total}",
+                    path.display()
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 100, "checked {checked} faces");
+    }
+
     #[test]
     #[ignore]
     fn dump() {
@@ -310,7 +601,11 @@ mod tests {
                 );
                 for l in &face.loops {
                     let n = l.uv.len();
-                    let gap = if n > 1 { l.uv[0] - l.uv[n - 1] } else { glam::DVec2::ZERO };
+                    let gap = if n > 1 {
+                        l.uv[0] - l.uv[n - 1]
+                    } else {
+                        glam::DVec2::ZERO
+                    };
                     let area: f64 = (0..n)
                         .map(|k| {
                             let a = l.uv[k];
@@ -330,10 +625,17 @@ mod tests {
                         area
                     );
                 }
-                let wr = face.loops.iter().any(|l| { let w = super::wrapping(&l.uv, (d.u_period, d.v_period)); w.0 || w.1 });
+                let wr = face.loops.iter().any(|l| {
+                    let w = super::wrapping(&l.uv, (d.u_period, d.v_period));
+                    w.0 || w.1
+                });
                 if wr || std::env::var("DUMPALL").is_ok() {
                     println!("{s}");
-                    if std::env::var("DUMPPTS").is_ok() { for l in &face.loops { println!("   {:.3?}", l.uv); } }
+                    if std::env::var("DUMPPTS").is_ok() {
+                        for l in &face.loops {
+                            println!("   {:.3?}", l.uv);
+                        }
+                    }
                 }
             }
         }

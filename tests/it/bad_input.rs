@@ -9,9 +9,21 @@ use std::path::Path;
 fn rejects(file: &Path, needle: &str) {
     let out = matrace(&["inspect", file.to_str().unwrap()], file.parent().unwrap());
     let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "status for {file:?}; stderr: {err}");
-    assert!(out.stdout.is_empty(), "stdout for a bad file: {}", String::from_utf8_lossy(&out.stdout));
-    assert_eq!(err.trim_end().lines().count(), 1, "one line expected: {err}");
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "status for {file:?}; stderr: {err}"
+    );
+    assert!(
+        out.stdout.is_empty(),
+        "stdout for a bad file: {}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert_eq!(
+        err.trim_end().lines().count(),
+        1,
+        "one line expected: {err}"
+    );
     assert!(!err.contains("panicked"), "panic: {err}");
     let name = file.file_name().unwrap().to_str().unwrap();
     assert!(err.contains(name), "error does not name the file: {err}");
@@ -53,13 +65,19 @@ fn random_bytes() {
             (x >> 24) as u8
         })
         .collect();
-    rejects(&write(dir.path(), "noise.step", &bytes), "not a readable STEP file");
+    rejects(
+        &write(dir.path(), "noise.step", &bytes),
+        "not a readable STEP file",
+    );
 }
 
 #[test]
 fn not_a_step_file() {
     let dir = tempfile::tempdir().unwrap();
-    rejects(&write(dir.path(), "part.step", b"solid cube\nfacet normal 0 0 1\n"), "not a STEP file");
+    rejects(
+        &write(dir.path(), "part.step", b"solid cube\nfacet normal 0 0 1\n"),
+        "not a STEP file",
+    );
 }
 
 #[test]
@@ -67,7 +85,10 @@ fn truncated_step() {
     let dir = tempfile::tempdir().unwrap();
     let text = box_text();
     let cut = &text[..text.len() / 2];
-    rejects(&write(dir.path(), "truncated.step", cut.as_bytes()), "truncated");
+    rejects(
+        &write(dir.path(), "truncated.step", cut.as_bytes()),
+        "truncated",
+    );
 }
 
 #[test]
@@ -76,14 +97,20 @@ fn truncated_inside_an_entity_with_end_marker() {
     let dir = tempfile::tempdir().unwrap();
     let text = box_text();
     let cut = format!("{}\nENDSEC;\nEND-ISO-10303-21;\n", &text[..text.len() / 2]);
-    rejects(&write(dir.path(), "cut.step", cut.as_bytes()), "not a readable STEP file");
+    rejects(
+        &write(dir.path(), "cut.step", cut.as_bytes()),
+        "not a readable STEP file",
+    );
 }
 
 #[test]
 fn step_without_a_solid() {
     let dir = tempfile::tempdir().unwrap();
     let text = "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nFILE_NAME('x','',(''),(''),'','','');\nFILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\n#1=CARTESIAN_POINT('',(0.,0.,0.));\nENDSEC;\nEND-ISO-10303-21;\n";
-    rejects(&write(dir.path(), "nosolid.step", text.as_bytes()), "no solid");
+    rejects(
+        &write(dir.path(), "nosolid.step", text.as_bytes()),
+        "no solid",
+    );
 }
 
 #[test]
@@ -100,7 +127,10 @@ fn unsupported_surface_type() {
         1,
     );
     assert_ne!(patched, text, "patch applied");
-    rejects(&write(dir.path(), "offset.step", patched.as_bytes()), "unsupported surface type");
+    rejects(
+        &write(dir.path(), "offset.step", patched.as_bytes()),
+        "unsupported surface type",
+    );
 }
 
 #[test]
@@ -110,8 +140,14 @@ fn unsorted_knots() {
     let dir = tempfile::tempdir().unwrap();
     let text = std::fs::read_to_string(sample("box_bspline_top.step")).unwrap();
     let patched = text.replacen("(4,1,4),(0.,0.5,1.),", "(4,1,4),(1.,0.5,0.),", 1);
-    assert_ne!(patched, text, "the sample's knot vector changed: update this test");
-    rejects(&write(dir.path(), "knots.step", patched.as_bytes()), "knots not sorted");
+    assert_ne!(
+        patched, text,
+        "the sample's knot vector changed: update this test"
+    );
+    rejects(
+        &write(dir.path(), "knots.step", patched.as_bytes()),
+        "knots not sorted",
+    );
 }
 
 #[test]
@@ -126,7 +162,10 @@ fn open_shell() {
     let patched = text.replacen(rest, &patched_rest, 1);
     assert_ne!(patched, text);
     let _ = id;
-    rejects(&write(dir.path(), "open.step", patched.as_bytes()), "closed shell");
+    rejects(
+        &write(dir.path(), "open.step", patched.as_bytes()),
+        "closed shell",
+    );
 }
 
 #[test]
@@ -137,7 +176,10 @@ fn reference_to_undefined_entity() {
     let patched_rest = rest.replacen("#", "#777777", 1);
     let patched = text.replacen(rest, &patched_rest, 1);
     let _ = id;
-    rejects(&write(dir.path(), "dangling.step", patched.as_bytes()), "does not define");
+    rejects(
+        &write(dir.path(), "dangling.step", patched.as_bytes()),
+        "does not define",
+    );
 }
 
 #[test]
@@ -150,7 +192,10 @@ fn reference_cycle() {
     let comma = open + rest[open..].find(',').unwrap();
     let patched_rest = format!("{}#{id}{}", &rest[..open], &rest[comma..]);
     let patched = text.replacen(rest, &patched_rest, 1);
-    rejects(&write(dir.path(), "cycle.step", patched.as_bytes()), "reference cycle");
+    rejects(
+        &write(dir.path(), "cycle.step", patched.as_bytes()),
+        "reference cycle",
+    );
 }
 
 #[test]
@@ -164,7 +209,9 @@ fn a_directory() {
 /// The id and the text (from `NAME(` to the end of the record) of the first instance of
 /// entity `name_paren` (e.g. `"PLANE("`), as written by FreeCAD (`#12 = PLANE(...);`).
 fn first_instance_of<'a>(text: &'a str, name_paren: &str) -> (u64, &'a str) {
-    let at = text.find(&format!("= {name_paren}")).expect("entity present");
+    let at = text
+        .find(&format!("= {name_paren}"))
+        .expect("entity present");
     let line_start = text[..at].rfind('#').unwrap();
     let id: u64 = text[line_start + 1..at].trim().parse().unwrap();
     let body_start = at + 2;

@@ -4,8 +4,15 @@ use crate::common::{matrace, root, sample};
 
 #[test]
 fn inspect_prints_a_table() {
-    let out = matrace(&["inspect", sample("l_bracket.step").to_str().unwrap()], &root());
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = matrace(
+        &["inspect", sample("l_bracket.step").to_str().unwrap()],
+        &root(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.contains("faces 8  edges 18  vertices 12"), "{text}");
     assert!(text.contains("17 convex, 1 reflex"), "{text}");
@@ -15,10 +22,18 @@ fn inspect_prints_a_table() {
 #[test]
 fn inspect_json_follows_the_report_schema() {
     let out = matrace(
-        &["inspect", "--json", sample("box_inch.step").to_str().unwrap()],
+        &[
+            "inspect",
+            "--json",
+            sample("box_inch.step").to_str().unwrap(),
+        ],
         &root(),
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["schema"], "matrace.report/1");
     assert_eq!(v["input"]["format"], "step");
@@ -50,7 +65,12 @@ fn bad_arguments_exit_2() {
     let out = matrace(&["frobnicate"], &root());
     assert_eq!(out.status.code(), Some(2));
     let out = matrace(
-        &["inspect", "--angle-tol", "-3", sample("box.step").to_str().unwrap()],
+        &[
+            "inspect",
+            "--angle-tol",
+            "-3",
+            sample("box.step").to_str().unwrap(),
+        ],
         &root(),
     );
     assert_eq!(out.status.code(), Some(2));

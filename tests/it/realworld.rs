@@ -9,11 +9,11 @@ use crate::common::realworld_dir;
 fn count_entities(text: &str, name: &str) -> usize {
     text.split(';')
         .filter(|inst| {
-            inst.split_once('=')
-                .is_some_and(|(_, body)| {
-                    let body = body.trim_start();
-                    body.strip_prefix(name).is_some_and(|r| r.trim_start().starts_with('('))
-                })
+            inst.split_once('=').is_some_and(|(_, body)| {
+                let body = body.trim_start();
+                body.strip_prefix(name)
+                    .is_some_and(|r| r.trim_start().starts_with('('))
+            })
         })
         .count()
 }
@@ -23,12 +23,32 @@ const CORPUS: &[(&str, &str, [f64; 3])] = &[
     ("axom_tet.step", "cm", [20.0, 20.0, 20.0]),
     ("axom_sliced_cylinder.step", "cm", [100.0, 200.0, 137.2]),
     ("axom_revolved_sphere.step", "mm", [10.0, 10.0, 10.0]),
-    ("stepswift_nist_ctc_01_asme1_rd.stp", "mm", [1170.0, 650.0, 150.0]),
-    ("stepswift_nist_ftc_06_asme1_rd.stp", "inch", [304.8, 106.7, 247.7]),
-    ("stepswift_nist_ftc_09_asme1_rd.stp", "inch", [190.5, 3.04, 279.4]),
-    ("stepswift_nist_ftc_11_asme1_rb.stp", "mm", [63.0, 63.0, 3.0]),
+    (
+        "stepswift_nist_ctc_01_asme1_rd.stp",
+        "mm",
+        [1170.0, 650.0, 150.0],
+    ),
+    (
+        "stepswift_nist_ftc_06_asme1_rd.stp",
+        "inch",
+        [304.8, 106.7, 247.7],
+    ),
+    (
+        "stepswift_nist_ftc_09_asme1_rd.stp",
+        "inch",
+        [190.5, 3.04, 279.4],
+    ),
+    (
+        "stepswift_nist_ftc_11_asme1_rb.stp",
+        "mm",
+        [63.0, 63.0, 3.0],
+    ),
     ("trimesh_featuretype.STEP", "inch", [127.0, 63.5, 34.9]),
-    ("b3d_M6-1x12-countersunk-screw.step", "mm", [10.2, 10.4, 12.0]),
+    (
+        "b3d_M6-1x12-countersunk-screw.step",
+        "mm",
+        [10.2, 10.4, 12.0],
+    ),
 ];
 
 #[test]
@@ -57,13 +77,18 @@ fn every_realworld_solid_reads_with_all_its_entities_and_units() {
         );
         let got = (model.faces.len(), model.edges.len(), model.vertices.len());
         if got != want {
-            bad.push(format!("{file}: faces/edges/vertices {got:?}, file defines {want:?}"));
+            bad.push(format!(
+                "{file}: faces/edges/vertices {got:?}, file defines {want:?}"
+            ));
         }
         if model.solids.len() != 1 {
             bad.push(format!("{file}: {} solids", model.solids.len()));
         }
         if r.input.file_unit != *unit {
-            bad.push(format!("{file}: unit {} (expected {unit})", r.input.file_unit));
+            bad.push(format!(
+                "{file}: unit {} (expected {unit})",
+                r.input.file_unit
+            ));
         }
         // OCCT's boxes (MANIFEST.md) are not tight: BRepBndLib enlarges them by tolerances
         // and control polygons (NIST CTC 01: OCCT 1170 mm, its vertices span 800 mm). So the
@@ -94,7 +119,9 @@ fn vertex_extent(text: &str, scale: f64) -> [f64; 3] {
     let mut points = std::collections::HashMap::new();
     let mut vertex_refs = vec![];
     for inst in text.split(';') {
-        let Some((id, body)) = inst.split_once('=') else { continue };
+        let Some((id, body)) = inst.split_once('=') else {
+            continue;
+        };
         let id = id.trim().trim_start_matches('#');
         let body = body.trim_start();
         let args = |b: &str| b[b.find('(').unwrap() + 1..].to_string();

@@ -41,18 +41,39 @@ fn check(entry: &Value) -> Vec<String> {
     eq("shells", r.model.shells.into(), &entry["shells"]);
     eq("faces", r.model.counts.faces.into(), &entry["faces"]);
     eq("edges", r.model.counts.edges.into(), &entry["edges"]);
-    eq("vertices", r.model.counts.vertices.into(), &entry["vertices"]);
+    eq(
+        "vertices",
+        r.model.counts.vertices.into(),
+        &entry["vertices"],
+    );
     let mut cmp = |what: &str, got: BTreeMap<String, u64>, want: BTreeMap<String, u64>| {
         if got != want {
-            bad.push(format!("{file}: {what}: got {got:?}, manifest says {want:?}"));
+            bad.push(format!(
+                "{file}: {what}: got {got:?}, manifest says {want:?}"
+            ));
         }
     };
-    cmp("surfaces", ours(&r.model.counts.surfaces), kinds(&entry["surfaces"]));
-    cmp("edge kinds", ours(&r.model.counts.edge_kinds), kinds(&entry["edge_kinds"]));
-    cmp("vertex kinds", ours(&r.model.counts.vertex_kinds), kinds(&entry["vertex_kinds"]));
+    cmp(
+        "surfaces",
+        ours(&r.model.counts.surfaces),
+        kinds(&entry["surfaces"]),
+    );
+    cmp(
+        "edge kinds",
+        ours(&r.model.counts.edge_kinds),
+        kinds(&entry["edge_kinds"]),
+    );
+    cmp(
+        "vertex kinds",
+        ours(&r.model.counts.vertex_kinds),
+        kinds(&entry["vertex_kinds"]),
+    );
     let unit = entry["length_unit"].as_str().unwrap_or("mm");
     if r.input.file_unit != unit {
-        bad.push(format!("{file}: file unit {} (manifest {unit})", r.input.file_unit));
+        bad.push(format!(
+            "{file}: file unit {} (manifest {unit})",
+            r.input.file_unit
+        ));
     }
     // Bounding box in mm. Ours samples curves (128 points per edge), an inner estimate within
     // r·(1 − cos(π/128)) ≈ 3e-4·r of the exact box; 1e-3 of the diagonal covers it.
@@ -60,7 +81,12 @@ fn check(entry: &Value) -> Vec<String> {
         .as_array()
         .expect("bbox")
         .iter()
-        .flat_map(|c| c.as_array().expect("corner").iter().map(|x| x.as_f64().expect("num")))
+        .flat_map(|c| {
+            c.as_array()
+                .expect("corner")
+                .iter()
+                .map(|x| x.as_f64().expect("num"))
+        })
         .collect();
     let got: Vec<f64> = r.model.bbox.iter().flatten().copied().collect();
     let tol = 1e-3 * r.model.diagonal;
@@ -74,7 +100,16 @@ fn check(entry: &Value) -> Vec<String> {
 fn every_sample_matches_its_manifest() {
     let m = manifest();
     let samples = m["samples"].as_array().expect("samples");
-    assert!(samples.len() >= 25, "manifest lists {} samples", samples.len());
+    assert!(
+        samples.len() >= 25,
+        "manifest lists {} samples",
+        samples.len()
+    );
     let bad: Vec<String> = samples.iter().flat_map(check).collect();
-    assert!(bad.is_empty(), "{} differences:\n{}", bad.len(), bad.join("\n"));
+    assert!(
+        bad.is_empty(),
+        "{} differences:\n{}",
+        bad.len(),
+        bad.join("\n")
+    );
 }
