@@ -35,9 +35,8 @@
 //! composes the 2D curve with the surface by the chain rule.
 //!
 //! Out-of-range parameters never panic: B-splines extrapolate the end polynomial piece,
-//! polylines the end segment, analytic kinds are defined everywhere. A B-spline whose knot
-//! vector has fewer than `p + 1` control points per span (which truck's checked constructors
-//! do not exclude) evaluates to NaN.
+//! polylines the end segment, analytic kinds are defined everywhere. A B-spline with fewer
+//! than `p + 1` control points (which truck's checked constructors accept) evaluates to NaN.
 
 use crate::brep::model::{Curve3D, Surface};
 use glam::{DMat4, DVec2, DVec3, DVec4};
@@ -111,22 +110,18 @@ pub fn eval_curve(curve: &Curve3D, t: f64) -> CurveDerivs {
 /// Evaluates a B-spline surface (our code, not truck's `uuder`/`vvder`).
 pub fn eval_bspline_surface(s: &BSplineSurface<Point3>, u: f64, v: f64) -> SurfaceDerivs {
     let (uk, vk) = s.knot_vecs();
-    let h = bspline_surface_ders(
-        uk,
-        vk,
-        s.control_points(),
-        |p: &Point3| [p.x, p.y, p.z],
-        u,
-        v,
-    );
+    // Padded to four lanes: the accumulation then vectorises two lanes at a time (SSE2).
+    let coords = |p: &Point3| [p.x, p.y, p.z, 0.0];
+    let h = bspline_surface_ders(uk, vk, s.control_points(), coords, u, v);
+    let xyz = |a: [f64; 4]| DVec3::new(a[0], a[1], a[2]);
     match h {
         Some(h) => SurfaceDerivs {
-            p: DVec3::from_array(h[0]),
-            su: DVec3::from_array(h[1]),
-            sv: DVec3::from_array(h[2]),
-            suu: DVec3::from_array(h[3]),
-            suv: DVec3::from_array(h[4]),
-            svv: DVec3::from_array(h[5]),
+            p: xyz(h[0]),
+            su: xyz(h[1]),
+            sv: xyz(h[2]),
+            suu: xyz(h[3]),
+            suv: xyz(h[4]),
+            svv: xyz(h[5]),
         },
         None => NAN_SURFACE,
     }
@@ -572,7 +567,7 @@ fn inv_or_zero(x: f64) -> f64 {
 }
 
 /// A2.2 (Cox–de Boor triangle) keeping the degree `p − 1` and `p − 2` rows, then A2.3's
-/// derivative recurrence for orders 1 and 2. `buf` needs `8·(p + 1)` entries.
+/// derivative recurrence for orders 1 and 2. `buf` needs [`BUF_PER_ORDER`]`·(p + 1)` entries.
 fn basis_ders<'a>(knots: &[f64], p: usize, span: usize, t: f64, buf: &'a mut [f64]) -> Basis<'a> {
     let m = p + 1;
     let (n, rest) = buf.split_at_mut(m);
@@ -581,66 +576,75 @@ fn basis_ders<'a>(knots: &[f64], p: usize, span: usize, t: f64, buf: &'a mut [f6
     let (left, rest) = rest.split_at_mut(m);
     let (right, rest) = rest.split_at_mut(m);
     let (n1, rest) = rest.split_at_mut(m);
-    let (n2, rest) = rest.split_at_mut(m);
-    let q = &mut rest[..m];
-
+    let n2 = &mut rest[..m];
     n[0] = 1.0;
-    for j in 0..=p {
-        if j > 0 {
-            left[j] = t - knots[span + 1 - j];
-            right[j] = knots[span + j] - t;
-            let mut saved = 0.0;
-            for r in 0..j {
-                // right[r+1] + left[j−r] is a knot difference, independent of t.
-                let temp = n[r] * inv_or_zero(right[r + 1] + left[j - r]);
-                n[r] = saved + right[r + 1] * temp;
-                saved = left[j - r] * temp;
-            }
-            n[j] = saved;
+    d1[0] = 0.0;
+    d2[0] = 0.0;
+    if p == 0 {
+        return Basis { span, n, d1, d2 };
+    }
+    // The knots that matter: w[i] = u_{span+1−p+i}, i = 0..2p.
+    let w = &knots[span + 1 - p..span + 1 + p];
+    // Degree-0 row saved when it is the p−1 or p−2 row.
+    n1[0] = 1.0;
+    n2[0] = 1.0;
+    for j in 1..m {
+        left[j] = t - w[p - j];
+        right[j] = w[p - 1 + j] - t;
+        let mut saved = 0.0;
+        for r in 0..j {
+            // right[r+1] + left[j−r] is a knot difference, independent of t.
+            let temp = n[r] * inv_or_zero(right[r + 1] + left[j - r]);
+            n[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
         }
+        n[j] = saved;
         if j + 2 == p {
-            n2[..=j].copy_from_slice(&n[..=j]);
-        }
-        if j + 1 == p {
-            n1[..=j].copy_from_slice(&n[..=j]);
+            n2[..j + 1].copy_from_slice(&n[..j + 1]);
+        } else if j + 1 == p {
+            n1[..j + 1].copy_from_slice(&n[..j + 1]);
         }
     }
 
-    d1.fill(0.0);
-    d2.fill(0.0);
-    if p >= 1 {
-        let pf = p as f64;
-        // Degree p−1 functions N_{span−p+1+j, p−1}, j = 0..p, divided by their knot spans
-        // u_{span+1+j} − u_{span−p+1+j}; N′_{span−p+r, p} = p·(q[r−1] − q[r]).
-        for j in 0..p {
-            q[j] = n1[j] * inv_or_zero(knots[span + 1 + j] - knots[span + 1 + j - p]);
+    let pf = p as f64;
+    // Degree p−1 functions N_{span−p+1+j, p−1}, j = 0..p, divided by their knot spans
+    // u_{span+1+j} − u_{span−p+1+j} = w[p+j] − w[j]; N′_{span−p+r, p} = p·(q[r−1] − q[r]).
+    let q = &mut left[..];
+    for j in 0..p {
+        q[j] = n1[j] * inv_or_zero(w[p + j] - w[j]);
+    }
+    d1[0] = -pf * q[0];
+    for r in 1..p {
+        d1[r] = pf * (q[r - 1] - q[r]);
+    }
+    d1[p] = pf * q[p - 1];
+    for x in d2.iter_mut() {
+        *x = 0.0;
+    }
+    if p >= 2 {
+        // Degree p−2 functions scaled by their spans w[p+j] − w[j+1] give
+        // e[j] = N′_{span−p+1+j, p−1}/(w[p+j] − w[j]) (into n1), and then
+        // N″_{span−p+r, p} = p·(e[r−1] − e[r]).
+        for j in 0..p - 1 {
+            q[j] = n2[j] * inv_or_zero(w[p + j] - w[j + 1]);
         }
-        for r in 0..=p {
-            let a = if r > 0 { q[r - 1] } else { 0.0 };
-            let b = if r < p { q[r] } else { 0.0 };
-            d1[r] = pf * (a - b);
+        let pm = (p - 1) as f64;
+        n1[0] = -pm * q[0] * inv_or_zero(w[p] - w[0]);
+        for j in 1..p - 1 {
+            n1[j] = pm * (q[j - 1] - q[j]) * inv_or_zero(w[p + j] - w[j]);
         }
-        if p >= 2 {
-            // Degree p−2 functions, scaled the same way, give N′_{·, p−1} =: e (into n1),
-            // then N″_{span−p+r, p} = p·(e[r−1]/Δ[r−1] − e[r]/Δ[r]) with the degree p−1 spans Δ.
-            for j in 0..p - 1 {
-                q[j] = n2[j] * inv_or_zero(knots[span + 1 + j] - knots[span + 2 + j - p]);
-            }
-            let pm = (p - 1) as f64;
-            for j in 0..p {
-                let a = if j > 0 { q[j - 1] } else { 0.0 };
-                let b = if j < p - 1 { q[j] } else { 0.0 };
-                n1[j] = pm * (a - b) * inv_or_zero(knots[span + 1 + j] - knots[span + 1 + j - p]);
-            }
-            for r in 0..=p {
-                let a = if r > 0 { n1[r - 1] } else { 0.0 };
-                let b = if r < p { n1[r] } else { 0.0 };
-                d2[r] = pf * (a - b);
-            }
+        n1[p - 1] = pm * q[p - 2] * inv_or_zero(w[2 * p - 1] - w[p - 1]);
+        d2[0] = -pf * n1[0];
+        for r in 1..p {
+            d2[r] = pf * (n1[r - 1] - n1[r]);
         }
+        d2[p] = pf * n1[p - 1];
     }
     Basis { span, n, d1, d2 }
 }
+
+/// Scratch entries per basis function order used by [`basis_ders`].
+const BUF_PER_ORDER: usize = 7;
 
 /// Runs `f` on the basis functions at `t`, in stack buffers for degree < [`STACK_ORDER`].
 #[inline]
@@ -652,11 +656,15 @@ fn with_basis<R>(
 ) -> Option<R> {
     let p = knots.len().checked_sub(n_cp + 1)?;
     let span = find_span(knots, p, n_cp, t)?;
-    if p < STACK_ORDER {
-        let mut buf = [0.0; 8 * STACK_ORDER];
+    // Two stack tiers so that the common low degrees zero a small buffer.
+    if p < 4 {
+        let mut buf = [0.0; BUF_PER_ORDER * 4];
+        Some(f(p, basis_ders(knots, p, span, t, &mut buf)))
+    } else if p < STACK_ORDER {
+        let mut buf = [0.0; BUF_PER_ORDER * STACK_ORDER];
         Some(f(p, basis_ders(knots, p, span, t, &mut buf)))
     } else {
-        let mut buf = vec![0.0; 8 * (p + 1)];
+        let mut buf = vec![0.0; BUF_PER_ORDER * (p + 1)];
         Some(f(p, basis_ders(knots, p, span, t, &mut buf)))
     }
 }
@@ -677,11 +685,12 @@ fn bspline_curve_ders<P, const D: usize>(
 ) -> Option<[[f64; D]; 3]> {
     with_basis(knots, cps.len(), t, |p, b| {
         let mut out = [[0.0; D]; 3];
-        for r in 0..=p {
-            let c = coords(&cps[b.span - p + r]);
-            axpy(&mut out[0], b.n[r], &c);
-            axpy(&mut out[1], b.d1[r], &c);
-            axpy(&mut out[2], b.d2[r], &c);
+        let active = &cps[b.span - p..b.span + 1];
+        for (cp, ((&b0, &b1), &b2)) in active.iter().zip(b.n.iter().zip(b.d1).zip(b.d2)) {
+            let c = coords(cp);
+            axpy(&mut out[0], b0, &c);
+            axpy(&mut out[1], b1, &c);
+            axpy(&mut out[2], b2, &c);
         }
         out
     })
@@ -701,21 +710,23 @@ fn bspline_surface_ders<P, const D: usize>(
     with_basis(uknots, cps.len(), u, |p, bu| {
         with_basis(vknots, n_v, v, |q, bv| {
             let mut s = [[0.0; D]; 6];
-            for i in 0..=p {
-                let row = &cps[bu.span - p + i][bv.span - q..=bv.span];
+            let rows = &cps[bu.span - p..bu.span + 1];
+            let ubasis = bu.n.iter().zip(bu.d1).zip(bu.d2);
+            for (row, ((&n, &n1), &n2)) in rows.iter().zip(ubasis) {
+                let row = &row[bv.span - q..bv.span + 1];
                 let (mut t0, mut t1, mut t2) = ([0.0; D], [0.0; D], [0.0; D]);
-                for (j, cp) in row.iter().enumerate() {
+                for (cp, ((&m, &m1), &m2)) in row.iter().zip(bv.n.iter().zip(bv.d1).zip(bv.d2)) {
                     let c = coords(cp);
-                    axpy(&mut t0, bv.n[j], &c);
-                    axpy(&mut t1, bv.d1[j], &c);
-                    axpy(&mut t2, bv.d2[j], &c);
+                    axpy(&mut t0, m, &c);
+                    axpy(&mut t1, m1, &c);
+                    axpy(&mut t2, m2, &c);
                 }
-                axpy(&mut s[0], bu.n[i], &t0);
-                axpy(&mut s[1], bu.d1[i], &t0);
-                axpy(&mut s[2], bu.n[i], &t1);
-                axpy(&mut s[3], bu.d2[i], &t0);
-                axpy(&mut s[4], bu.d1[i], &t1);
-                axpy(&mut s[5], bu.n[i], &t2);
+                axpy(&mut s[0], n, &t0);
+                axpy(&mut s[1], n1, &t0);
+                axpy(&mut s[2], n, &t1);
+                axpy(&mut s[3], n2, &t0);
+                axpy(&mut s[4], n1, &t1);
+                axpy(&mut s[5], n, &t2);
             }
             s
         })
@@ -1035,32 +1046,32 @@ pub(crate) mod tests {
 
     // ------------------------------------------------------------------ analytic surfaces
 
-    fn analytic_surfaces() -> Vec<(&'static str, Surface)> {
-        let mut v = vec![
+    fn analytic_surfaces() -> Vec<(String, Surface)> {
+        let base = [
             ("plane", plane()),
             ("sphere", sphere(2.5)),
             ("cylinder", cylinder(1.5)),
             ("torus", torus(3.0, 1.0)),
             ("cone", cone(1.5, 0.3)),
         ];
-        // The same surfaces with the orientation flag flipped (u and v swap) and scaled as
-        // a unit conversion would.
-        let extra: Vec<_> = v
-            .iter()
-            .map(|(n, s)| {
-                let name: &'static str = Box::leak(format!("{n} inverted+scaled").into_boxed_str());
-                (name, s.inverse().transformed(Matrix4::from_scale(25.4)))
+        // Each also with the orientation flag flipped (u and v swap) and scaled as a unit
+        // conversion would.
+        base.into_iter()
+            .flat_map(|(name, s)| {
+                let flipped = s.inverse().transformed(Matrix4::from_scale(25.4));
+                [
+                    (name.to_string(), s),
+                    (format!("{name} inverted+scaled"), flipped),
+                ]
             })
-            .collect();
-        v.extend(extra);
-        v
+            .collect()
     }
 
     #[test]
     fn analytic_surfaces_match_finite_differences() {
         for (name, s) in analytic_surfaces() {
             let params = grid((-0.4, 2.0 * PI), (-1.2, 1.2), 9, &[], &[]);
-            assert_surface_fd(name, &s, &params);
+            assert_surface_fd(&name, &s, &params);
         }
     }
 
@@ -1087,6 +1098,27 @@ pub(crate) mod tests {
                     );
                 }
             }
+        }
+    }
+
+    /// A projective placement matrix (no STEP entity produces one, but `Matrix4` allows it)
+    /// goes through the quotient rule: values equal truck's `subs`, derivatives pass the
+    /// finite-difference check.
+    #[test]
+    fn projective_transform_uses_quotient_rule() {
+        #[rustfmt::skip]
+        let m = Matrix4::new(
+            1.0, 0.2, 0.0, 0.05,
+            0.0, 1.1, 0.3, 0.02,
+            0.1, 0.0, 0.9, 0.01,
+            0.5, -0.3, 0.2, 1.0,
+        );
+        let s = sphere(2.5).transformed(m);
+        let params = grid((-0.4, 2.0 * PI), (-1.2, 1.2), 9, &[], &[]);
+        assert_surface_fd("projected sphere", &s, &params);
+        for (u, v) in params {
+            let theirs = p3(s.subs(u, v));
+            assert!(rel(eval_surface(&s, u, v).p, theirs, theirs.length()) < 1e-12);
         }
     }
 
@@ -1447,6 +1479,10 @@ pub(crate) mod tests {
             for (name, c) in [
                 ("cubic", Curve2D::BSplineCurve(c2.clone())),
                 ("conic", Curve2D::NurbsCurve(n2.clone())),
+                (
+                    "line",
+                    Curve2D::Line(Line(Point2::new(-0.7, 0.15), Point2::new(2.2, 0.85))),
+                ),
             ] {
                 let pc = Curve3D::PCurve(PCurve::new(Box::new(c.clone()), Box::new(s.clone())));
                 // Avoid parameters whose image crosses a surface knot line.
