@@ -5,13 +5,17 @@
 //! [`crate::brep`] carries, correcting truck where it is wrong (B-spline second derivatives).
 
 mod bbox;
+pub mod bvh;
 pub mod curvature;
+pub mod distance;
 pub mod eval;
 pub mod project;
 pub mod trim;
 
 pub use bbox::{model_bounding_box, Aabb};
+pub use bvh::Bvh;
 pub use curvature::{principal_curvatures, unit_normal, Curvature};
+pub use distance::{nearest_on_edge, nearest_on_face, Boundary, FaceHit, Feature};
 pub use eval::{eval_curve, eval_surface, CurveDerivs, SurfaceDerivs};
 pub use project::project_point;
 
