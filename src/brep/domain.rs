@@ -11,8 +11,9 @@
 //! jumps across the period.
 
 use super::model::{Face, Loop, Model, UvDomain};
+use crate::geom::eval_surface;
 use glam::{DVec2, DVec3};
-use truck_geometry::prelude::{ParametricCurve, ParametricSurface, Point3};
+use truck_geometry::prelude::{ParametricCurve, Point3};
 
 /// Samples per curved edge when building a loop's UV polygon. Loops are used for
 /// inside/outside tests and domains, not for exact geometry; 32 keeps the chordal deviation of
@@ -28,7 +29,7 @@ fn to_dvec(p: Point3) -> DVec3 {
 fn project(face: &Face, p: DVec3, hint: Option<(f64, f64)>) -> Option<(f64, f64)> {
     let scale = 1.0 + p.abs().max_element();
     let on = |uv: &(f64, f64)| {
-        to_dvec(face.surface.subs(uv.0, uv.1)).distance(p) <= ON_SURFACE_TOL * scale
+        eval_surface(&face.surface, uv.0, uv.1).p.distance(p) <= ON_SURFACE_TOL * scale
     };
     // A hint can lead to a far stationary point (the far side of a sphere): retry without.
     crate::geom::project_point(&face.surface, p, hint)
@@ -45,8 +46,8 @@ pub const ON_SURFACE_TOL: f64 = 1e-3;
 
 /// True where the parametrisation is singular (a pole: `Su × Sv` vanishes).
 fn is_singular(face: &Face, uv: (f64, f64)) -> bool {
-    let su = to_dvec_v(face.surface.uder(uv.0, uv.1));
-    let sv = to_dvec_v(face.surface.vder(uv.0, uv.1));
+    let d = eval_surface(&face.surface, uv.0, uv.1);
+    let (su, sv) = (d.su, d.sv);
     su.cross(sv).length() <= 1e-9 * (su.length() * sv.length()).max(1e-300)
         || su.length() < 1e-12
         || sv.length() < 1e-12
@@ -65,8 +66,7 @@ fn wrap_near(x: f64, reference: f64, period: Option<f64>) -> f64 {
 
 /// The UV polygon of one loop of `face` (see the module docs). A vertex loop gives one point.
 pub fn loop_uv(model: &Model, face: &Face, lp: &Loop) -> Result<Vec<DVec2>, String> {
-    let up = face.surface.u_period();
-    let vp = face.surface.v_period();
+    let (up, vp) = crate::geom::surface_periods(&face.surface);
     if let Some(v) = lp.vertex {
         let p = model.vertices[v].point;
         let uv =
@@ -125,8 +125,11 @@ pub fn loop_uv(model: &Model, face: &Face, lp: &Loop) -> Result<Vec<DVec2>, Stri
     }
     if raw.iter().any(|x| x.is_none()) {
         let k = raw.iter().position(|x| x.is_none()).unwrap_or(0);
-        let near = crate::geom::project_point(&face.surface, samples[k].p, None)
-            .map(|uv| to_dvec(face.surface.subs(uv.0, uv.1)).distance(samples[k].p));
+        let near = crate::geom::project_point(&face.surface, samples[k].p, None).map(|uv| {
+            eval_surface(&face.surface, uv.0, uv.1)
+                .p
+                .distance(samples[k].p)
+        });
         return Err(format!(
             "loop point ({:.6}, {:.6}, {:.6}) is not on the face's {} surface (nearest point found at {})",
             samples[k].p.x,
@@ -159,7 +162,7 @@ pub fn loop_uv(model: &Model, face: &Face, lp: &Loop) -> Result<Vec<DVec2>, Stri
                 // Keep the coordinate that is well defined (the one that does not vary at
                 // the pole): the surface evaluates to the same point for any value of the
                 // other one.
-                let su = to_dvec_v(face.surface.uder(pole_u, pole_v)).length();
+                let su = eval_surface(&face.surface, pole_u, pole_v).su.length();
                 if su < 1e-12 {
                     u = nu;
                 } else {
@@ -196,8 +199,8 @@ fn seam_placement(
     periods: (Option<f64>, Option<f64>),
     low: &mut (Option<f64>, Option<f64>),
 ) -> Option<(f64, f64, bool)> {
-    let su = to_dvec_v(face.surface.uder(uv.0, uv.1));
-    let sv = to_dvec_v(face.surface.vder(uv.0, uv.1));
+    let d = eval_surface(&face.surface, uv.0, uv.1);
+    let (su, sv) = (d.su, d.sv);
     // Direction of travel in UV (least squares in the tangent plane).
     let (a, b, c) = (su.dot(su), su.dot(sv), sv.dot(sv));
     let det = a * c - b * b;
@@ -223,6 +226,45 @@ fn seam_placement(
     } else {
         let p = periods.1?;
         Some((uv.0, place(uv.1, du * orient, p, &mut low.1), false))
+    }
+}
+
+/// Moves a face's loops, all by the same whole number of periods, into the surface's
+/// parameter range. Only needed for B-spline/NURBS surfaces that close on themselves (see
+/// [`crate::geom::surface_periods`]): there the parametrisation is not really periodic, so a
+/// loop unwrapped into the neighbouring period copy would be evaluated by extrapolation.
+pub fn align_loops(face: &mut Face) {
+    if !matches!(
+        face.surface,
+        super::model::Surface::BSplineSurface(_) | super::model::Surface::NurbsSurface(_)
+    ) {
+        return;
+    }
+    let (up, vp) = crate::geom::surface_periods(&face.surface);
+    let ((u0, _), (v0, _)) = face_parameter_range(face);
+    let edge_points = || {
+        face.loops
+            .iter()
+            .filter(|l| l.vertex.is_none())
+            .flat_map(|l| &l.uv)
+    };
+    let umin = edge_points().map(|p| p.x).fold(f64::INFINITY, f64::min);
+    let vmin = edge_points().map(|p| p.y).fold(f64::INFINITY, f64::min);
+    // Tolerance for "at the start of the range": loop points come from projections that are
+    // exact to rounding.
+    let shift = |min: f64, start: f64, period: Option<f64>| match period {
+        Some(p) if min.is_finite() => ((start - min) / p - 1e-9).ceil() * p,
+        _ => 0.0,
+    };
+    let (su, sv) = (shift(umin, u0, up), shift(vmin, v0, vp));
+    if su == 0.0 && sv == 0.0 {
+        return;
+    }
+    for l in face.loops.iter_mut().filter(|l| l.vertex.is_none()) {
+        for p in &mut l.uv {
+            p.x += su;
+            p.y += sv;
+        }
     }
 }
 
@@ -257,8 +299,7 @@ pub fn wraps(poly: &[DVec2], u_period: Option<f64>, v_period: Option<f64>) -> bo
 /// The face's UV domain, and its outer loop when one can be told geometrically (the
 /// non-wrapping loop of largest area, when no loop wraps).
 pub fn face_domain(_model: &Model, face: &Face) -> (UvDomain, Option<usize>) {
-    let up = face.surface.u_period();
-    let vp = face.surface.v_period();
+    let (up, vp) = crate::geom::surface_periods(&face.surface);
     let mut umin = f64::INFINITY;
     let mut umax = f64::NEG_INFINITY;
     let mut vmin = f64::INFINITY;
@@ -298,6 +339,44 @@ pub fn face_domain(_model: &Model, face: &Face) -> (UvDomain, Option<usize>) {
         vmin = v0;
         vmax = vp.map_or(v1, |p| v0 + p);
     }
+    // A face bounded by a single loop that wraps around one periodic direction (a spherical
+    // cap bounded by one circle, with no vertex loop at its pole) extends from that loop to
+    // the end of the other direction's range on the loop's left (STEP: the face is on the
+    // left of its loops, seen against the face normal). Where that range is unbounded (a
+    // cone's line parameter) the apex is not found here: the domain stops at the loop.
+    let wrapping: Vec<&Loop> = face
+        .loops
+        .iter()
+        .filter(|l| l.vertex.is_none() && wraps(&l.uv, up, vp))
+        .collect();
+    let has_vertex_loop = face.loops.iter().any(|l| l.vertex.is_some());
+    if wrapping.len() == 1 && !has_vertex_loop {
+        let l = wrapping[0];
+        let travel = l.uv[l.uv.len() - 1] - l.uv[0];
+        let orient = if face.same_sense { 1.0 } else { -1.0 };
+        let ((u0, u1), (v0, v1)) = face_parameter_range(face);
+        let bounded = |a: f64, b: f64| a.is_finite() && b.is_finite() && b > a;
+        if wrap_u && !wrap_v && bounded(v0, v1) && vp.is_none() && face_is_range_limited(face) {
+            // Travel along +u has its left towards +v.
+            if travel.x * orient > 0.0 {
+                vmax = v1;
+            } else {
+                vmin = v0;
+            }
+        } else if wrap_v
+            && !wrap_u
+            && bounded(u0, u1)
+            && up.is_none()
+            && face_is_range_limited(face)
+        {
+            // Travel along +v has its left towards −u.
+            if travel.y * orient > 0.0 {
+                umin = u0;
+            } else {
+                umax = u1;
+            }
+        }
+    }
     if wrap_u {
         if let Some(p) = up {
             umax = umin + p;
@@ -333,9 +412,21 @@ pub fn face_domain(_model: &Model, face: &Face) -> (UvDomain, Option<usize>) {
     )
 }
 
+/// True for surfaces whose reported parameter range is their real extent (B-spline/NURBS
+/// patches, spheres); truck reports [0, 1] for a plane and unbounded ranges elsewhere.
+fn face_is_range_limited(face: &Face) -> bool {
+    use super::model::Surface;
+    use truck_stepio::r#in::alias::ElementarySurface;
+    match &face.surface {
+        Surface::BSplineSurface(_) | Surface::NurbsSurface(_) => true,
+        Surface::ElementarySurface(e) => matches!(e.as_ref(), ElementarySurface::Sphere(_)),
+        Surface::SweptCurve(_) => false,
+    }
+}
+
 fn face_parameter_range(face: &Face) -> ((f64, f64), (f64, f64)) {
     use std::ops::Bound;
-    let (ur, vr) = face.surface.parameter_range();
+    let (ur, vr) = crate::geom::parameter_range(&face.surface);
     let end = |b: Bound<f64>| match b {
         Bound::Included(x) | Bound::Excluded(x) => x,
         Bound::Unbounded => 0.0,

@@ -9,7 +9,7 @@
 //! disappears. Lengths are converted to millimetres and assembly placements applied to the
 //! geometry itself.
 
-use super::domain::{face_domain, loop_uv};
+use super::domain::{align_loops, face_domain, loop_uv};
 use super::model::*;
 use super::records::{self, as_bool, as_ref, as_refs, params, LengthUnit, Mat4, Records};
 use crate::error::{Error, Result};
@@ -878,6 +878,7 @@ impl Ingest<'_> {
                 })?;
             }
             m.faces[fi].loops = loops;
+            align_loops(&mut m.faces[fi]);
             let (domain, outer) = face_domain(m, &m.faces[fi]);
             m.faces[fi].domain = domain;
             if m.faces[fi].outer.is_none() {

@@ -47,7 +47,7 @@ pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> O
             return Some(uv);
         }
     }
-    let (ur, vr) = surface.parameter_range();
+    let (ur, vr) = crate::geom::parameter_range(surface);
     let seeds = |r: (Bound<f64>, Bound<f64>), h: Option<f64>| -> Vec<f64> {
         match (r.0, r.1) {
             (Bound::Included(a) | Bound::Excluded(a), Bound::Included(b) | Bound::Excluded(b))
@@ -195,7 +195,7 @@ fn clamp_ranges(surface: &Surface) -> ((f64, f64), (f64, f64)) {
             (f64::NEG_INFINITY, f64::INFINITY),
         );
     }
-    let (ur, vr) = surface.parameter_range();
+    let (ur, vr) = crate::geom::parameter_range(surface);
     let finite = |r: (Bound<f64>, Bound<f64>), periodic: bool| match r {
         (Bound::Included(a) | Bound::Excluded(a), Bound::Included(b) | Bound::Excluded(b))
             if a.is_finite() && b.is_finite() && !periodic =>

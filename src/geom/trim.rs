@@ -518,7 +518,7 @@ pub fn clamp_ranges(s: &Surface) -> ((f64, f64), (f64, f64)) {
     if !trusted {
         return (all, all);
     }
-    let (ur, vr) = s.parameter_range();
+    let (ur, vr) = crate::geom::parameter_range(s);
     let fin = |r: (Bound<f64>, Bound<f64>), periodic: bool| match r {
         (Bound::Included(a) | Bound::Excluded(a), Bound::Included(b) | Bound::Excluded(b))
             if a.is_finite() && b.is_finite() && !periodic =>
@@ -1003,12 +1003,11 @@ mod tests {
     /// times the domain's area equals the oriented area of the loops (outer loops count +,
     /// holes −, by the STEP orientation rule), up to the grid's resolution.
     ///
-    /// Known bad: faces whose loop polygons `brep::domain` cannot unwrap (a closed NURBS
-    /// surface that truck does not report periodic: the seam's UV copies are mixed up). The
-    /// test fails loudly when one of them starts passing.
+    /// Known-bad faces go in `KNOWN_BAD` (none now: the closed NURBS cylinder was until
+    /// `geom::surface_periods` detected its period); the test fails loudly when one passes.
     #[test]
     fn grid_area_matches_loop_area_on_all_samples() {
-        const KNOWN_BAD: &[(&str, usize)] = &[("cylinder_nurbs.step", 0)];
+        const KNOWN_BAD: &[(&str, usize)] = &[];
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples");
         let mut checked = 0;
         for entry in std::fs::read_dir(dir).unwrap() {
