@@ -38,6 +38,9 @@ pub struct Model {
     pub faces: Vec<Face>,
     pub edges: Vec<Edge>,
     pub vertices: Vec<Vertex>,
+    /// Axis-aligned bounding box `(min, max)`, computed once on reading (see
+    /// [`crate::geom::model_bounding_box`]).
+    pub bbox: (DVec3, DVec3),
 }
 
 /// A solid: its outer shell first, then its void shells.
@@ -142,7 +145,7 @@ impl Model {
     /// Axis-aligned bounding box `(min, max)` of the model, from vertices and sampled edges
     /// and faces (exact for planar parts, a close inner estimate for curved ones).
     pub fn bounding_box(&self) -> (DVec3, DVec3) {
-        crate::geom::model_bounding_box(self)
+        self.bbox
     }
 
     /// Length of the bounding-box diagonal: the scale all default tolerances derive from.

@@ -130,6 +130,7 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
             faces: vec![],
             edges: vec![],
             vertices: vec![],
+            bbox: (DVec3::ZERO, DVec3::ZERO),
         },
         edge_map: HashMap::new(),
         vertex_map: HashMap::new(),
@@ -216,6 +217,7 @@ impl Ingest<'_> {
         self.check_everything_used()?;
         self.renumber_in_file_order();
         self.compute_domains()?;
+        self.model.bbox = crate::geom::model_bounding_box(&self.model);
         Ok(self.model)
     }
 

@@ -2,7 +2,7 @@
 
 use crate::brep::Model;
 use glam::DVec3;
-use truck_geometry::prelude::{ParametricCurve, ParametricSurface};
+use truck_geometry::prelude::ParametricCurve;
 
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,9 +55,17 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
     }
     // Face interiors: a free-form face can bulge beyond its edges (a B-spline top with a
     // bump), and a periodic face without a closed outer loop (a sphere bounded by a vertex
-    // loop, a torus) has edges that show nothing of its extent.
+    // loop, a torus) has edges that show nothing of its extent. A ruled face cannot
+    // (planes, cylinders, cones, extrusions): a coordinate is linear along each ruling, so its
+    // extremes over the face lie on the face's boundary.
     let n = BBOX_FACE_GRID;
     for f in &model.faces {
+        if matches!(
+            crate::geom::surface_kind(&f.surface),
+            "plane" | "cylinder" | "cone" | "extrusion"
+        ) {
+            continue;
+        }
         for i in 0..=n {
             for j in 0..=n {
                 let u = f.domain.u.0 + (f.domain.u.1 - f.domain.u.0) * i as f64 / n as f64;
@@ -65,8 +73,7 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
                 if f.outer.is_some() && !super::trim::contains(f, glam::DVec2::new(u, v)) {
                     continue;
                 }
-                let p = f.surface.subs(u, v);
-                b.add(DVec3::new(p.x, p.y, p.z));
+                b.add(super::eval_surface(&f.surface, u, v).p);
             }
         }
     }
