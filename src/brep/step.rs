@@ -192,6 +192,21 @@ impl Ingest<'_> {
         entity_err(&self.path, id, self.recs.name(id), reason)
     }
 
+    /// Parameter `k` of entity `id`'s record, read by `read`; `what` names it in the error.
+    fn param<T>(
+        &self,
+        id: u64,
+        params: &[Parameter],
+        k: usize,
+        read: impl Fn(&Parameter) -> Option<T>,
+        what: &str,
+    ) -> Result<T> {
+        params
+            .get(k)
+            .and_then(read)
+            .ok_or_else(|| self.err(id, what.to_string()))
+    }
+
     fn run(mut self) -> Result<Model> {
         let jobs = self.solid_jobs()?;
         if jobs.is_empty() {
@@ -306,14 +321,9 @@ impl Ingest<'_> {
             .expect("brep id came from the records");
         let p = params(rec);
         let name = p.first().map(records::as_string).unwrap_or_default();
-        let outer = p
-            .get(1)
-            .and_then(as_ref)
-            .ok_or_else(|| self.err(job.brep, "outer shell missing"))?;
+        let outer = self.param(job.brep, p, 1, as_ref, "outer shell missing")?;
         let voids = if rec.name == "BREP_WITH_VOIDS" {
-            p.get(2)
-                .and_then(as_refs)
-                .ok_or_else(|| self.err(job.brep, "void shell list unreadable"))?
+            self.param(job.brep, p, 2, as_refs, "void shell list unreadable")?
         } else {
             vec![]
         };
@@ -356,14 +366,8 @@ impl Ingest<'_> {
             "CLOSED_SHELL" => (id, true),
             "ORIENTED_CLOSED_SHELL" => {
                 let p = params(rec);
-                let inner = p
-                    .get(2)
-                    .and_then(as_ref)
-                    .ok_or_else(|| self.err(id, "shell element missing"))?;
-                let o = p
-                    .get(3)
-                    .and_then(as_bool)
-                    .ok_or_else(|| self.err(id, "orientation missing"))?;
+                let inner = self.param(id, p, 2, as_ref, "shell element missing")?;
+                let o = self.param(id, p, 3, as_bool, "orientation missing")?;
                 (inner, o)
             }
             "OPEN_SHELL" | "ORIENTED_OPEN_SHELL" => {
@@ -375,10 +379,7 @@ impl Ingest<'_> {
             .simple(shell_id)
             .filter(|r| r.name == "CLOSED_SHELL")
             .ok_or_else(|| self.err(shell_id, "expected CLOSED_SHELL"))?;
-        let faces = params(srec)
-            .get(1)
-            .and_then(as_refs)
-            .ok_or_else(|| self.err(shell_id, "face list unreadable"))?;
+        let faces = self.param(shell_id, params(srec), 1, as_refs, "face list unreadable")?;
         if faces.is_empty() {
             return Err(self.err(shell_id, "shell has no faces"));
         }
@@ -427,10 +428,7 @@ impl Ingest<'_> {
             "ADVANCED_FACE" | "FACE_SURFACE" => (id, 1.0),
             "ORIENTED_FACE" => {
                 let p = params(rec);
-                let inner = p
-                    .get(2)
-                    .and_then(as_ref)
-                    .ok_or_else(|| self.err(id, "face element missing"))?;
+                let inner = self.param(id, p, 2, as_ref, "face element missing")?;
                 let o = p.get(3).and_then(as_bool).unwrap_or(true);
                 (inner, if o { 1.0 } else { -1.0 })
             }
@@ -441,18 +439,9 @@ impl Ingest<'_> {
             .filter(|r| r.name == "ADVANCED_FACE" || r.name == "FACE_SURFACE")
             .ok_or_else(|| self.err(face_id, "expected ADVANCED_FACE"))?;
         let p = params(frec);
-        let bounds = p
-            .get(1)
-            .and_then(as_refs)
-            .ok_or_else(|| self.err(face_id, "bounds unreadable"))?;
-        let geometry = p
-            .get(2)
-            .and_then(as_ref)
-            .ok_or_else(|| self.err(face_id, "surface missing"))?;
-        let same_sense = p
-            .get(3)
-            .and_then(as_bool)
-            .ok_or_else(|| self.err(face_id, "same_sense missing"))?;
+        let bounds = self.param(face_id, p, 1, as_refs, "bounds unreadable")?;
+        let geometry = self.param(face_id, p, 2, as_ref, "surface missing")?;
+        let same_sense = self.param(face_id, p, 3, as_bool, "same_sense missing")?;
         let surface = self.convert_surface(geometry, m)?;
         let index = self.model.faces.len();
         let mut loops = Vec::new();
@@ -465,14 +454,8 @@ impl Ingest<'_> {
                 return Err(self.err(b, "expected FACE_BOUND"));
             }
             let bp = params(brec);
-            let lp = bp
-                .get(1)
-                .and_then(as_ref)
-                .ok_or_else(|| self.err(b, "loop missing"))?;
-            let orientation = bp
-                .get(2)
-                .and_then(as_bool)
-                .ok_or_else(|| self.err(b, "orientation missing"))?;
+            let lp = self.param(b, bp, 1, as_ref, "loop missing")?;
+            let orientation = self.param(b, bp, 2, as_bool, "orientation missing")?;
             if brec.name == "FACE_OUTER_BOUND" {
                 outer = Some(loops.len());
             }
@@ -511,10 +494,7 @@ impl Ingest<'_> {
             .ok_or_else(|| self.err(id, "expected EDGE_LOOP"))?;
         match rec.name.as_str() {
             "VERTEX_LOOP" => {
-                let v = params(rec)
-                    .get(1)
-                    .and_then(as_ref)
-                    .ok_or_else(|| self.err(id, "vertex missing"))?;
+                let v = self.param(id, params(rec), 1, as_ref, "vertex missing")?;
                 let vi = self.vertex(v, instance, m)?;
                 Ok(Loop {
                     step_id: id,
@@ -524,10 +504,7 @@ impl Ingest<'_> {
                 })
             }
             "EDGE_LOOP" => {
-                let oes = params(rec)
-                    .get(1)
-                    .and_then(as_refs)
-                    .ok_or_else(|| self.err(id, "edge list unreadable"))?;
+                let oes = self.param(id, params(rec), 1, as_refs, "edge list unreadable")?;
                 if oes.is_empty() {
                     return Err(self.err(id, "empty edge loop"));
                 }
@@ -539,14 +516,8 @@ impl Ingest<'_> {
                     let (ec, forward) = match orec.name.as_str() {
                         "ORIENTED_EDGE" => {
                             let op = params(orec);
-                            let ec = op
-                                .get(3)
-                                .and_then(as_ref)
-                                .ok_or_else(|| self.err(oe, "edge element missing"))?;
-                            let o = op
-                                .get(4)
-                                .and_then(as_bool)
-                                .ok_or_else(|| self.err(oe, "orientation missing"))?;
+                            let ec = self.param(oe, op, 3, as_ref, "edge element missing")?;
+                            let o = self.param(oe, op, 4, as_bool, "orientation missing")?;
                             (ec, o)
                         }
                         "EDGE_CURVE" => (oe, true),
@@ -593,10 +564,7 @@ impl Ingest<'_> {
             .simple(id)
             .filter(|r| r.name == "VERTEX_POINT")
             .ok_or_else(|| self.err(id, "expected VERTEX_POINT"))?;
-        let pid = params(rec)
-            .get(1)
-            .and_then(as_ref)
-            .ok_or_else(|| self.err(id, "point missing"))?;
+        let pid = self.param(id, params(rec), 1, as_ref, "point missing")?;
         let prec = recs
             .simple(pid)
             .filter(|r| r.name == "CARTESIAN_POINT")
@@ -625,18 +593,9 @@ impl Ingest<'_> {
             .filter(|r| r.name == "EDGE_CURVE")
             .ok_or_else(|| self.err(id, "expected EDGE_CURVE"))?;
         let p = params(rec);
-        let v0 = p
-            .get(1)
-            .and_then(as_ref)
-            .ok_or_else(|| self.err(id, "start vertex missing"))?;
-        let v1 = p
-            .get(2)
-            .and_then(as_ref)
-            .ok_or_else(|| self.err(id, "end vertex missing"))?;
-        let geometry = p
-            .get(3)
-            .and_then(as_ref)
-            .ok_or_else(|| self.err(id, "curve missing"))?;
+        let v0 = self.param(id, p, 1, as_ref, "start vertex missing")?;
+        let v1 = self.param(id, p, 2, as_ref, "end vertex missing")?;
+        let geometry = self.param(id, p, 3, as_ref, "curve missing")?;
         let a = self.vertex(v0, instance, m)?;
         let b = self.vertex(v1, instance, m)?;
         let curve = self.convert_edge_curve(id, geometry, m)?;
