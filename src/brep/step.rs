@@ -672,6 +672,21 @@ impl Ingest<'_> {
             .map(|reason| self.err(id, format!("cannot be read: {reason}")))
     }
 
+    /// Runs a truck conversion for entity `id`: its error becomes `failure: …`, a panic
+    /// inside truck `reader panicked: …`.
+    fn with_truck<T>(
+        &self,
+        id: u64,
+        failure: &str,
+        f: impl FnOnce() -> std::result::Result<T, String>,
+    ) -> Result<T> {
+        match guarded(f) {
+            Ok(Ok(x)) => Ok(x),
+            Ok(Err(e)) => Err(self.err(id, format!("{failure}: {e}"))),
+            Err(p) => Err(self.err(id, format!("reader panicked: {p}"))),
+        }
+    }
+
     fn convert_surface(&self, id: u64, m: &Mat4) -> Result<Surface> {
         if let Some(e) = self.undecodable(id) {
             return Err(e);
@@ -694,17 +709,12 @@ impl Ingest<'_> {
             return Err(self.err(id, "unsupported surface type"));
         }
         let table = self.table;
-        let converted = guarded(|| -> std::result::Result<Surface, String> {
+        let mut surface = self.with_truck(id, "cannot be converted", || {
             let any = PlaceHolder::<SurfaceAnyHolder>::Ref(Name::Entity(id))
                 .into_owned(table)
                 .map_err(|e| first_line(&e.to_string()))?;
             Surface::try_from(&any).map_err(|e| first_line(&e.to_string()))
-        });
-        let mut surface = match converted {
-            Ok(Ok(s)) => s,
-            Ok(Err(e)) => return Err(self.err(id, format!("cannot be converted: {e}"))),
-            Err(p) => return Err(self.err(id, format!("reader panicked: {p}"))),
-        };
+        })?;
         if *m != records::IDENTITY {
             surface.transform_by(to_matrix4(m));
         }
@@ -734,17 +744,12 @@ impl Ingest<'_> {
             return Err(self.err(geometry, "unsupported curve type"));
         }
         let table = self.table;
-        let converted = guarded(|| -> std::result::Result<Curve3D, String> {
+        let mut curve = self.with_truck(id, "curve cannot be converted", || {
             let ec = PlaceHolder::<EdgeCurveHolder>::Ref(Name::Entity(id))
                 .into_owned(table)
                 .map_err(|e| first_line(&e.to_string()))?;
             ec.parse_curve3d().map_err(|e| first_line(&e.to_string()))
-        });
-        let mut curve = match converted {
-            Ok(Ok(c)) => c,
-            Ok(Err(e)) => return Err(self.err(id, format!("curve cannot be converted: {e}"))),
-            Err(p) => return Err(self.err(id, format!("reader panicked: {p}"))),
-        };
+        })?;
         if matches!(curve, Curve3D::PCurve(_)) {
             return Err(self.err(id, "edge has only a pcurve, no 3D curve"));
         }
