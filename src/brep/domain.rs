@@ -356,7 +356,12 @@ pub fn face_domain(_model: &Model, face: &Face) -> (UvDomain, Option<usize>) {
         let orient = if face.same_sense { 1.0 } else { -1.0 };
         let ((u0, u1), (v0, v1)) = face_parameter_range(face);
         let bounded = |a: f64, b: f64| a.is_finite() && b.is_finite() && b > a;
-        if wrap_u && !wrap_v && bounded(v0, v1) && vp.is_none() && face_is_range_limited(face) {
+        if wrap_u
+            && !wrap_v
+            && bounded(v0, v1)
+            && vp.is_none()
+            && crate::geom::project::range_is_extent(&face.surface)
+        {
             // Travel along +u has its left towards +v.
             if travel.x * orient > 0.0 {
                 vmax = v1;
@@ -367,7 +372,7 @@ pub fn face_domain(_model: &Model, face: &Face) -> (UvDomain, Option<usize>) {
             && !wrap_u
             && bounded(u0, u1)
             && up.is_none()
-            && face_is_range_limited(face)
+            && crate::geom::project::range_is_extent(&face.surface)
         {
             // Travel along +v has its left towards −u.
             if travel.y * orient > 0.0 {
@@ -410,18 +415,6 @@ pub fn face_domain(_model: &Model, face: &Face) -> (UvDomain, Option<usize>) {
         },
         outer,
     )
-}
-
-/// True for surfaces whose reported parameter range is their real extent (B-spline/NURBS
-/// patches, spheres); truck reports [0, 1] for a plane and unbounded ranges elsewhere.
-fn face_is_range_limited(face: &Face) -> bool {
-    use super::model::Surface;
-    use truck_stepio::r#in::alias::ElementarySurface;
-    match &face.surface {
-        Surface::BSplineSurface(_) | Surface::NurbsSurface(_) => true,
-        Surface::ElementarySurface(e) => matches!(e.as_ref(), ElementarySurface::Sphere(_)),
-        Surface::SweptCurve(_) => false,
-    }
 }
 
 fn face_parameter_range(face: &Face) -> ((f64, f64), (f64, f64)) {

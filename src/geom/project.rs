@@ -177,19 +177,25 @@ fn is_foot(surface: &Surface, p: DVec3, uv: (f64, f64)) -> bool {
     g < 1e-6
 }
 
+/// True for surfaces whose parameter range ([`crate::geom::parameter_range`]) is their real
+/// extent: B-spline/NURBS patches and spheres (latitude ±π/2). truck reports [0, 1] for a
+/// plane and unbounded or arbitrary ranges for the other analytic and swept surfaces.
+pub fn range_is_extent(surface: &Surface) -> bool {
+    use truck_stepio::r#in::alias::ElementarySurface;
+    match surface {
+        Surface::BSplineSurface(_) | Surface::NurbsSurface(_) => true,
+        Surface::ElementarySurface(e) => matches!(e.as_ref(), ElementarySurface::Sphere(_)),
+        Surface::SweptCurve(_) => false,
+    }
+}
+
 /// The ranges iterates are clamped to: the parameter range in each direction that is bounded
 /// and not periodic (a B-spline patch; a sphere's latitude), unbounded otherwise.
 ///
 /// Only B-spline/NURBS patches and spheres are trusted: truck reports [0, 1] for a plane,
 /// which is not a bound at all.
 fn clamp_ranges(surface: &Surface) -> ((f64, f64), (f64, f64)) {
-    use truck_stepio::r#in::alias::ElementarySurface;
-    let trusted = match surface {
-        Surface::BSplineSurface(_) | Surface::NurbsSurface(_) => true,
-        Surface::ElementarySurface(e) => matches!(e.as_ref(), ElementarySurface::Sphere(_)),
-        Surface::SweptCurve(_) => false,
-    };
-    if !trusted {
+    if !range_is_extent(surface) {
         return (
             (f64::NEG_INFINITY, f64::INFINITY),
             (f64::NEG_INFINITY, f64::INFINITY),
