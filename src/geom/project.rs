@@ -194,7 +194,7 @@ pub fn range_is_extent(surface: &Surface) -> bool {
 ///
 /// Only B-spline/NURBS patches and spheres are trusted: truck reports [0, 1] for a plane,
 /// which is not a bound at all.
-fn clamp_ranges(surface: &Surface) -> ((f64, f64), (f64, f64)) {
+pub fn clamp_ranges(surface: &Surface) -> ((f64, f64), (f64, f64)) {
     if !range_is_extent(surface) {
         return (
             (f64::NEG_INFINITY, f64::INFINITY),

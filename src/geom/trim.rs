@@ -40,9 +40,8 @@
 //! boundary handle the edges separately (see [`super::distance`]).
 
 use super::eval::eval_surface;
-use crate::brep::model::{Face, Loop, Surface};
+use crate::brep::model::{Face, Loop};
 use glam::{DVec2, Vec2Swizzles};
-use truck_stepio::r#in::alias::ElementarySurface;
 
 /// Relative tolerance on the UV domain in a bounded, non-periodic direction of a face with
 /// only vertex loops: a parameter beyond the domain by more than this fraction of its width
@@ -501,37 +500,7 @@ impl Nearest {
     }
 }
 
-/// Parameter ranges that bound a surface (projections and descents are clamped to them): the finite, non-periodic ranges of B-spline and
-/// NURBS patches (beyond them the polynomial extrapolates, which is not the face) and a
-/// sphere's latitude (beyond the poles the parametrisation folds back); unbounded otherwise
-/// (truck reports [0, 1] for a plane, which is no bound at all). Mirrors
-/// `project::clamp_ranges`.
-pub fn clamp_ranges(s: &Surface) -> ((f64, f64), (f64, f64)) {
-    use std::ops::Bound;
-    use truck_geometry::prelude::ParametricSurface;
-    let all = (f64::NEG_INFINITY, f64::INFINITY);
-    let trusted = match s {
-        Surface::BSplineSurface(_) | Surface::NurbsSurface(_) => true,
-        Surface::ElementarySurface(e) => matches!(e.as_ref(), ElementarySurface::Sphere(_)),
-        Surface::SweptCurve(_) => false,
-    };
-    if !trusted {
-        return (all, all);
-    }
-    let (ur, vr) = crate::geom::parameter_range(s);
-    let fin = |r: (Bound<f64>, Bound<f64>), periodic: bool| match r {
-        (Bound::Included(a) | Bound::Excluded(a), Bound::Included(b) | Bound::Excluded(b))
-            if a.is_finite() && b.is_finite() && !periodic =>
-        {
-            (a, b)
-        }
-        _ => all,
-    };
-    (
-        fin(ur, s.u_period().is_some()),
-        fin(vr, s.v_period().is_some()),
-    )
-}
+pub use super::project::clamp_ranges;
 
 /// The parameter rectangle the face covers: its UV domain, except across loops that wrap
 /// around a period, where the face may reach beyond its loops to a pole that no vertex loop
