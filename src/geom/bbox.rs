@@ -35,7 +35,7 @@ impl Aabb {
 pub const BBOX_EDGE_SAMPLES: usize = 128;
 
 /// Grid per face (in each UV direction) for the model's bounding box.
-pub const BBOX_FACE_GRID: usize = 64;
+pub const BBOX_FACE_GRID: usize = 32;
 
 /// Bounding box of a model (see [`Model::bounding_box`]): vertices, densely sampled edges, and
 /// for faces whose extent the edges do not show (a sphere bounded by a vertex loop, a torus),
