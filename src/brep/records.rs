@@ -19,6 +19,8 @@ use truck_stepio::r#in::ruststep;
 pub struct Records<'a> {
     by_id: HashMap<u64, &'a EntityInstance>,
     position: HashMap<u64, usize>,
+    /// Every id, in file order.
+    order: Vec<u64>,
 }
 
 /// A 4×4 rigid (or scaling) transform, row-major, acting on column vectors.
@@ -35,21 +37,28 @@ pub const IDENTITY: Mat4 = [
 impl<'a> Records<'a> {
     /// Indexes every instance of `sections`.
     pub fn new(sections: &'a [DataSection]) -> Self {
-        let mut by_id = HashMap::new();
-        let mut position = HashMap::new();
+        let n = sections.iter().map(|s| s.entities.len()).sum();
+        let mut by_id = HashMap::with_capacity(n);
+        let mut position = HashMap::with_capacity(n);
+        let mut order = Vec::with_capacity(n);
         for (i, inst) in sections.iter().flat_map(|s| &s.entities).enumerate() {
             let id = instance_id(inst);
-            by_id.insert(id, inst);
+            // A repeated id: the last definition wins, as in the index.
+            if by_id.insert(id, inst).is_none() {
+                order.push(id);
+            }
             position.insert(id, i);
         }
-        Records { by_id, position }
+        Records {
+            by_id,
+            position,
+            order,
+        }
     }
 
-    /// All instances, in file order.
-    pub fn ids_in_order(&self) -> Vec<u64> {
-        let mut ids: Vec<u64> = self.by_id.keys().copied().collect();
-        ids.sort_by_key(|id| self.position[id]);
-        ids
+    /// All instance ids, in file order.
+    pub fn ids_in_order(&self) -> impl Iterator<Item = u64> + '_ {
+        self.order.iter().copied()
     }
 
     /// Position of an instance in the file (0-based), for numbering in file order.
@@ -549,7 +558,6 @@ pub fn context_length_unit(records: &Records, context: u64) -> Option<Result<Len
 pub fn all_length_units(records: &Records) -> Vec<Result<LengthUnit, String>> {
     records
         .ids_in_order()
-        .into_iter()
         .filter(|id| records.complex_part(*id, "NAMED_UNIT").is_some())
         .filter_map(|id| length_unit(records, id, 0))
         .collect()

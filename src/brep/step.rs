@@ -213,7 +213,6 @@ impl Ingest<'_> {
             let shells = self
                 .recs
                 .ids_in_order()
-                .into_iter()
                 .filter(|id| self.recs.is(*id, "OPEN_SHELL") || self.recs.is(*id, "CLOSED_SHELL"))
                 .count();
             let what = if shells > 0 {
@@ -241,7 +240,6 @@ impl Ingest<'_> {
         let recs = self.recs;
         let breps: Vec<u64> = recs
             .ids_in_order()
-            .into_iter()
             .filter(|id| {
                 recs.simple(*id)
                     .is_some_and(|r| r.name == "MANIFOLD_SOLID_BREP" || r.name == "BREP_WITH_VOIDS")
