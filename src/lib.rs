@@ -11,6 +11,7 @@ pub mod brep;
 pub mod classify;
 pub mod error;
 pub mod geom;
+pub mod medial;
 pub mod panic_guard;
 pub mod report;
 

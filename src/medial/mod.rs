@@ -1,0 +1,13 @@
+//! The medial equations and their solver (DESIGN.md, "Geometry: the medial equations").
+//!
+//! A ball of centre `B` and radius `r` touches boundary segment *i* tangentially when
+//! `B = Pᵢ(sᵢ) − r·Nᵢ(sᵢ)`, with `(Pᵢ, Nᵢ)` the segment's *normal field* (a face: its points
+//! and outward unit normals). Two segments give a sheet point, three a seam point, four a
+//! junction. This module states those equations with analytic Jacobians ([`equations`]) and
+//! solves them by damped Newton ([`solver`]); the tracer builds on both.
+
+pub mod equations;
+pub mod solver;
+
+pub use equations::{FieldEval, MedialSystem, Segment};
+pub use solver::{solve, Solution, SolveOptions, SolveStatus};
