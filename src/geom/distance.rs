@@ -504,37 +504,19 @@ fn descend_wrapped(
 
 /// Directions in which a B-spline/NURBS surface is closed although truck does not call it
 /// periodic (a cylinder or sphere converted to NURBS): `S(u₀, v) = S(u₁, v)` at a few `v`
-/// (and likewise in `v`), to [`CLOSED_TOL`] of the surface's size. Projections clamp at such
+/// (and likewise in `v`), to 1e-9 of the surface's size ([`crate::geom::surface_periods`]).
+/// Projections clamp at such
 /// a seam; the face continues across it.
 pub fn closed_periods(surface: &Surface) -> (bool, bool) {
-    let (ur, vr) = clamp_ranges(surface);
-    if !(ur.0.is_finite() && ur.1.is_finite() && vr.0.is_finite() && vr.1.is_finite()) {
+    if !matches!(
+        surface,
+        Surface::BSplineSurface(_) | Surface::NurbsSurface(_)
+    ) {
         return (false, false);
     }
-    let at = |u: f64, v: f64| eval_surface(surface, u, v).p;
-    let mut size: f64 = 0.0;
-    for (u, v) in [(ur.0, vr.0), (ur.1, vr.1), (ur.0, vr.1), (ur.1, vr.0)] {
-        size = size.max(at(u, v).abs().max_element());
-    }
-    let (mid_u, mid_v) = (0.5 * (ur.0 + ur.1), 0.5 * (vr.0 + vr.1));
-    size = size
-        .max(at(mid_u, mid_v).abs().max_element())
-        .max(f64::MIN_POSITIVE);
-    let tol = CLOSED_TOL * size;
-    let probes = [0.0, 0.1, 0.37, 0.5, 0.71, 0.9, 1.0];
-    let closed_u = probes.iter().all(|&s| {
-        let v = vr.0 + (vr.1 - vr.0) * s;
-        at(ur.0, v).distance(at(ur.1, v)) <= tol
-    });
-    let closed_v = probes.iter().all(|&s| {
-        let u = ur.0 + (ur.1 - ur.0) * s;
-        at(u, vr.0).distance(at(u, vr.1)) <= tol
-    });
-    (closed_u, closed_v)
+    let (u, v) = crate::geom::surface_periods(surface);
+    (u.is_some(), v.is_some())
 }
-
-/// Relative tolerance for [`closed_periods`].
-pub const CLOSED_TOL: f64 = 1e-9;
 
 /// True when `uv` sits on the clamped border of a closed direction.
 fn on_closed_border(surface: &Surface, uv: (f64, f64), closed: (bool, bool)) -> bool {
