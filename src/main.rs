@@ -29,6 +29,17 @@ enum Command {
         #[arg(long, default_value_t = matrace::classify::DEFAULT_ANGLE_TOL_DEG)]
         angle_tol: f64,
     },
+    /// Trace the medial seams and junctions and write DIR/<stem>.mat.json.
+    Trace {
+        /// STEP file (.step, .stp).
+        part: PathBuf,
+        /// Output folder (created if missing).
+        #[arg(short = 'o', long = "out", default_value = ".")]
+        out: PathBuf,
+        /// Accuracy in mm (default: 1e-6 × the part's bounding-box diagonal).
+        #[arg(long)]
+        tol: Option<f64>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -72,6 +83,50 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             } else {
                 print!("{}", matrace::report::render_table(&report));
             }
+            Ok(())
+        }
+        Command::Trace { part, out, tol } => {
+            let started = std::time::Instant::now();
+            let model = matrace::read_model(&part)?;
+            let class = matrace::classify(&model, &Default::default());
+            let mut opts = matrace::medial::TraceOptions::for_model(&model);
+            if let Some(t) = tol {
+                if !(t.is_finite() && t > 0.0) {
+                    anyhow::bail!("--tol must be a positive length in mm, got {t}");
+                }
+                opts.accuracy = t;
+            }
+            let mat = matrace::medial::trace(&model, &class, &opts);
+            let seconds = started.elapsed().as_secs_f64();
+            let report =
+                matrace::report::TraceReport::new(&model, &class, &mat, opts.accuracy, seconds);
+            std::fs::create_dir_all(&out).map_err(|e| {
+                anyhow::anyhow!("{}: cannot create output folder: {e}", out.display())
+            })?;
+            let stem = part.file_stem().and_then(|s| s.to_str()).unwrap_or("part");
+            let path = out.join(format!("{stem}.mat.json"));
+            std::fs::write(&path, serde_json::to_string_pretty(&report)?)
+                .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", path.display()))?;
+            let open = mat
+                .seams
+                .iter()
+                .filter(|s| {
+                    s.ends
+                        .iter()
+                        .any(|e| matches!(e, matrace::medial::SeamEnd::Open(_)))
+                })
+                .count();
+            println!(
+                "{}: {} seams ({} open), {} junctions, {} points, {:.3} s, worst residual {:.2e} mm -> {}",
+                part.display(),
+                mat.seams.len(),
+                open,
+                mat.junctions.len(),
+                mat.stats.points,
+                seconds,
+                mat.stats.worst_residual,
+                path.display()
+            );
             Ok(())
         }
     }

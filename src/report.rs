@@ -20,6 +20,71 @@ pub struct Report {
     pub model: ModelReport,
 }
 
+/// A report with the traced medial axis: `input`, `model`, `mat`, `stats`.
+#[derive(Clone, Debug, Serialize)]
+pub struct TraceReport {
+    pub schema: &'static str,
+    pub input: InputReport,
+    pub model: ModelReport,
+    pub mat: MatReport,
+    pub stats: StatsReport,
+}
+
+/// The `mat` object: seams and junctions (sheets come with the outputs issue).
+#[derive(Clone, Debug, Serialize)]
+pub struct MatReport {
+    pub seams: Vec<crate::medial::Seam>,
+    pub junctions: Vec<crate::medial::Junction>,
+}
+
+/// The `stats` object.
+#[derive(Clone, Debug, Serialize)]
+pub struct StatsReport {
+    pub seconds: f64,
+    pub seams: usize,
+    pub junctions: usize,
+    pub points: usize,
+    /// Output accuracy used (mm).
+    pub accuracy: f64,
+    pub worst_residual: f64,
+    pub newton_iterations: usize,
+    pub corrector_failures: usize,
+    pub skipped_vertices: Vec<usize>,
+}
+
+impl TraceReport {
+    /// The full report for a traced model.
+    pub fn new(
+        model: &Model,
+        class: &Classification,
+        mat: &crate::medial::Mat,
+        accuracy: f64,
+        seconds: f64,
+    ) -> TraceReport {
+        let base = Report::new(model, class);
+        TraceReport {
+            schema: SCHEMA,
+            input: base.input,
+            model: base.model,
+            mat: MatReport {
+                seams: mat.seams.clone(),
+                junctions: mat.junctions.clone(),
+            },
+            stats: StatsReport {
+                seconds,
+                seams: mat.seams.len(),
+                junctions: mat.junctions.len(),
+                points: mat.stats.points,
+                accuracy,
+                worst_residual: mat.stats.worst_residual,
+                newton_iterations: mat.stats.newton_iterations,
+                corrector_failures: mat.stats.corrector_failures,
+                skipped_vertices: mat.stats.skipped_vertices.clone(),
+            },
+        }
+    }
+}
+
 /// What was read.
 #[derive(Clone, Debug, Serialize)]
 pub struct InputReport {

@@ -8,6 +8,8 @@
 
 pub mod equations;
 pub mod solver;
+pub mod trace;
 
 pub use equations::{FieldEval, MedialSystem, Segment};
 pub use solver::{solve, Solution, SolveOptions, SolveStatus};
+pub use trace::{trace, Junction, Mat, Seam, SeamEnd, SeamPoint, TraceOptions};

@@ -75,3 +75,44 @@ fn bad_arguments_exit_2() {
     );
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn trace_writes_the_report_and_prints_a_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = matrace(
+        &[
+            "trace",
+            sample("box.step").to_str().unwrap(),
+            "-o",
+            dir.path().to_str().unwrap(),
+        ],
+        &root(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("12 seams (0 open), 4 junctions"), "{text}");
+    let v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("box.mat.json")).unwrap()).unwrap();
+    assert_eq!(v["schema"], "matrace.report/1");
+    assert_eq!(v["mat"]["seams"].as_array().unwrap().len(), 12);
+    assert_eq!(v["mat"]["junctions"].as_array().unwrap().len(), 4);
+    let seam = &v["mat"]["seams"][0];
+    assert_eq!(seam["segments"].as_array().unwrap().len(), 3);
+    assert!(seam["ends"][0]["vertex"].as_u64().is_some());
+    let p = seam["points"][1]["point"].as_array().unwrap();
+    assert_eq!(p.len(), 4, "[x, y, z, r]");
+    assert_eq!(seam["points"][1]["touch"].as_array().unwrap().len(), 3);
+    let j = &v["mat"]["junctions"][0];
+    assert!((j["radius"].as_f64().unwrap() - 10.0).abs() < 1e-9);
+    assert_eq!(v["stats"]["seams"], 12);
+    // A bad --tol is an argument error.
+    let bad = matrace(
+        &["trace", sample("box.step").to_str().unwrap(), "--tol", "0"],
+        &root(),
+    );
+    assert_eq!(bad.status.code(), Some(2));
+}
