@@ -3,6 +3,7 @@
 mod bad_input;
 mod cli;
 mod common;
+mod crosscheck;
 mod realworld;
 mod regenerate;
 mod samples;
