@@ -1,5 +1,6 @@
 //! `matrace` command line: thin glue around the library (argument parsing, printing, exit
-//! codes). Exit status: 0 success, 2 unusable input or arguments.
+//! codes). Exit status: 0 success, 1 `trace --verify` found an error above the accuracy,
+//! 2 unusable input or arguments.
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -39,6 +40,11 @@ enum Command {
         /// Accuracy in mm (default: 1e-6 × the part's bounding-box diagonal).
         #[arg(long)]
         tol: Option<f64>,
+        /// Check every output ball against the definition (nearest boundary at distance r,
+        /// touch points on the boundary at r); exit status 1 when the worst error exceeds the
+        /// accuracy.
+        #[arg(long)]
+        verify: bool,
     },
 }
 
@@ -53,7 +59,7 @@ fn main() -> ExitCode {
         }
     };
     match run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             eprintln!("matrace: error: {e:#}");
             ExitCode::from(2)
@@ -61,7 +67,7 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(cli: Cli) -> anyhow::Result<()> {
+fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Inspect {
             part,
@@ -83,9 +89,14 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             } else {
                 print!("{}", matrace::report::render_table(&report));
             }
-            Ok(())
+            Ok(ExitCode::SUCCESS)
         }
-        Command::Trace { part, out, tol } => {
+        Command::Trace {
+            part,
+            out,
+            tol,
+            verify,
+        } => {
             let started = std::time::Instant::now();
             let model = matrace::read_model(&part)?;
             let class = matrace::classify(&model, &Default::default());
@@ -98,8 +109,13 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             }
             let mat = matrace::medial::trace(&model, &class, &opts);
             let seconds = started.elapsed().as_secs_f64();
-            let report =
+            let mut report =
                 matrace::report::TraceReport::new(&model, &class, &mat, opts.accuracy, seconds);
+            let verification = verify.then(|| {
+                let boundary = matrace::geom::Boundary::new(&model);
+                matrace::medial::verify(&model, &boundary, &mat)
+            });
+            report.stats.verification = verification;
             std::fs::create_dir_all(&out).map_err(|e| {
                 anyhow::anyhow!("{}: cannot create output folder: {e}", out.display())
             })?;
@@ -127,7 +143,22 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 mat.stats.worst_residual,
                 path.display()
             );
-            Ok(())
+            if let Some(v) = verification {
+                println!(
+                    "verified {} balls: worst error {:.2e} mm (distance {:.2e}, touch {:.2e}, touch off boundary {:.2e}; accuracy {:.2e})",
+                    v.balls,
+                    v.worst(),
+                    v.worst_distance_error,
+                    v.worst_touch_error,
+                    v.worst_touch_off_boundary,
+                    opts.accuracy
+                );
+                if v.worst() > opts.accuracy {
+                    eprintln!("matrace: verification failed: worst error {:.2e} mm exceeds the accuracy {:.2e} mm", v.worst(), opts.accuracy);
+                    return Ok(ExitCode::from(1));
+                }
+            }
+            Ok(ExitCode::SUCCESS)
         }
     }
 }

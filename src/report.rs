@@ -50,6 +50,9 @@ pub struct StatsReport {
     pub newton_iterations: usize,
     pub corrector_failures: usize,
     pub skipped_vertices: Vec<usize>,
+    /// Present when the trace was verified (`trace --verify`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verification: Option<crate::medial::Verification>,
 }
 
 impl TraceReport {
@@ -80,6 +83,7 @@ impl TraceReport {
                 newton_iterations: mat.stats.newton_iterations,
                 corrector_failures: mat.stats.corrector_failures,
                 skipped_vertices: mat.stats.skipped_vertices.clone(),
+                verification: None,
             },
         }
     }

@@ -9,7 +9,9 @@
 pub mod equations;
 pub mod solver;
 pub mod trace;
+pub mod verify;
 
 pub use equations::{FieldEval, MedialSystem, Segment};
 pub use solver::{solve, Solution, SolveOptions, SolveStatus};
 pub use trace::{trace, Junction, Mat, Seam, SeamEnd, SeamPoint, TraceOptions};
+pub use verify::{verify, Verification};

@@ -410,7 +410,9 @@ impl Tracer<'_> {
                             end = SeamEnd::Junction(id);
                         }
                         None => {
-                            end = SeamEnd::Open(format!("junction with F{f} not located"));
+                            end = SeamEnd::Open(format!(
+                                "F{f} comes closer than r, but no junction with it on the faces (an edge or vertex segment is needed)"
+                            ));
                         }
                     }
                     break;
@@ -423,7 +425,7 @@ impl Tracer<'_> {
                 !crate::geom::trim::contains(&self.model.faces[f], uv)
             });
             if let Some(i) = left {
-                points.push(self.seam_point(&sys, &xn));
+                // xn is not a medial point (its touch point is off the face): not output.
                 end = SeamEnd::Open(format!("touch point left {}", start.triplet[i].id()));
                 break;
             }
@@ -485,7 +487,17 @@ impl Tracer<'_> {
                 max_iter: 30,
             },
         );
-        (sol.status == SolveStatus::Converged && sol.x[3] > 0.0).then_some(sol.x)
+        if !(sol.status == SolveStatus::Converged && sol.x[3] > 0.0) {
+            return None;
+        }
+        // Every touch point must lie on its face: a ball touching a face's extension beyond
+        // its edges is not a junction (the event there involves an edge or a vertex).
+        let on_faces = sys.segments.iter().enumerate().all(|(i, seg)| {
+            let Segment::Face(f) = *seg;
+            let uv = glam::DVec2::new(sol.x[4 + 2 * i], sol.x[5 + 2 * i]);
+            crate::geom::trim::contains(&self.model.faces[f], uv)
+        });
+        on_faces.then_some(sol.x)
     }
 
     /// Records a junction (or finds the same one already found) and queues the seams that
@@ -607,22 +619,9 @@ mod tests {
         (m, mat)
     }
 
-    /// Every output point is a maximal ball: its nearest boundary point is at distance r
-    /// (to the accuracy; nothing closer), and its touch points are on the boundary at r.
+    /// The worst error of [`crate::medial::verify`] over every seam point and junction.
     fn verify(m: &Model, mat: &Mat) -> f64 {
-        let b = Boundary::new(m);
-        let mut worst: f64 = 0.0;
-        for s in &mat.seams {
-            for p in &s.points {
-                let c = DVec3::new(p.point[0], p.point[1], p.point[2]);
-                let d = b.nearest(m, c).distance;
-                worst = worst.max((d - p.point[3]).abs());
-                for t in &p.touch {
-                    worst = worst.max((DVec3::from_array(*t).distance(c) - p.point[3]).abs());
-                }
-            }
-        }
-        worst
+        crate::medial::verify(m, &Boundary::new(m), mat).worst()
     }
 
     /// Box [0,60]×[0,40]×[0,20] (c < b < a): 12 seams, 4 junctions at

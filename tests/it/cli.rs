@@ -116,3 +116,36 @@ fn trace_writes_the_report_and_prints_a_summary() {
     );
     assert_eq!(bad.status.code(), Some(2));
 }
+
+/// Whatever the first tracer leaves open (reflex edges, holes: the next issue), every ball it
+/// outputs on every sample satisfies the definition to the accuracy: `trace --verify` exits 0.
+#[test]
+fn every_traced_ball_of_every_sample_verifies() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bad = vec![];
+    for entry in std::fs::read_dir(root().join("samples")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().and_then(|e| e.to_str()) != Some("step") {
+            continue;
+        }
+        let out = matrace(
+            &[
+                "trace",
+                path.to_str().unwrap(),
+                "-o",
+                dir.path().to_str().unwrap(),
+                "--verify",
+            ],
+            &root(),
+        );
+        if !out.status.success() {
+            bad.push(format!(
+                "{}: {}{}",
+                path.display(),
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            ));
+        }
+    }
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}

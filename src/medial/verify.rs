@@ -1,0 +1,63 @@
+//! Self-verification of a traced medial axis against the definition (DESIGN.md,
+//! "Verification, the project's own").
+//!
+//! For every seam point and junction: the nearest boundary point of the centre (exact
+//! trimmed-face distance through the boundary BVH) is at distance `r` — nothing is closer, so
+//! the ball is maximal in the global sense — and every reported touch point lies on the
+//! boundary at distance `r` from the centre. The figures are the worst absolute errors (mm).
+
+use super::trace::Mat;
+use crate::brep::Model;
+use crate::geom::Boundary;
+use glam::DVec3;
+
+/// Worst errors over a traced medial axis.
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct Verification {
+    /// Balls checked (seam points and junctions).
+    pub balls: usize,
+    /// Worst `|d(B, ∂Ω) − r|`.
+    pub worst_distance_error: f64,
+    /// Worst `|‖t − B‖ − r|` over touch points.
+    pub worst_touch_error: f64,
+    /// Worst distance of a touch point from the boundary.
+    pub worst_touch_off_boundary: f64,
+}
+
+impl Verification {
+    /// The largest of the three errors.
+    pub fn worst(&self) -> f64 {
+        self.worst_distance_error
+            .max(self.worst_touch_error)
+            .max(self.worst_touch_off_boundary)
+    }
+}
+
+/// Checks every seam point and junction of `mat` against `model`'s boundary.
+pub fn verify(model: &Model, boundary: &Boundary, mat: &Mat) -> Verification {
+    let mut v = Verification::default();
+    let mut ball = |centre: DVec3, r: f64, touch: &[[f64; 3]]| {
+        v.balls += 1;
+        let d = boundary.nearest(model, centre).distance;
+        v.worst_distance_error = v.worst_distance_error.max((d - r).abs());
+        for t in touch {
+            let t = DVec3::from_array(*t);
+            v.worst_touch_error = v.worst_touch_error.max((t.distance(centre) - r).abs());
+            let off = boundary.nearest(model, t).distance;
+            v.worst_touch_off_boundary = v.worst_touch_off_boundary.max(off);
+        }
+    };
+    for s in &mat.seams {
+        for p in &s.points {
+            ball(
+                DVec3::new(p.point[0], p.point[1], p.point[2]),
+                p.point[3],
+                &p.touch,
+            );
+        }
+    }
+    for j in &mat.junctions {
+        ball(DVec3::from_array(j.point), j.radius, &j.touch);
+    }
+    v
+}
