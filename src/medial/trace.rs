@@ -161,6 +161,25 @@ pub fn trace(model: &Model, class: &Classification, opts: &TraceOptions) -> Mat 
     }
 }
 
+/// The curvature criterion at a touch point (DESIGN.md, "Maximality is not automatic"): a ball
+/// of radius `r` tangent to the face from inside stays inside near the touch point only if
+/// `r·κmax ≤ 1`, with `κmax` the larger principal curvature (positive where the face bends
+/// towards the ball, as a convex solid's boundary does). A tolerance of 1e-9 relative absorbs
+/// rounding at balls that osculate exactly (a sphere's centre). Where the normal is undefined
+/// (a pole) the criterion cannot fail.
+pub fn curvature_allows(model: &Model, seg: Segment, s: [f64; 2], r: f64) -> bool {
+    match seg {
+        Segment::Face(f) => {
+            let face = &model.faces[f];
+            let d = crate::geom::eval_surface(&face.surface, s[0], s[1]);
+            match crate::geom::principal_curvatures(&d, face.sign) {
+                Some(k) => r * k.k1 <= 1.0 + 1e-9,
+                None => true,
+            }
+        }
+    }
+}
+
 fn sorted(mut s: [Segment; 3]) -> [Segment; 3] {
     s.sort_by_key(|x| match x {
         Segment::Face(f) => *f,
@@ -427,6 +446,22 @@ impl Tracer<'_> {
             if let Some(i) = left {
                 // xn is not a medial point (its touch point is off the face): not output.
                 end = SeamEnd::Open(format!("touch point left {}", start.triplet[i].id()));
+                break;
+            }
+            // The curvature criterion: the ball must not poke through a touched face.
+            let poked = (0..3).find(|&i| {
+                !curvature_allows(
+                    self.model,
+                    start.triplet[i],
+                    [xn[4 + 2 * i], xn[5 + 2 * i]],
+                    r,
+                )
+            });
+            if let Some(i) = poked {
+                end = SeamEnd::Open(format!(
+                    "curvature criterion fails on {} (a skeletal edge starts here)",
+                    start.triplet[i].id()
+                ));
                 break;
             }
             points.push(self.seam_point(&sys, &xn));
@@ -719,6 +754,20 @@ mod tests {
             worst <= 1e-6 * diag,
             "{file}: worst verified error {worst:e}"
         );
+    }
+
+    /// The sphere sample (radius 15, outward normals): a ball of radius 14 fits against its
+    /// wall, one of radius 16 pokes through; a plane never fails.
+    #[test]
+    fn curvature_criterion_on_a_sphere() {
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/sphere.step");
+        let m = crate::read_model(&p).unwrap();
+        let s = [1.0, 0.3];
+        assert!(curvature_allows(&m, Segment::Face(0), s, 14.0));
+        assert!(curvature_allows(&m, Segment::Face(0), s, 15.0));
+        assert!(!curvature_allows(&m, Segment::Face(0), s, 16.0));
+        let (b, _) = traced("box.step");
+        assert!(curvature_allows(&b, Segment::Face(0), [1.0, 1.0], 1e6));
     }
 
     /// Tetrahedron (0,0,0), (36,0,0), (0,28,0), (0,0,24): four seams meet at the incentre
