@@ -110,6 +110,27 @@ impl MedialSystem {
         Some((f, j))
     }
 
+    /// The system made square by one linear equation `row·x = c` (a continuation equation:
+    /// pseudo-arclength `t·(x − x_pred) = 0`, or `r = 0`): residual `[F; row·x − c]`,
+    /// Jacobian `[J; rowᵀ]`. Only for one equation fewer than unknowns (a seam).
+    pub fn eval_with_row(
+        &self,
+        model: &Model,
+        x: &DVector<f64>,
+        row: &DVector<f64>,
+        c: f64,
+    ) -> Option<(DVector<f64>, DMatrix<f64>)> {
+        let (f, j) = self.eval(model, x)?;
+        let n = x.len();
+        let mut fa = DVector::zeros(n);
+        fa.rows_mut(0, n - 1).copy_from(&f);
+        fa[n - 1] = row.dot(x) - c;
+        let mut ja = DMatrix::zeros(n, n);
+        ja.view_mut((0, 0), (n - 1, n)).copy_from(&j);
+        ja.row_mut(n - 1).copy_from(&row.transpose());
+        Some((fa, ja))
+    }
+
     /// Residual only.
     pub fn residual(&self, model: &Model, x: &DVector<f64>) -> Option<DVector<f64>> {
         self.eval(model, x).map(|(f, _)| f)

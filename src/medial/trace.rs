@@ -22,7 +22,7 @@ use crate::brep::Model;
 use crate::classify::{Classification, VertexKind};
 use crate::geom::{project_point, Boundary};
 use glam::DVec3;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 use std::collections::{HashSet, VecDeque};
 
 /// Default accuracy, relative to the bounding-box diagonal (DESIGN.md).
@@ -301,15 +301,9 @@ impl Tracer<'_> {
         x: &DVector<f64>,
         dir: &DVector<f64>,
     ) -> Option<DVector<f64>> {
-        let (_, j) = sys.eval(self.model, x)?;
-        let n = j.ncols();
-        let mut a = DMatrix::zeros(n, n);
-        a.view_mut((0, 0), (n - 1, n)).copy_from(&j);
-        for c in 0..n {
-            a[(n - 1, c)] = dir[c];
-        }
-        let mut rhs = DVector::zeros(n);
-        rhs[n - 1] = 1.0;
+        let (_, a) = sys.eval_with_row(self.model, x, dir, 0.0)?;
+        let mut rhs = DVector::zeros(x.len());
+        rhs[x.len() - 1] = 1.0;
         let z = a.lu().solve(&rhs)?;
         let zb = DVec3::new(z[0], z[1], z[2]).length();
         (zb.is_finite() && zb > 0.0).then(|| z / zb)
@@ -323,8 +317,7 @@ impl Tracer<'_> {
         dir[0] = start.dir.x;
         dir[1] = start.dir.y;
         dir[2] = start.dir.z;
-        // The radius grows along a seam leaving a vertex or a junction branch only if the
-        // centre moves away from the touched segments; leave r's rate free (0) here.
+        // The first tangent is oriented by the centre's direction alone (no weight on r).
         let mut points = vec![self.seam_point(&sys, &x)];
         let mut h = 1e-3 * diag;
         let end: SeamEnd;
@@ -338,22 +331,10 @@ impl Tracer<'_> {
                 break;
             };
             let pred = &x + &t * h;
-            let tt = t.clone();
-            let pred2 = pred.clone();
+            // Corrector: F = 0 and t·(y − pred) = 0.
+            let c = t.dot(&pred);
             let sol = solve(
-                |y| {
-                    let (f, j) = sys.eval(self.model, y)?;
-                    let n = y.len();
-                    let mut fa = DVector::zeros(n);
-                    fa.rows_mut(0, n - 1).copy_from(&f);
-                    fa[n - 1] = tt.dot(&(y - &pred2));
-                    let mut ja = DMatrix::zeros(n, n);
-                    ja.view_mut((0, 0), (n - 1, n)).copy_from(&j);
-                    for c in 0..n {
-                        ja[(n - 1, c)] = tt[c];
-                    }
-                    Some((fa, ja))
-                },
+                |y| sys.eval_with_row(self.model, y, &t, c),
                 pred,
                 &self.solve_opts(),
             );
@@ -374,18 +355,10 @@ impl Tracer<'_> {
             // may have overshot to a negative radius) by replacing the arclength equation with
             // r = 0.
             if r <= self.opts.accuracy && points.len() > 1 {
+                let mut r_row = DVector::zeros(xn.len());
+                r_row[3] = 1.0;
                 let xe = solve(
-                    |y| {
-                        let (f, j) = sys.eval(self.model, y)?;
-                        let n = y.len();
-                        let mut fa = DVector::zeros(n);
-                        fa.rows_mut(0, n - 1).copy_from(&f);
-                        fa[n - 1] = y[3];
-                        let mut ja = DMatrix::zeros(n, n);
-                        ja.view_mut((0, 0), (n - 1, n)).copy_from(&j);
-                        ja[(n - 1, 3)] = 1.0;
-                        Some((fa, ja))
-                    },
+                    |y| sys.eval_with_row(self.model, y, &r_row, 0.0),
                     xn.clone(),
                     &self.solve_opts(),
                 );
