@@ -187,6 +187,20 @@ fn sorted(mut s: [Segment; 3]) -> [Segment; 3] {
     s
 }
 
+/// The unknowns `[B, r, s₁, s₂, s₃]` of a seam point.
+fn seam_x(b: DVec3, r: f64, params: [(f64, f64); 3]) -> DVector<f64> {
+    let mut x = DVector::zeros(10);
+    x[0] = b.x;
+    x[1] = b.y;
+    x[2] = b.z;
+    x[3] = r;
+    for (slot, (u, v)) in params.into_iter().enumerate() {
+        x[4 + 2 * slot] = u;
+        x[5 + 2 * slot] = v;
+    }
+    x
+}
+
 fn v3(x: &DVector<f64>) -> DVec3 {
     DVec3::new(x[0], x[1], x[2])
 }
@@ -272,14 +286,7 @@ impl Tracer<'_> {
                         continue;
                     }
                     dirs.push(u);
-                    let mut x = DVector::zeros(10);
-                    x[0] = p.x;
-                    x[1] = p.y;
-                    x[2] = p.z;
-                    for (slot, &i) in [a, b, c].iter().enumerate() {
-                        x[4 + 2 * slot] = params[i].0;
-                        x[5 + 2 * slot] = params[i].1;
-                    }
+                    let x = seam_x(p, 0.0, [a, b, c].map(|i| params[i]));
                     self.queue.push_back(Start {
                         triplet: [faces[a], faces[b], faces[c]].map(Segment::Face),
                         x,
@@ -591,15 +598,7 @@ impl Tracer<'_> {
                         continue;
                     }
                     dirs.push(n);
-                    let mut x = DVector::zeros(10);
-                    x[0] = p.x;
-                    x[1] = p.y;
-                    x[2] = p.z;
-                    x[3] = r;
-                    for (slot, &q) in [a, b, c].iter().enumerate() {
-                        x[4 + 2 * slot] = params[q].0;
-                        x[5 + 2 * slot] = params[q].1;
-                    }
+                    let x = seam_x(p, r, [a, b, c].map(|q| params[q]));
                     self.queue.push_back(Start {
                         triplet: [segs[a], segs[b], segs[c]],
                         x,
