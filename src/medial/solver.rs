@@ -147,6 +147,40 @@ mod tests {
         crate::read_model(&p).unwrap()
     }
 
+    /// Unknowns `[B, r, s…]` with each touch parameter at fraction `frac(i)` of segment i's
+    /// face domain.
+    fn start(
+        m: &crate::Model,
+        sys: &MedialSystem,
+        b: [f64; 3],
+        r: f64,
+        frac: impl Fn(usize) -> (f64, f64),
+    ) -> DVector<f64> {
+        let mut x = DVector::zeros(sys.unknowns());
+        x.rows_mut(0, 3).copy_from_slice(&b);
+        x[3] = r;
+        for (i, seg) in sys.segments.iter().enumerate() {
+            let Segment::Face(f) = *seg;
+            let d = m.faces[f].domain;
+            let (a, c) = frac(i);
+            x[4 + 2 * i] = d.u.0 + a * (d.u.1 - d.u.0);
+            x[5 + 2 * i] = d.v.0 + c * (d.v.1 - d.v.0);
+        }
+        x
+    }
+
+    /// Solves to 1e-12 mm in at most 30 iterations.
+    fn solve_tight(m: &crate::Model, sys: &MedialSystem, x: DVector<f64>) -> Solution {
+        solve(
+            |x| sys.eval(m, x),
+            x,
+            &SolveOptions {
+                tol: 1e-12,
+                max_iter: 30,
+            },
+        )
+    }
+
     /// The face of `m` whose outward normal at its domain centre is `n` (±1e-9).
     fn face_with_normal(m: &crate::Model, n: glam::DVec3) -> usize {
         (0..m.faces.len())
@@ -187,18 +221,8 @@ mod tests {
         ) {
             let m = sample("box.step");
             let sys = box_junction_system(&m);
-            let mut x = DVector::zeros(12);
-            x[0] = 10.0 + db[0];
-            x[1] = 10.0 + db[1];
-            x[2] = 10.0 + db[2];
-            x[3] = 10.0 + dr;
-            for (i, seg) in sys.segments.iter().enumerate() {
-                let Segment::Face(f) = *seg;
-                let d = m.faces[f].domain;
-                x[4 + 2 * i] = d.u.0 + s[2 * i] * (d.u.1 - d.u.0);
-                x[5 + 2 * i] = d.v.0 + s[2 * i + 1] * (d.v.1 - d.v.0);
-            }
-            let sol = solve(|x| sys.eval(&m, x), x, &SolveOptions { tol: 1e-12, max_iter: 30 });
+            let x = start(&m, &sys, [10.0 + db[0], 10.0 + db[1], 10.0 + db[2]], 10.0 + dr, |i| (s[2 * i], s[2 * i + 1]));
+            let sol = solve_tight(&m, &sys, x);
             prop_assert_eq!(sol.status, SolveStatus::Converged);
             // Planes make the system linear: Newton lands in one step, to rounding.
             let err = (sol.x[0] - 10.0).abs().max((sol.x[1] - 10.0).abs()).max((sol.x[2] - 10.0).abs()).max((sol.x[3] - 10.0).abs());
@@ -215,21 +239,8 @@ mod tests {
             .map(|n| Segment::Face(face_with_normal(&m, n)))
             .to_vec();
         let sys = MedialSystem::new(segs);
-        let mut x = DVector::from_vec(vec![5.0, 6.5, 4.2, 4.0, 3.0, 3.0, 3.0, 3.0, 3.0, 3.0]);
-        for (i, seg) in sys.segments.iter().enumerate() {
-            let Segment::Face(f) = *seg;
-            let d = m.faces[f].domain;
-            x[4 + 2 * i] = 0.5 * (d.u.0 + d.u.1);
-            x[5 + 2 * i] = 0.5 * (d.v.0 + d.v.1);
-        }
-        let sol = solve(
-            |x| sys.eval(&m, x),
-            x,
-            &SolveOptions {
-                tol: 1e-12,
-                max_iter: 30,
-            },
-        );
+        let x = start(&m, &sys, [5.0, 6.5, 4.2], 4.0, |_| (0.5, 0.5));
+        let sol = solve_tight(&m, &sys, x);
         assert_eq!(sol.status, SolveStatus::Converged);
         let t = sol.x[3];
         for k in 0..3 {
@@ -258,26 +269,14 @@ mod tests {
                 })
                 .expect("curved wall");
             let sys = MedialSystem::new(vec![Segment::Face(wall), Segment::Face(bottom)]);
-            let dw = m.faces[wall].domain;
-            let db = m.faces[bottom].domain;
-            let x = DVector::from_vec(vec![
-                3.0,
-                2.0,
-                5.0,
-                4.0,
-                dw.u.0 + 0.3 * (dw.u.1 - dw.u.0),
-                dw.v.0 + 0.2 * (dw.v.1 - dw.v.0),
-                0.5 * (db.u.0 + db.u.1),
-                0.5 * (db.v.0 + db.v.1),
-            ]);
-            let sol = solve(
-                |x| sys.eval(&m, x),
-                x,
-                &SolveOptions {
-                    tol: 1e-12,
-                    max_iter: 30,
-                },
-            );
+            let x = start(&m, &sys, [3.0, 2.0, 5.0], 4.0, |i| {
+                if i == 0 {
+                    (0.3, 0.2)
+                } else {
+                    (0.5, 0.5)
+                }
+            });
+            let sol = solve_tight(&m, &sys, x);
             assert_eq!(sol.status, SolveStatus::Converged, "{file}: {sol:?}");
             let (bx, by, bz, r) = (sol.x[0], sol.x[1], sol.x[2], sol.x[3]);
             assert!(r > 0.0 && r < 10.0, "{file}: r = {r}");
@@ -295,24 +294,8 @@ mod tests {
     fn tetrahedron_incentre_and_reported_failure() {
         let m = sample("tetrahedron.step");
         let sys = MedialSystem::new((0..4).map(Segment::Face).collect());
-        let mut x = DVector::zeros(12);
-        x[0] = 5.0;
-        x[1] = 7.0;
-        x[2] = 6.5;
-        x[3] = 4.0;
-        for i in 0..4 {
-            let d = m.faces[i].domain;
-            x[4 + 2 * i] = 0.5 * (d.u.0 + d.u.1);
-            x[5 + 2 * i] = 0.5 * (d.v.0 + d.v.1);
-        }
-        let sol = solve(
-            |x| sys.eval(&m, x),
-            x,
-            &SolveOptions {
-                tol: 1e-12,
-                max_iter: 30,
-            },
-        );
+        let x = start(&m, &sys, [5.0, 7.0, 6.5], 4.0, |_| (0.5, 0.5));
+        let sol = solve_tight(&m, &sys, x);
         assert_eq!(sol.status, SolveStatus::Converged);
         for (k, want) in [6.0, 6.0, 6.0, 6.0].iter().enumerate() {
             assert!((sol.x[k] - want).abs() < 1e-9, "x[{k}] = {}", sol.x[k]);
@@ -330,25 +313,8 @@ mod tests {
             .map(|n| Segment::Face(face_with_normal(&b, n)))
             .to_vec(),
         );
-        let mut x = DVector::zeros(12);
-        x[0] = 30.0;
-        x[1] = 20.0;
-        x[2] = 10.0;
-        x[3] = 10.0;
-        for (i, seg) in sys.segments.iter().enumerate() {
-            let Segment::Face(f) = *seg;
-            let d = b.faces[f].domain;
-            x[4 + 2 * i] = 0.5 * (d.u.0 + d.u.1);
-            x[5 + 2 * i] = 0.5 * (d.v.0 + d.v.1);
-        }
-        let sol = solve(
-            |x| sys.eval(&b, x),
-            x,
-            &SolveOptions {
-                tol: 1e-12,
-                max_iter: 30,
-            },
-        );
+        let x = start(&b, &sys, [30.0, 20.0, 10.0], 10.0, |_| (0.5, 0.5));
+        let sol = solve_tight(&b, &sys, x);
         assert_ne!(sol.status, SolveStatus::Converged, "{sol:?}");
     }
 }
