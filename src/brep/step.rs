@@ -707,16 +707,13 @@ impl Ingest<'_> {
             return Err(self.err(id, "unsupported surface type"));
         }
         let table = self.table;
-        let mut surface = self.with_truck(id, "cannot be converted", || {
+        let surface = self.with_truck(id, "cannot be converted", || {
             let any = PlaceHolder::<SurfaceAnyHolder>::Ref(Name::Entity(id))
                 .into_owned(table)
                 .map_err(|e| first_line(&e.to_string()))?;
             Surface::try_from(&any).map_err(|e| first_line(&e.to_string()))
         })?;
-        if *m != records::IDENTITY {
-            surface.transform_by(to_matrix4(m));
-        }
-        Ok(surface)
+        Ok(placed(surface, m))
     }
 
     fn convert_edge_curve(&self, id: u64, geometry: u64, m: &Mat4) -> Result<Curve3D> {
@@ -742,7 +739,7 @@ impl Ingest<'_> {
             return Err(self.err(geometry, "unsupported curve type"));
         }
         let table = self.table;
-        let mut curve = self.with_truck(id, "curve cannot be converted", || {
+        let curve = self.with_truck(id, "curve cannot be converted", || {
             let ec = PlaceHolder::<EdgeCurveHolder>::Ref(Name::Entity(id))
                 .into_owned(table)
                 .map_err(|e| first_line(&e.to_string()))?;
@@ -751,10 +748,7 @@ impl Ingest<'_> {
         if matches!(curve, Curve3D::PCurve(_)) {
             return Err(self.err(id, "edge has only a pcurve, no 3D curve"));
         }
-        if *m != records::IDENTITY {
-            curve.transform_by(to_matrix4(m));
-        }
-        Ok(curve)
+        Ok(placed(curve, m))
     }
 
     /// Compares what the file defines with what the model holds: every `ADVANCED_FACE`,
@@ -880,6 +874,14 @@ fn transform_point(m: &Mat4, p: DVec3) -> DVec3 {
     let a = [p.x, p.y, p.z, 1.0];
     let r = |i: usize| (0..4).map(|k| m[i][k] * a[k]).sum::<f64>();
     DVec3::new(r(0), r(1), r(2))
+}
+
+/// Geometry moved by the placement `m` (mm scaling and assembly transform).
+fn placed<T: Transformed<Matrix4>>(mut geometry: T, m: &Mat4) -> T {
+    if *m != records::IDENTITY {
+        geometry.transform_by(to_matrix4(m));
+    }
+    geometry
 }
 
 fn to_matrix4(m: &Mat4) -> Matrix4 {
