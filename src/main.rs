@@ -107,14 +107,12 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 }
                 opts.accuracy = t;
             }
-            let mat = matrace::medial::trace(&model, &class, &opts);
+            let boundary = matrace::geom::Boundary::new(&model);
+            let mat = matrace::medial::trace_with_boundary(&model, &boundary, &class, &opts);
             let seconds = started.elapsed().as_secs_f64();
             let mut report =
                 matrace::report::TraceReport::new(&model, &class, &mat, opts.accuracy, seconds);
-            let verification = verify.then(|| {
-                let boundary = matrace::geom::Boundary::new(&model);
-                matrace::medial::verify(&model, &boundary, &mat)
-            });
+            let verification = verify.then(|| matrace::medial::verify(&model, &boundary, &mat));
             report.stats.verification = verification;
             std::fs::create_dir_all(&out).map_err(|e| {
                 anyhow::anyhow!("{}: cannot create output folder: {e}", out.display())

@@ -13,5 +13,7 @@ pub mod verify;
 
 pub use equations::{FieldEval, MedialSystem, Segment};
 pub use solver::{solve, Solution, SolveOptions, SolveStatus};
-pub use trace::{trace, Junction, Mat, Seam, SeamEnd, SeamPoint, TraceOptions};
+pub use trace::{
+    trace, trace_with_boundary, Junction, Mat, Seam, SeamEnd, SeamPoint, TraceOptions,
+};
 pub use verify::{verify, Verification};

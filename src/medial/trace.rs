@@ -121,13 +121,21 @@ struct Start {
 
 /// Traces the seams and junctions of `model` that start from its convex vertices.
 pub fn trace(model: &Model, class: &Classification, opts: &TraceOptions) -> Mat {
-    let boundary = Boundary::new(model);
+    trace_with_boundary(model, &Boundary::new(model), class, opts)
+}
+
+/// [`trace`] with a boundary BVH the caller already built (and may reuse, e.g. to verify).
+pub fn trace_with_boundary(
+    model: &Model,
+    boundary: &Boundary,
+    class: &Classification,
+    opts: &TraceOptions,
+) -> Mat {
     let mut t = Tracer {
         model,
-        boundary: &boundary,
+        boundary,
         opts,
         junctions: vec![],
-        junction_segments: vec![],
         arrivals: vec![],
         seams: vec![],
         visited: HashSet::new(),
@@ -210,7 +218,6 @@ struct Tracer<'a> {
     boundary: &'a Boundary,
     opts: &'a TraceOptions,
     junctions: Vec<Junction>,
-    junction_segments: Vec<Vec<Segment>>,
     /// Per junction: unit directions (leaving the junction) of the seams that arrived there,
     /// so a branch along an arrived seam (same curve, another triplet of a non-generic
     /// junction) is not traced again.
@@ -572,7 +579,6 @@ impl Tracer<'_> {
             segments: segs.iter().map(|s| s.id()).collect(),
             touch: touch.iter().map(|t| t.to_array()).collect(),
         });
-        self.junction_segments.push(segs.clone());
         self.arrivals.push(vec![]);
         let k = segs.len();
         let mut dirs: Vec<DVec3> = vec![];
