@@ -449,6 +449,42 @@ def build_box_with_void():
     return s
 
 
+ELL_A, ELL_B, ELL_H = 30.0, 15.0, 40.0
+
+
+def ellipse_lat_distance(x):
+    """Distance from (x, 0) to the ellipse x^2/a^2 + y^2/b^2 = 1 (a > b), |x| < a - b^2/a:
+    the two nearest points are at parameter t with cos t = a x / (a^2 - b^2)."""
+    a, b = ELL_A, ELL_B
+    c = a * x / (a * a - b * b)
+    s2 = 1.0 - c * c
+    return math.sqrt((a * c - x) ** 2 + b * b * s2)
+
+
+@sample("elliptic_cylinder", "Elliptic cylinder: ellipse semi-axes 30 (x) and 15 (y) centred at "
+        "the origin, extruded from z=0 to z=40.",
+        # 2 rim ellipses between the caps and the lateral face: 90 deg -> convex; 1 seam line
+        # of the closed lateral face -> smooth. 2 vertices where the seam meets the rims, each
+        # with 2 convex edge ends -> crease.
+        {"convex": 2, "reflex": 0, "smooth": 1},
+        {"convex": 0, "reflex": 0, "mixed": 0, "crease": 2, "smooth": 0},
+        volume=PI * ELL_A * ELL_B * ELL_H, bbox=[[-ELL_A, -ELL_B, 0], [ELL_A, ELL_B, ELL_H]],
+        mat={"seams": 2, "junctions": [],
+             "lateral_seams": {"x_range": [-(ELL_A - ELL_B ** 2 / ELL_A), ELL_A - ELL_B ** 2 / ELL_A],
+                               "radius_at_x0": ELL_B, "radius_at_ends": ELL_B ** 2 / ELL_A},
+             "note": "Two seams where the ball touches the lateral face twice (at (x_t, +-y_t)) "
+                     "and one cap: centre (x, 0, r) and (x, 0, 40 - r) with r the distance from "
+                     "(x, 0) to the ellipse, for |x| <= a - b^2/a = 22.5; r runs from 15 at x=0 "
+                     "to b^2/a = 7.5 at the ends, the centres of curvature of the ellipse's "
+                     "vertices, where the seams meet the skeletal edges x = +-22.5 of the "
+                     "lateral-lateral sheet y = 0. No junction: r <= 15 < 20 = h/2, so no ball "
+                     "touches both caps. No convex corner: seeds are needed."})
+def build_elliptic_cylinder():
+    e = Part.Ellipse(V(0, 0, 0), ELL_A, ELL_B)
+    face = Part.Face(Part.Wire(e.toShape()))
+    return face.extrude(V(0, 0, ELL_H))
+
+
 @sample("two_solids", "Two disjoint solids in one file: box [0,30]x[0,20]x[0,10] and a cylinder "
         "radius 5, height 20 on axis x=60, y=10 from z=0.",
         # box: 12 convex edges, 8 convex corners; cylinder: 2 convex circles, 1 smooth seam,
@@ -534,6 +570,7 @@ nurbs_variant("box")
 nurbs_variant("l_bracket")
 nurbs_variant("cylinder")
 nurbs_variant("sphere")
+nurbs_variant("elliptic_cylinder")
 
 # fill in the computed top of the B-spline box
 for _s in SAMPLES:

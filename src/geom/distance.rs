@@ -1282,6 +1282,17 @@ impl Boundary {
     /// Like [`Boundary::nearest`], with the face the hit was found on (an edge or vertex hit
     /// belongs to several faces; this is the one whose `uv` the hit carries).
     pub fn nearest_face(&self, model: &Model, p: DVec3) -> Option<(usize, FaceHit)> {
+        self.nearest_face_where(model, p, |_| true)
+    }
+
+    /// [`Boundary::nearest_face`] over the faces for which `keep` holds (one solid of several,
+    /// say).
+    pub fn nearest_face_where(
+        &self,
+        model: &Model,
+        p: DVec3,
+        keep: impl Fn(usize) -> bool,
+    ) -> Option<(usize, FaceHit)> {
         debug_assert_eq!(
             model.faces.len(),
             self.faces.len(),
@@ -1290,6 +1301,9 @@ impl Boundary {
         let mut best: Option<(usize, FaceHit)> = None;
         let mut best_d = f64::INFINITY;
         self.bvh.branch_and_bound(p, f64::INFINITY, |fi, _| {
+            if !keep(fi) {
+                return best_d * best_d;
+            }
             let cached = Some(Cached { boundary: self });
             if let Some(hit) = face_nearest(model, fi, p, None, best_d, cached, false) {
                 if hit.distance < best_d {

@@ -31,6 +31,11 @@ pub const DEFAULT_ACCURACY: f64 = 1e-6;
 pub const MAX_STEP: f64 = 0.02;
 /// Smallest centre step before a seam is abandoned, relative to the diagonal.
 pub const MIN_STEP: f64 = 1e-9;
+/// Largest turn of the seam's direction over one step (radians): the step control by seam
+/// curvature. A step that turns more is retried at half the length, so consecutive points are
+/// never more than this apart in direction and the chord between them stays within
+/// `h·MAX_TURN/8` of the curve.
+pub const MAX_TURN: f64 = 0.15;
 /// Budget of points per seam.
 pub const MAX_POINTS: usize = 20_000;
 /// Budget of seams per part (guards against a tracer loop on unexpected geometry).
@@ -65,8 +70,16 @@ pub struct SeamPoint {
 #[derive(Clone, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SeamEnd {
+    /// At a convex vertex, `r = 0`.
     Vertex(usize),
+    /// At a junction.
     Junction(usize),
+    /// The seam is a closed curve (both ends are its first point).
+    Closed,
+    /// The ball stops being maximal by curvature: it osculates `segment` (`r·κmax = 1`).
+    /// The last point is where that happens to the output accuracy; a skeletal edge (the
+    /// sheet's edge of centres of curvature) starts there.
+    CurvatureLimit { segment: String },
     /// The tracer stopped without a proper end; the reason says why.
     Open(String),
 }
@@ -75,6 +88,9 @@ pub enum SeamEnd {
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Seam {
     pub id: usize,
+    /// Index of the solid in the model.
+    pub solid: usize,
+    /// The three segments (`F3`; a face twice when the ball touches it in two places).
     pub segments: Vec<String>,
     pub ends: [SeamEnd; 2],
     pub points: Vec<SeamPoint>,
@@ -84,6 +100,8 @@ pub struct Seam {
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Junction {
     pub id: usize,
+    /// Index of the solid in the model.
+    pub solid: usize,
     pub point: [f64; 3],
     pub radius: f64,
     pub segments: Vec<String>,
@@ -95,11 +113,14 @@ pub struct Junction {
 pub struct TraceStats {
     pub points: usize,
     pub newton_iterations: usize,
+    /// Steps retried at half the length (corrector failed or the seam turned too much).
     pub corrector_failures: usize,
     /// Largest `‖F‖∞` over the output points (mm).
     pub worst_residual: f64,
     /// Vertices where more than three faces meet, not started from (non-generic starts).
     pub skipped_vertices: Vec<usize>,
+    /// Seeds that did not refine to a valid seam point, or lay on a seam already traced.
+    pub skipped_seeds: usize,
 }
 
 /// The traced medial axis.
@@ -110,6 +131,26 @@ pub struct Mat {
     pub stats: TraceStats,
 }
 
+/// A point near a seam to trace from in both directions: a ball found by sampling (solids
+/// without convex corners, sheets no corner reaches), or given by the caller.
+#[derive(Clone, Debug)]
+pub struct Seed {
+    /// The three segments; a face may appear twice (two touch points on it).
+    pub triplet: [Segment; 3],
+    /// Unknowns `[B, r, s₁, s₂, s₃]` near the seam; refined before tracing.
+    pub x: DVector<f64>,
+}
+
+impl Seed {
+    /// A seed from a centre, a radius and the three segments' parameters.
+    pub fn new(triplet: [Segment; 3], centre: DVec3, r: f64, params: [(f64, f64); 3]) -> Seed {
+        Seed {
+            triplet,
+            x: seam_x(centre, r, params),
+        }
+    }
+}
+
 /// Where a seam starts.
 struct Start {
     triplet: [Segment; 3],
@@ -117,6 +158,12 @@ struct Start {
     /// Direction of the centre at the start.
     dir: DVec3,
     from: SeamEnd,
+}
+
+/// The points of one march along a seam and how it ended.
+struct Run {
+    points: Vec<SeamPoint>,
+    end: SeamEnd,
 }
 
 /// Traces the seams and junctions of `model` that start from its convex vertices.
@@ -131,10 +178,28 @@ pub fn trace_with_boundary(
     class: &Classification,
     opts: &TraceOptions,
 ) -> Mat {
+    trace_with_seeds(model, boundary, class, opts, &[])
+}
+
+/// [`trace_with_boundary`], then from each seed in `seeds` not on a seam already traced:
+/// the seam through it in both directions and everything its junctions lead to. Each solid's
+/// seams see only that solid's faces.
+pub fn trace_with_seeds(
+    model: &Model,
+    boundary: &Boundary,
+    class: &Classification,
+    opts: &TraceOptions,
+    seeds: &[Seed],
+) -> Mat {
     let mut t = Tracer {
         model,
         boundary,
         opts,
+        face_solid: model
+            .faces
+            .iter()
+            .map(|f| model.shells[f.shell].solid)
+            .collect(),
         junctions: vec![],
         arrivals: vec![],
         seams: vec![],
@@ -147,20 +212,13 @@ pub fn trace_with_boundary(
             t.start_at_vertex(v);
         }
     }
-    while let Some(start) = t.queue.pop_front() {
+    t.run_queue();
+    for seed in seeds {
         if t.seams.len() >= MAX_SEAMS {
             break;
         }
-        let key = (sorted(start.triplet), start.from.clone());
-        if !t.visited.insert(key) {
-            continue;
-        }
-        if let SeamEnd::Junction(j) = start.from {
-            if t.arrivals[j].iter().any(|a| a.distance(start.dir) < 1e-6) {
-                continue;
-            }
-        }
-        t.trace_seam(start);
+        t.trace_seed(seed);
+        t.run_queue();
     }
     Mat {
         seams: t.seams,
@@ -213,10 +271,28 @@ fn v3(x: &DVector<f64>) -> DVec3 {
     DVec3::new(x[0], x[1], x[2])
 }
 
+/// The segment parameters of slot `i` of a seam or junction unknown vector.
+fn slot(x: &DVector<f64>, i: usize) -> [f64; 2] {
+    [x[4 + 2 * i], x[5 + 2 * i]]
+}
+
+/// Distance from `p` to the segment `[a, b]`.
+fn to_chord(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let d = b - a;
+    let t = if d.length_squared() > 0.0 {
+        ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.distance(a + d * t)
+}
+
 struct Tracer<'a> {
     model: &'a Model,
     boundary: &'a Boundary,
     opts: &'a TraceOptions,
+    /// The solid of each face.
+    face_solid: Vec<usize>,
     junctions: Vec<Junction>,
     /// Per junction: unit directions (leaving the junction) of the seams that arrived there,
     /// so a branch along an arrived seam (same curve, another triplet of a non-generic
@@ -236,6 +312,47 @@ impl Tracer<'_> {
             tol: 1e-3 * self.opts.accuracy,
             max_iter: 12,
         }
+    }
+
+    fn solid_of(&self, seg: Segment) -> usize {
+        match seg {
+            Segment::Face(f) => self.face_solid[f],
+        }
+    }
+
+    /// Traces queued seams until the queue is empty.
+    fn run_queue(&mut self) {
+        while let Some(start) = self.queue.pop_front() {
+            if self.seams.len() >= MAX_SEAMS {
+                break;
+            }
+            let key = (sorted(start.triplet), start.from.clone());
+            if !self.visited.insert(key) {
+                continue;
+            }
+            if let SeamEnd::Junction(j) = start.from {
+                if self.arrivals[j]
+                    .iter()
+                    .any(|a| a.distance(start.dir) < 1e-6)
+                {
+                    continue;
+                }
+            }
+            let run = self.march(start.triplet, start.x, start.dir, None);
+            self.push_seam(start.triplet, [start.from, run.end], run.points);
+        }
+    }
+
+    fn push_seam(&mut self, triplet: [Segment; 3], ends: [SeamEnd; 2], points: Vec<SeamPoint>) {
+        self.stats.points += points.len();
+        let id = self.seams.len();
+        self.seams.push(Seam {
+            id,
+            solid: self.solid_of(triplet[0]),
+            segments: triplet.iter().map(|s| s.id()).collect(),
+            ends,
+            points,
+        });
     }
 
     /// The faces around vertex `v`.
@@ -323,38 +440,130 @@ impl Tracer<'_> {
         (zb.is_finite() && zb > 0.0).then(|| z / zb)
     }
 
-    fn trace_seam(&mut self, start: Start) {
-        let sys = MedialSystem::new(start.triplet.to_vec());
+    /// The seam's direction at `x` without a preferred orientation: the null vector of the
+    /// Jacobian (smallest singular value of `J` padded to a square).
+    fn null_direction(&self, sys: &MedialSystem, x: &DVector<f64>) -> Option<DVec3> {
+        let (_, j) = sys.eval(self.model, x)?;
+        let n = x.len();
+        let mut a = nalgebra::DMatrix::zeros(n, n);
+        a.view_mut((0, 0), (n - 1, n)).copy_from(&j);
+        let svd = a.svd(false, true);
+        let vt = svd.v_t?;
+        let k = svd.singular_values.imin();
+        let d = DVec3::new(vt[(k, 0)], vt[(k, 1)], vt[(k, 2)]);
+        (d.length() > 1e-9).then(|| d.normalize())
+    }
+
+    /// Refines `seed` onto its seam and, unless it is not a medial point or lies on a seam
+    /// already traced, traces that seam both ways (queueing what its junctions lead to).
+    fn trace_seed(&mut self, seed: &Seed) {
+        let sys = MedialSystem::new(seed.triplet.to_vec());
+        let sol = solve(
+            |y| sys.eval(self.model, y),
+            seed.x.clone(),
+            &SolveOptions {
+                tol: 1e-3 * self.opts.accuracy,
+                max_iter: 30,
+            },
+        );
+        let x = sol.x;
+        let r = x[3];
+        let valid = sol.status == SolveStatus::Converged
+            && r > self.opts.accuracy
+            && self.is_medial(&seed.triplet, &x)
+            && !self.on_traced_seam(&seed.triplet, &x);
+        let dir = valid.then(|| self.null_direction(&sys, &x)).flatten();
+        let Some(dir) = dir else {
+            self.stats.skipped_seeds += 1;
+            return;
+        };
+        let fwd = self.march(seed.triplet, x.clone(), dir, Some(&x));
+        if fwd.end == SeamEnd::Closed {
+            self.push_seam(seed.triplet, [SeamEnd::Closed, SeamEnd::Closed], fwd.points);
+            return;
+        }
+        let back = self.march(seed.triplet, x, -dir, None);
+        let mut points: Vec<SeamPoint> = back.points.into_iter().rev().collect();
+        points.extend(fwd.points.into_iter().skip(1));
+        for end in [&back.end, &fwd.end] {
+            if let SeamEnd::Junction(_) = end {
+                self.visited.insert((sorted(seed.triplet), end.clone()));
+            }
+        }
+        self.push_seam(seed.triplet, [back.end, fwd.end], points);
+    }
+
+    /// True when the seam point `x` is medial: its touch points lie on their faces, nothing
+    /// of the solid is closer than `r`, and no touched face curves through the ball.
+    fn is_medial(&self, triplet: &[Segment; 3], x: &DVector<f64>) -> bool {
+        let r = x[3];
+        let solid = self.solid_of(triplet[0]);
+        let on_faces = triplet.iter().enumerate().all(|(i, seg)| {
+            let Segment::Face(f) = *seg;
+            let s = slot(x, i);
+            crate::geom::trim::contains(&self.model.faces[f], glam::DVec2::new(s[0], s[1]))
+        });
+        let nearest = self
+            .boundary
+            .nearest_face_where(self.model, v3(x), |g| self.face_solid[g] == solid);
+        on_faces
+            && nearest.is_some_and(|(_, h)| h.distance >= r - self.opts.accuracy)
+            && (0..3).all(|i| curvature_allows(self.model, triplet[i], slot(x, i), r))
+    }
+
+    /// True when `x` lies on a seam of the same segments traced already.
+    fn on_traced_seam(&self, triplet: &[Segment; 3], x: &DVector<f64>) -> bool {
+        let b = v3(x);
+        let tol = 1e-3 * self.model.diagonal();
+        let ids: Vec<String> = sorted(*triplet).iter().map(|g| g.id()).collect();
+        self.seams.iter().any(|s| {
+            let mut same = s.segments.clone();
+            same.sort();
+            let mut want = ids.clone();
+            want.sort();
+            same == want
+                && s.points.windows(2).any(|w| {
+                    let a = DVec3::new(w[0].point[0], w[0].point[1], w[0].point[2]);
+                    let c = DVec3::new(w[1].point[0], w[1].point[1], w[1].point[2]);
+                    to_chord(b, a, c) <= tol
+                })
+        })
+    }
+
+    /// Marches along the seam of `triplet` from the seam point `x0`, leaving along `dir0`,
+    /// until it ends (see [`SeamEnd`]). With `close_at`, a march that comes back to that
+    /// point ends [`SeamEnd::Closed`].
+    fn march(
+        &mut self,
+        triplet: [Segment; 3],
+        x0: DVector<f64>,
+        dir0: DVec3,
+        close_at: Option<&DVector<f64>>,
+    ) -> Run {
+        let sys = MedialSystem::new(triplet.to_vec());
+        let solid = self.solid_of(triplet[0]);
         let diag = self.model.diagonal();
-        let mut x = start.x.clone();
-        let mut dir = DVector::zeros(10);
-        dir[0] = start.dir.x;
-        dir[1] = start.dir.y;
-        dir[2] = start.dir.z;
-        // The first tangent is oriented by the centre's direction alone (no weight on r).
+        let acc = self.opts.accuracy;
+        let mut x = x0;
         let mut points = vec![self.seam_point(&sys, &x)];
+        // The first tangent is oriented by the centre's direction alone (no weight on r).
+        let mut dir = DVector::zeros(10);
+        dir[0] = dir0.x;
+        dir[1] = dir0.y;
+        dir[2] = dir0.z;
+        let Some(mut t) = self.tangent(&sys, &x, &dir) else {
+            let end = SeamEnd::Open("singular tangent".into());
+            return Run { points, end };
+        };
         let mut h = 1e-3 * diag;
+        let mut travel = 0.0;
         let end: SeamEnd;
         loop {
             if points.len() >= MAX_POINTS {
                 end = SeamEnd::Open("point budget exhausted".into());
                 break;
             }
-            let Some(t) = self.tangent(&sys, &x, &dir) else {
-                end = SeamEnd::Open("singular tangent".into());
-                break;
-            };
-            let pred = &x + &t * h;
-            // Corrector: F = 0 and t·(y − pred) = 0.
-            let c = t.dot(&pred);
-            let sol = solve(
-                |y| sys.eval_with_row(self.model, y, &t, c),
-                pred,
-                &self.solve_opts(),
-            );
-            self.stats.newton_iterations += sol.iterations;
-            if sol.status != SolveStatus::Converged || sol.x[3] < -self.opts.accuracy && x[3] <= 0.0
-            {
+            let Some((xn, tn, iterations)) = self.step(&sys, &x, &t, h) else {
                 self.stats.corrector_failures += 1;
                 h *= 0.5;
                 if h < MIN_STEP * diag {
@@ -362,112 +571,244 @@ impl Tracer<'_> {
                     break;
                 }
                 continue;
-            }
-            let xn = sol.x;
+            };
             let r = xn[3];
-            // Back to a convex vertex: r returns to zero. Land exactly on r = 0 (the corrector
-            // may have overshot to a negative radius) by replacing the arclength equation with
-            // r = 0.
-            if r <= self.opts.accuracy && points.len() > 1 {
-                let mut r_row = DVector::zeros(xn.len());
-                r_row[3] = 1.0;
-                let xe = solve(
-                    |y| sys.eval_with_row(self.model, y, &r_row, 0.0),
-                    xn.clone(),
-                    &self.solve_opts(),
-                );
-                let xe = if xe.status == SolveStatus::Converged {
-                    xe.x
-                } else {
-                    xn
-                };
-                let b = v3(&xe);
-                let v = (0..self.model.vertices.len()).min_by(|&a, &c| {
-                    self.model.vertices[a]
-                        .point
-                        .distance(b)
-                        .total_cmp(&self.model.vertices[c].point.distance(b))
-                });
+            // Back to a convex vertex: r returns to zero.
+            if r <= acc && points.len() > 1 {
+                let (xe, v) = self.land_at_vertex(&sys, xn);
                 points.push(self.seam_point(&sys, &xe));
-                end = match v {
-                    Some(v)
-                        if self.model.vertices[v].point.distance(b) <= 1e3 * self.opts.accuracy =>
-                    {
-                        SeamEnd::Vertex(v)
-                    }
-                    _ => SeamEnd::Open("radius reached zero away from a vertex".into()),
-                };
+                end = v.map_or_else(
+                    || SeamEnd::Open("radius reached zero away from a vertex".into()),
+                    SeamEnd::Vertex,
+                );
                 break;
             }
-            // Another face closer than r: a junction between x and xn.
-            let b = v3(&xn);
-            if let Some((f, hit)) = self.boundary.nearest_face(self.model, b) {
-                let in_triplet = start.triplet.contains(&Segment::Face(f));
-                if !in_triplet && hit.distance < r - self.opts.accuracy {
-                    match self.locate_junction(&start.triplet, &x, Segment::Face(f)) {
-                        Some(jx) => {
-                            let id = self.add_junction(&start.triplet, Segment::Face(f), &jx);
-                            if let Some(a) = self.arrivals.get_mut(id) {
-                                a.push(-DVec3::new(dir[0], dir[1], dir[2]).normalize());
-                            }
-                            points.push(self.seam_point(&sys, &jx.rows(0, 10).into_owned()));
-                            self.visited
-                                .insert((sorted(start.triplet), SeamEnd::Junction(id)));
-                            end = SeamEnd::Junction(id);
-                        }
-                        None => {
-                            end = SeamEnd::Open(format!(
-                                "F{f} comes closer than r, but no junction with it on the faces (an edge or vertex segment is needed)"
-                            ));
-                        }
-                    }
+            // Back at the seed: a closed seam.
+            if let Some(xs) = close_at {
+                let step = v3(&xn).distance(v3(&x));
+                if travel > 3.0 * step
+                    && to_chord(v3(xs), v3(&x), v3(&xn)) <= 0.05 * step + 10.0 * acc
+                    && (xs[3] - r).abs() <= 0.05 * step + 10.0 * acc
+                {
+                    points.push(self.seam_point(&sys, xs));
+                    end = SeamEnd::Closed;
                     break;
                 }
             }
+            // Another part of the boundary closer than r: a junction between x and xn.
+            if let Some((e, jx)) = self.junction_between(&triplet, solid, &x, &xn, &t) {
+                if let Some(jx) = jx {
+                    points.push(self.seam_point(&sys, &jx.rows(0, 10).into_owned()));
+                }
+                end = e;
+                break;
+            }
             // Touch points must stay on their faces (crossing edges is the next issue).
             let left = (0..3).find(|&i| {
-                let Segment::Face(f) = start.triplet[i];
-                let uv = glam::DVec2::new(xn[4 + 2 * i], xn[5 + 2 * i]);
-                !crate::geom::trim::contains(&self.model.faces[f], uv)
+                let Segment::Face(f) = triplet[i];
+                let s = slot(&xn, i);
+                !crate::geom::trim::contains(&self.model.faces[f], glam::DVec2::new(s[0], s[1]))
             });
             if let Some(i) = left {
                 // xn is not a medial point (its touch point is off the face): not output.
-                end = SeamEnd::Open(format!("touch point left {}", start.triplet[i].id()));
+                end = SeamEnd::Open(format!("touch point left {}", triplet[i].id()));
                 break;
             }
-            // The curvature criterion: the ball must not poke through a touched face.
-            let poked = (0..3).find(|&i| {
-                !curvature_allows(
-                    self.model,
-                    start.triplet[i],
-                    [xn[4 + 2 * i], xn[5 + 2 * i]],
-                    r,
-                )
-            });
-            if let Some(i) = poked {
-                end = SeamEnd::Open(format!(
-                    "curvature criterion fails on {} (a skeletal edge starts here)",
-                    start.triplet[i].id()
-                ));
+            // The curvature criterion: the ball must not poke through a touched face. Where
+            // the ball touches a face twice, the two touch points must not meet (or pass
+            // through each other): where they meet the ball osculates the face, r·κmax = 1,
+            // and the seam ends at that centre of curvature.
+            let touches = |y: &DVector<f64>| -> [Option<DVec3>; 3] {
+                std::array::from_fn(|i| sys_point(self.model, triplet[i], slot(y, i)))
+            };
+            let before = touches(&x);
+            let poked = |y: &DVector<f64>| {
+                let now = touches(y);
+                (0..3).find(|&i| {
+                    !curvature_allows(self.model, triplet[i], slot(y, i), y[3])
+                        || (0..i).any(|j| {
+                            triplet[j] == triplet[i]
+                                && match (before[i], before[j], now[i], now[j]) {
+                                    // Separated by less than 1e-4·r, the centre is within
+                                    // ~(1e-4·r)²/ρ of the end: far below the accuracy.
+                                    (Some(a), Some(b), Some(c), Some(d)) => {
+                                        (c - d).dot(a - b) <= 0.0 || c.distance(d) <= 1e-4 * y[3]
+                                    }
+                                    _ => true,
+                                }
+                        })
+                })
+            };
+            if let Some(i) = poked(&xn) {
+                // Bisect the arclength from x to where the ball osculates, to the accuracy.
+                let (mut lo, mut hi) = (0.0, h);
+                let mut last = None;
+                while hi - lo > acc {
+                    let mid = 0.5 * (lo + hi);
+                    match self.centre_step(&sys, &x, &t, mid) {
+                        Some(xm) if poked(&xm).is_none() => {
+                            lo = mid;
+                            last = Some(xm);
+                        }
+                        _ => hi = mid,
+                    }
+                }
+                if let Some(xm) = last {
+                    points.push(self.seam_point(&sys, &xm));
+                }
+                end = SeamEnd::CurvatureLimit {
+                    segment: triplet[i].id(),
+                };
                 break;
             }
             points.push(self.seam_point(&sys, &xn));
-            dir = t;
+            travel += v3(&xn).distance(v3(&x));
             x = xn;
-            h = if sol.iterations <= 3 {
+            t = tn;
+            h = if iterations <= 3 {
                 (h * 1.5).min(MAX_STEP * diag)
             } else {
                 h * 0.7
             };
         }
-        self.stats.points += points.len();
-        let id = self.seams.len();
-        self.seams.push(Seam {
-            id,
-            segments: start.triplet.iter().map(|s| s.id()).collect(),
-            ends: [start.from, end],
-            points,
+        Run { points, end }
+    }
+
+    /// One predictor–corrector step of length `h` from `x` along the unit tangent `t`: the new
+    /// point, its tangent (oriented along `t`) and the corrector's iterations. `None` when the
+    /// corrector fails, the radius goes negative from a point that already had r ≤ 0, or the
+    /// seam turns by more than [`MAX_TURN`] (step control by seam curvature).
+    fn step(
+        &mut self,
+        sys: &MedialSystem,
+        x: &DVector<f64>,
+        t: &DVector<f64>,
+        h: f64,
+    ) -> Option<(DVector<f64>, DVector<f64>, usize)> {
+        let pred = x + t * h;
+        // Corrector: F = 0 and t·(y − pred) = 0.
+        let c = t.dot(&pred);
+        let sol = solve(
+            |y| sys.eval_with_row(self.model, y, t, c),
+            pred,
+            &self.solve_opts(),
+        );
+        self.stats.newton_iterations += sol.iterations;
+        if sol.status != SolveStatus::Converged || sol.x[3] < -self.opts.accuracy && x[3] <= 0.0 {
+            return None;
+        }
+        let tn = self.tangent(sys, &sol.x, t)?;
+        let turn = v3(t).angle_between(v3(&tn));
+        (turn <= MAX_TURN).then_some((sol.x, tn, sol.iterations))
+    }
+
+    /// The seam point whose centre lies in the plane `t_B·(B − B(x)) = h` (normal to the
+    /// centre's direction `t_B`, `h` ahead), from a start with `x`'s segment parameters. Near
+    /// an end where two touch points on one face meet, the parameters move like the square
+    /// root of the centre's travel, so the arclength predictor along `t` overshoots them;
+    /// fixing only the centre's advance keeps Newton within reach (used to locate ends).
+    fn centre_step(
+        &mut self,
+        sys: &MedialSystem,
+        x: &DVector<f64>,
+        t: &DVector<f64>,
+        h: f64,
+    ) -> Option<DVector<f64>> {
+        let tb = v3(t).normalize();
+        let mut row = DVector::zeros(x.len());
+        row[0] = tb.x;
+        row[1] = tb.y;
+        row[2] = tb.z;
+        let mut start = x.clone();
+        for k in 0..4 {
+            start[k] += h * t[k] / v3(t).length();
+        }
+        let c = row.dot(x) + h;
+        let sol = solve(
+            |y| sys.eval_with_row(self.model, y, &row, c),
+            start,
+            &SolveOptions {
+                tol: 1e-3 * self.opts.accuracy,
+                max_iter: 40,
+            },
+        );
+        self.stats.newton_iterations += sol.iterations;
+        (sol.status == SolveStatus::Converged).then_some(sol.x)
+    }
+
+    /// Lands a seam point that reached `r ≈ 0` exactly on `r = 0` (the corrector may have
+    /// overshot to a negative radius) by replacing the arclength equation with `r = 0`, and
+    /// finds the vertex there.
+    fn land_at_vertex(
+        &mut self,
+        sys: &MedialSystem,
+        xn: DVector<f64>,
+    ) -> (DVector<f64>, Option<usize>) {
+        let mut r_row = DVector::zeros(xn.len());
+        r_row[3] = 1.0;
+        let xe = solve(
+            |y| sys.eval_with_row(self.model, y, &r_row, 0.0),
+            xn.clone(),
+            &self.solve_opts(),
+        );
+        let xe = if xe.status == SolveStatus::Converged {
+            xe.x
+        } else {
+            xn
+        };
+        let b = v3(&xe);
+        let v = (0..self.model.vertices.len())
+            .min_by(|&a, &c| {
+                let va = self.model.vertices[a].point.distance(b);
+                va.total_cmp(&self.model.vertices[c].point.distance(b))
+            })
+            .filter(|&v| self.model.vertices[v].point.distance(b) <= 1e3 * self.opts.accuracy);
+        (xe, v)
+    }
+
+    /// Checks the new seam point `xn` (reached from `x` along `t`) for a part of the solid's
+    /// boundary closer than `r`: another face, or a touched face far from its touch point
+    /// (the ball meets it a second time; a face close to its own touch point is the
+    /// curvature criterion's business). Then the seam ends at the junction located between
+    /// `x` and `xn`, or — when the 4-segment system has no solution on the faces — open.
+    fn junction_between(
+        &mut self,
+        triplet: &[Segment; 3],
+        solid: usize,
+        x: &DVector<f64>,
+        xn: &DVector<f64>,
+        t: &DVector<f64>,
+    ) -> Option<(SeamEnd, Option<DVector<f64>>)> {
+        let r = xn[3];
+        let (f, hit) = self
+            .boundary
+            .nearest_face_where(self.model, v3(xn), |g| self.face_solid[g] == solid)?;
+        if hit.distance >= r - self.opts.accuracy {
+            return None;
+        }
+        let fourth = Segment::Face(f);
+        let far = (0..3).all(|i| {
+            triplet[i] != fourth
+                || sys_point(self.model, fourth, slot(xn, i))
+                    .is_none_or(|p| p.distance(hit.point) > 0.05 * r)
         });
+        if !far {
+            return None;
+        }
+        let Some(jx) = self.locate_junction(triplet, x, fourth, hit.uv) else {
+            let why = format!(
+                "{} comes closer than r, but no junction with it on the faces (an edge or vertex segment is needed)",
+                fourth.id()
+            );
+            return Some((SeamEnd::Open(why), None));
+        };
+        let id = self.add_junction(triplet, fourth, &jx);
+        if let Some(a) = self.arrivals.get_mut(id) {
+            a.push(-v3(t).normalize());
+        }
+        self.visited
+            .insert((sorted(*triplet), SeamEnd::Junction(id)));
+        Some((SeamEnd::Junction(id), Some(jx)))
     }
 
     fn seam_point(&mut self, sys: &MedialSystem, x: &DVector<f64>) -> SeamPoint {
@@ -475,8 +816,8 @@ impl Tracer<'_> {
             self.stats.worst_residual = self.stats.worst_residual.max(f.amax());
         }
         let touch = std::array::from_fn(|i| {
-            let e = sys.segments[i].eval(self.model, [x[4 + 2 * i], x[5 + 2 * i]]);
-            e.map_or([f64::NAN; 3], |e| e.p.to_array())
+            sys_point(self.model, sys.segments[i], slot(x, i))
+                .map_or([f64::NAN; 3], |p| p.to_array())
         });
         SeamPoint {
             point: [x[0], x[1], x[2], x[3]],
@@ -484,16 +825,19 @@ impl Tracer<'_> {
         }
     }
 
-    /// Solves the 4-segment system from the seam point `x` (before the crossing).
+    /// Solves the 4-segment system from the seam point `x` (before the crossing), starting
+    /// the fourth segment at the foot of `x` near `uv` (where the crossing was seen).
     fn locate_junction(
         &self,
         triplet: &[Segment; 3],
         x: &DVector<f64>,
         fourth: Segment,
+        uv: (f64, f64),
     ) -> Option<DVector<f64>> {
         let Segment::Face(f) = fourth;
         let b = v3(x);
-        let uv = project_point(&self.model.faces[f].surface, b, None)?;
+        let hint = uv.0.is_finite().then_some(uv);
+        let uv = project_point(&self.model.faces[f].surface, b, hint).or(hint)?;
         let mut segs = triplet.to_vec();
         segs.push(fourth);
         let sys = MedialSystem::new(segs);
@@ -516,10 +860,22 @@ impl Tracer<'_> {
         // its edges is not a junction (the event there involves an edge or a vertex).
         let on_faces = sys.segments.iter().enumerate().all(|(i, seg)| {
             let Segment::Face(f) = *seg;
-            let uv = glam::DVec2::new(sol.x[4 + 2 * i], sol.x[5 + 2 * i]);
-            crate::geom::trim::contains(&self.model.faces[f], uv)
+            let s = slot(&sol.x, i);
+            crate::geom::trim::contains(&self.model.faces[f], glam::DVec2::new(s[0], s[1]))
         });
-        on_faces.then_some(sol.x)
+        // Two touch points on one face must be two places, not the same one found twice.
+        let r = sol.x[3];
+        let distinct = (0..3).all(|i| {
+            sys.segments[i] != fourth
+                || match (
+                    sys_point(self.model, fourth, slot(&sol.x, i)),
+                    sys_point(self.model, fourth, slot(&sol.x, 3)),
+                ) {
+                    (Some(a), Some(b)) => a.distance(b) > 1e-3 * r,
+                    _ => false,
+                }
+        });
+        (on_faces && distinct).then_some(sol.x)
     }
 
     /// Records a junction (or finds the same one already found) and queues the seams that
@@ -536,11 +892,12 @@ impl Tracer<'_> {
     ) -> usize {
         let p = v3(jx);
         let r = jx[3];
+        let solid = self.solid_of(fourth);
         let tol = 1e3 * self.opts.accuracy;
         if let Some(id) = self
             .junctions
             .iter()
-            .position(|j| DVec3::from_array(j.point).distance(p) <= tol)
+            .position(|j| j.solid == solid && DVec3::from_array(j.point).distance(p) <= tol)
         {
             return id;
         }
@@ -549,7 +906,7 @@ impl Tracer<'_> {
         let mut params: Vec<(f64, f64)> = (0..4).map(|i| (jx[4 + 2 * i], jx[5 + 2 * i])).collect();
         // Other faces touching the same ball (non-generic junctions).
         for f in self.boundary.within(self.model, p, r + tol) {
-            if segs.contains(&Segment::Face(f)) {
+            if segs.contains(&Segment::Face(f)) || self.face_solid[f] != solid {
                 continue;
             }
             let hit = self
@@ -565,8 +922,7 @@ impl Tracer<'_> {
         let touch: Vec<DVec3> = segs
             .iter()
             .zip(&params)
-            .filter_map(|(s, uv)| s.eval(self.model, [uv.0, uv.1]))
-            .map(|e| e.p)
+            .filter_map(|(s, uv)| sys_point(self.model, *s, [uv.0, uv.1]))
             .collect();
         if touch.len() != segs.len() {
             return usize::MAX;
@@ -574,6 +930,7 @@ impl Tracer<'_> {
         let id = self.junctions.len();
         self.junctions.push(Junction {
             id,
+            solid,
             point: p.to_array(),
             radius: r,
             segments: segs.iter().map(|s| s.id()).collect(),
@@ -616,6 +973,11 @@ impl Tracer<'_> {
         }
         id
     }
+}
+
+/// The point of segment `seg` at parameters `s`.
+fn sys_point(model: &Model, seg: Segment, s: [f64; 2]) -> Option<DVec3> {
+    seg.eval(model, s).map(|e| e.p)
 }
 
 #[cfg(test)]
@@ -806,5 +1168,114 @@ mod tests {
             assert!(e <= 1e-9 * diag, "no mirror image of {p}: {e:e}");
         }
         assert!(verify(&m, &mat) <= 1e-6 * diag);
+    }
+
+    /// Distance from (x, 0) to the ellipse x²/a² + y²/b² = 1 (a > b, |x| < a − b²/a): the
+    /// two nearest points are at the parameter with cos t = a·x / (a² − b²).
+    fn ellipse_distance(a: f64, b: f64, x: f64) -> f64 {
+        let c = a * x / (a * a - b * b);
+        ((a * c - x).powi(2) + b * b * (1.0 - c * c)).sqrt()
+    }
+
+    /// Elliptic cylinder (semi-axes 30 and 15, height 40; manifest): the seam where the ball
+    /// touches the lateral face twice and the top, traced from a seed at x = 0 both ways.
+    /// Every point is (x, 0, 40 − r) with r the distance from (x, 0) to the ellipse, the two
+    /// lateral touch points mirror each other in y = 0, and both ends are where the ball
+    /// osculates the lateral face: the centres of curvature of the ellipse's vertices,
+    /// x = ±(a − b²/a) = ±22.5, r = b²/a = 7.5. The lateral face is an extrusion in one
+    /// file and a rational B-spline in the other (two touch points on one free-form face).
+    #[test]
+    fn seam_touching_one_face_twice_from_a_seed() {
+        let (a, b, h) = (30.0, 15.0, 40.0);
+        for file in ["elliptic_cylinder.step", "elliptic_cylinder_nurbs.step"] {
+            let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("samples")
+                .join(file);
+            let m = crate::read_model(&p).unwrap();
+            let class = crate::classify(&m, &Default::default());
+            // The lateral face owns the seam edge (the same face on both sides); the top is
+            // the other face with the higher middle.
+            let lat = m
+                .edges
+                .iter()
+                .find(|e| e.faces[0] == e.faces[1])
+                .unwrap()
+                .faces[0];
+            let middle_z = |f: usize| {
+                let d = m.faces[f].domain;
+                let (u, v) = (0.5 * (d.u.0 + d.u.1), 0.5 * (d.v.0 + d.v.1));
+                crate::geom::eval_surface(&m.faces[f].surface, u, v).p.z
+            };
+            let top = (0..m.faces.len())
+                .filter(|&f| f != lat)
+                .max_by(|&f, &g| middle_z(f).total_cmp(&middle_z(g)))
+                .unwrap();
+            let foot = |f: usize, q: DVec3| project_point(&m.faces[f].surface, q, None).unwrap();
+            let seed = Seed::new(
+                [Segment::Face(lat), Segment::Face(lat), Segment::Face(top)],
+                DVec3::new(0.0, 0.0, h - b),
+                b,
+                [
+                    foot(lat, DVec3::new(0.0, b, h - b)),
+                    foot(lat, DVec3::new(0.0, -b, h - b)),
+                    foot(top, DVec3::new(0.0, 0.0, h)),
+                ],
+            );
+            let boundary = Boundary::new(&m);
+            let opts = TraceOptions::for_model(&m);
+            let mat = trace_with_seeds(&m, &boundary, &class, &opts, &[seed]);
+            assert_eq!(mat.seams.len(), 1, "{file}");
+            let seam = &mat.seams[0];
+            let diag = m.diagonal();
+            for e in &seam.ends {
+                assert_eq!(
+                    *e,
+                    SeamEnd::CurvatureLimit {
+                        segment: format!("F{lat}")
+                    },
+                    "{file}"
+                );
+            }
+            let xs: Vec<f64> = seam.points.iter().map(|q| q.point[0]).collect();
+            let (lo, hi) = xs
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), &x| {
+                    (l.min(x), u.max(x))
+                });
+            let x_end = a - b * b / a;
+            // The ends within 20× the accuracy: the bisection stops within the accuracy, but
+            // where the two touch points nearly meet the system is ill-conditioned (the
+            // centre moves along a near-null direction of the Jacobian), so a converged
+            // residual places the centre only to about the accuracy itself.
+            let end_tol = 2e-5 * diag;
+            assert!(
+                (lo + x_end).abs() <= end_tol && (hi - x_end).abs() <= end_tol,
+                "{file}: ends at x = {lo}, {hi}"
+            );
+            for q in &seam.points {
+                let [x, y, z, r] = q.point;
+                let want = ellipse_distance(a, b, x.clamp(-x_end, x_end));
+                assert!(y.abs() <= 1e-9 * diag, "{file}: y = {y}");
+                assert!(
+                    (z - (h - r)).abs() <= 1e-9 * diag,
+                    "{file}: z = {z}, r = {r}"
+                );
+                // (An end point's x may lie past the exact end by the end tolerance.)
+                let past = (x.abs() - x_end).max(0.0);
+                assert!(
+                    (r - want).abs() <= 1e-6 * diag + 2.0 * past,
+                    "{file}: r({x}) = {r}, not {want}"
+                );
+                let (t0, t1) = (DVec3::from_array(q.touch[0]), DVec3::from_array(q.touch[1]));
+                assert!((t0 - DVec3::new(t1.x, -t1.y, t1.z)).length() <= 1e-6 * diag);
+            }
+            // Points are spaced by the step control: the direction turns at most MAX_TURN.
+            for w in seam.points.windows(3) {
+                let d0 = DVec3::from_slice(&w[1].point[..3]) - DVec3::from_slice(&w[0].point[..3]);
+                let d1 = DVec3::from_slice(&w[2].point[..3]) - DVec3::from_slice(&w[1].point[..3]);
+                assert!(d0.angle_between(d1) <= 2.0 * MAX_TURN, "{file}");
+            }
+            assert!(verify(&m, &mat) <= 1e-6 * diag, "{file}");
+        }
     }
 }

@@ -1,7 +1,7 @@
 //! Self-verification of a traced medial axis against the definition (DESIGN.md,
 //! "Verification, the project's own").
 //!
-//! For every seam point and junction: the nearest boundary point of the centre (exact
+//! For every seam point and junction: the nearest point of its solid's boundary of the centre (exact
 //! trimmed-face distance through the boundary BVH) is at distance `r` — nothing is closer, so
 //! the ball is maximal in the global sense — and every reported touch point lies on the
 //! boundary at distance `r` from the centre. The figures are the worst absolute errors (mm).
@@ -36,20 +36,32 @@ impl Verification {
 /// Checks every seam point and junction of `mat` against `model`'s boundary.
 pub fn verify(model: &Model, boundary: &Boundary, mat: &Mat) -> Verification {
     let mut v = Verification::default();
-    let mut ball = |centre: DVec3, r: f64, touch: &[[f64; 3]]| {
+    let face_solid: Vec<usize> = model
+        .faces
+        .iter()
+        .map(|f| model.shells[f.shell].solid)
+        .collect();
+    // Distance to the boundary of one solid (each solid has its own medial axis).
+    let nearest = |p: DVec3, solid: usize| {
+        boundary
+            .nearest_face_where(model, p, |f| face_solid[f] == solid)
+            .map_or(f64::INFINITY, |(_, h)| h.distance)
+    };
+    let mut ball = |solid: usize, centre: DVec3, r: f64, touch: &[[f64; 3]]| {
         v.balls += 1;
-        let d = boundary.nearest(model, centre).distance;
+        let d = nearest(centre, solid);
         v.worst_distance_error = v.worst_distance_error.max((d - r).abs());
         for t in touch {
             let t = DVec3::from_array(*t);
             v.worst_touch_error = v.worst_touch_error.max((t.distance(centre) - r).abs());
-            let off = boundary.nearest(model, t).distance;
+            let off = nearest(t, solid);
             v.worst_touch_off_boundary = v.worst_touch_off_boundary.max(off);
         }
     };
     for s in &mat.seams {
         for p in &s.points {
             ball(
+                s.solid,
                 DVec3::new(p.point[0], p.point[1], p.point[2]),
                 p.point[3],
                 &p.touch,
@@ -57,7 +69,7 @@ pub fn verify(model: &Model, boundary: &Boundary, mat: &Mat) -> Verification {
         }
     }
     for j in &mat.junctions {
-        ball(DVec3::from_array(j.point), j.radius, &j.touch);
+        ball(j.solid, DVec3::from_array(j.point), j.radius, &j.touch);
     }
     v
 }
