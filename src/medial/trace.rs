@@ -913,7 +913,9 @@ impl Tracer<'_> {
                 .boundary
                 .nearest_on_face(self.model, f, p, None, f64::INFINITY);
             if let Some(hit) = hit {
-                if (hit.distance - r).abs() <= tol {
+                // Touching to the output accuracy (the junction itself is solved far
+                // tighter), so every touch point reported is within it.
+                if (hit.distance - r).abs() <= self.opts.accuracy {
                     segs.push(Segment::Face(f));
                     params.push(hit.uv);
                 }
