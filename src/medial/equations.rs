@@ -8,15 +8,19 @@
 //! join [`Segment`] with the same two-parameter interface (DESIGN.md).
 
 use crate::brep::Model;
-use crate::geom::eval_surface;
+use crate::geom::{eval_curve, eval_surface};
 use glam::DVec3;
 use nalgebra::{DMatrix, DVector};
 
 /// A boundary segment.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Segment {
     /// A face, parametrised by its surface's `(u, v)`.
     Face(usize),
+    /// A reflex edge, parametrised by `(t, θ)`: the curve parameter and the angle of the
+    /// normal in the edge's normal plane, `N = cos θ·a(t) + sin θ·b(t)` with the frame of
+    /// [`edge_frame`] (the paper's "cylinder of zero radius").
+    Edge(usize),
 }
 
 /// A normal field evaluated at one parameter: point, outward unit normal, and their
@@ -30,9 +34,26 @@ pub struct FieldEval {
 }
 
 impl Segment {
-    /// Evaluates the normal field at `s`. `None` where the normal is undefined (a pole).
+    /// Evaluates the normal field at `s`. `None` where the normal is undefined (a pole, a
+    /// point where an edge's tangent vanishes).
     pub fn eval(&self, model: &Model, s: [f64; 2]) -> Option<FieldEval> {
         match *self {
+            Segment::Edge(e) => {
+                let edge = &model.edges[e];
+                let c = eval_curve(&edge.curve, s[0]);
+                let w = edge_axis(edge);
+                let fr = frame_with_derivatives(c.d1, c.d2, w)?;
+                let (sn, cs) = s[1].sin_cos();
+                let n = fr.a * cs + fr.b * sn;
+                let dn_dt = fr.da * cs + fr.db * sn;
+                let dn_dth = fr.b * cs - fr.a * sn;
+                Some(FieldEval {
+                    p: c.p,
+                    n,
+                    dp: [c.d1, DVec3::ZERO],
+                    dn: [dn_dt, dn_dth],
+                })
+            }
             Segment::Face(f) => {
                 let face = &model.faces[f];
                 let d = eval_surface(&face.surface, s[0], s[1]);
@@ -57,12 +78,90 @@ impl Segment {
         }
     }
 
-    /// The id used in reports: `F<face>`.
+    /// The id used in reports: `F<face>`, `E<edge>`.
     pub fn id(&self) -> String {
         match self {
             Segment::Face(f) => format!("F{f}"),
+            Segment::Edge(e) => format!("E{e}"),
         }
     }
+}
+
+/// The orthonormal frame `(a, b)` of an edge's normal plane at a point with curve derivatives
+/// `d1`, `d2`, and the frame's derivatives along the curve parameter.
+#[derive(Clone, Copy, Debug)]
+pub struct EdgeFrame {
+    pub a: DVec3,
+    pub b: DVec3,
+    pub da: DVec3,
+    pub db: DVec3,
+}
+
+/// `T = d1/‖d1‖`, `a = (T × w)/‖T × w‖`, `b = T × a` with a fixed axis `w` per edge (see
+/// [`edge_axis`]); `None` where `d1` vanishes or `T ∥ w`.
+fn frame_with_derivatives(d1: DVec3, d2: DVec3, w: DVec3) -> Option<EdgeFrame> {
+    let len = d1.length();
+    if !(len.is_finite() && len > 0.0) {
+        return None;
+    }
+    let t = d1 / len;
+    let dt = (d2 - t * t.dot(d2)) / len;
+    let u = t.cross(w);
+    let ul = u.length();
+    if ul < 1e-6 {
+        return None;
+    }
+    let a = u / ul;
+    let du = dt.cross(w);
+    let da = (du - a * a.dot(du)) / ul;
+    let b = t.cross(a);
+    let db = dt.cross(a) + t.cross(da);
+    Some(EdgeFrame { a, b, da, db })
+}
+
+/// The frame of edge `e`'s normal plane at curve parameter `t` (see [`Segment::Edge`]).
+pub fn edge_frame(model: &Model, e: usize, t: f64) -> Option<EdgeFrame> {
+    let edge = &model.edges[e];
+    let c = eval_curve(&edge.curve, t);
+    frame_with_derivatives(c.d1, c.d2, edge_axis(edge))
+}
+
+/// A fixed axis `w` for an edge's normal frame, as far from every tangent as cheaply known:
+/// for a line, the coordinate axis least aligned with it; for a curve, the normal of the
+/// plane of its tangents at the start, middle and end (exact for planar curves: circles,
+/// ellipses, planar splines), falling back to the coordinate axis least aligned with the
+/// middle tangent.
+pub fn edge_axis(edge: &crate::brep::model::Edge) -> DVec3 {
+    let least_aligned = |t: DVec3| {
+        let t = t.abs();
+        if t.x <= t.y && t.x <= t.z {
+            DVec3::X
+        } else if t.y <= t.z {
+            DVec3::Y
+        } else {
+            DVec3::Z
+        }
+    };
+    let (lo, hi) = edge.range;
+    let mid = eval_curve(&edge.curve, 0.5 * (lo + hi)).d1;
+    if matches!(edge.curve, crate::brep::model::Curve3D::Line(_)) {
+        return least_aligned(mid);
+    }
+    let t0 = eval_curve(&edge.curve, lo).d1.normalize_or_zero();
+    let t2 = eval_curve(&edge.curve, hi).d1.normalize_or_zero();
+    let t1 = mid.normalize_or_zero();
+    let n = t0.cross(t1) + t1.cross(t2);
+    if n.length() > 1e-3 {
+        n.normalize()
+    } else {
+        least_aligned(mid)
+    }
+}
+
+/// The angle `θ` of a unit normal `n` in edge `e`'s frame at `t`.
+pub fn edge_angle(model: &Model, e: usize, t: f64, n: DVec3) -> Option<f64> {
+    let f = edge_frame(model, e, t)?;
+    Some(n.dot(f.b).atan2(n.dot(f.a)))
 }
 
 /// The medial system for `k` segments: `3k` equations in `4 + 2k` unknowns.

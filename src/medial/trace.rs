@@ -19,8 +19,8 @@
 use super::equations::{MedialSystem, Segment};
 use super::solver::{solve, SolveOptions, SolveStatus};
 use crate::brep::Model;
-use crate::classify::{Classification, VertexKind};
-use crate::geom::{project_point, Boundary};
+use crate::classify::{Classification, EdgeKind, VertexKind};
+use crate::geom::{project_point, Boundary, FaceHit, Feature};
 use glam::DVec3;
 use nalgebra::DVector;
 use std::collections::{HashSet, VecDeque};
@@ -90,10 +90,13 @@ pub struct Seam {
     pub id: usize,
     /// Index of the solid in the model.
     pub solid: usize,
-    /// The three segments (`F3`; a face twice when the ball touches it in two places).
+    /// The three segments at the first point (`F3`, `E7` for a reflex edge; a face twice
+    /// when the ball touches it in two places).
     pub segments: Vec<String>,
     pub ends: [SeamEnd; 2],
     pub points: Vec<SeamPoint>,
+    /// Where a touch point moves to another segment, in the order of the points.
+    pub handovers: Vec<Handover>,
 }
 
 /// A junction: a ball touching four segments.
@@ -164,6 +167,19 @@ struct Start {
 struct Run {
     points: Vec<SeamPoint>,
     end: SeamEnd,
+    /// The segments at the end (after any hand-over).
+    triplet: [Segment; 3],
+    handovers: Vec<Handover>,
+}
+
+/// A touch point passing from one segment to the next along a seam (over a smooth edge, onto
+/// or off a reflex edge).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Handover {
+    /// Index of the seam point where it happens (on both segments).
+    pub point: usize,
+    pub from: String,
+    pub to: String,
 }
 
 /// Traces the seams and junctions of `model` that start from its convex vertices.
@@ -194,6 +210,7 @@ pub fn trace_with_seeds(
     let mut t = Tracer {
         model,
         boundary,
+        class,
         opts,
         face_solid: model
             .faces
@@ -243,13 +260,13 @@ pub fn curvature_allows(model: &Model, seg: Segment, s: [f64; 2], r: f64) -> boo
                 None => true,
             }
         }
+        // A reflex edge bends away from every ball that touches it from inside.
+        Segment::Edge(_) => true,
     }
 }
 
 fn sorted(mut s: [Segment; 3]) -> [Segment; 3] {
-    s.sort_by_key(|x| match x {
-        Segment::Face(f) => *f,
-    });
+    s.sort();
     s
 }
 
@@ -290,6 +307,7 @@ fn to_chord(p: DVec3, a: DVec3, b: DVec3) -> f64 {
 struct Tracer<'a> {
     model: &'a Model,
     boundary: &'a Boundary,
+    class: &'a Classification,
     opts: &'a TraceOptions,
     /// The solid of each face.
     face_solid: Vec<usize>,
@@ -317,6 +335,45 @@ impl Tracer<'_> {
     fn solid_of(&self, seg: Segment) -> usize {
         match seg {
             Segment::Face(f) => self.face_solid[f],
+            Segment::Edge(e) => self.face_solid[self.model.edges[e].faces[0]],
+        }
+    }
+
+    fn is_reflex(&self, e: usize) -> bool {
+        self.class.edges[e].kind == EdgeKind::Reflex
+    }
+
+    /// The outward normals of edge `e`'s two faces at curve parameter `t`: the ends of the
+    /// arc of normals the edge owns as a boundary segment.
+    fn edge_fan(&self, e: usize, t: f64) -> Option<[DVec3; 2]> {
+        let edge = &self.model.edges[e];
+        let p = crate::geom::eval_curve(&edge.curve, t).p;
+        let normal = |f: usize| {
+            let uv = project_point(&self.model.faces[f].surface, p, None)?;
+            Segment::Face(f).eval(self.model, [uv.0, uv.1]).map(|e| e.n)
+        };
+        Some([normal(edge.faces[0])?, normal(edge.faces[1])?])
+    }
+
+    /// True when parameters `s` lie on segment `seg`: inside a face's trim, or on a reflex
+    /// edge within its range with the normal inside the arc between its faces' normals.
+    fn on_segment(&self, seg: Segment, s: [f64; 2]) -> bool {
+        match seg {
+            Segment::Face(f) => {
+                crate::geom::trim::contains(&self.model.faces[f], glam::DVec2::new(s[0], s[1]))
+            }
+            Segment::Edge(e) => {
+                let (lo, hi) = self.model.edges[e].range;
+                if s[0] < lo || s[0] > hi {
+                    return false;
+                }
+                let (Some(fan), Some(ev)) = (self.edge_fan(e, s[0]), seg.eval(self.model, s))
+                else {
+                    return false;
+                };
+                let span = fan[0].angle_between(fan[1]);
+                ev.n.angle_between(fan[0]) + ev.n.angle_between(fan[1]) <= span + 1e-9
+            }
         }
     }
 
@@ -339,11 +396,23 @@ impl Tracer<'_> {
                 }
             }
             let run = self.march(start.triplet, start.x, start.dir, None);
-            self.push_seam(start.triplet, [start.from, run.end], run.points);
+            self.push_seam(
+                start.triplet,
+                [start.from, run.end],
+                run.points,
+                run.handovers,
+            );
         }
     }
 
-    fn push_seam(&mut self, triplet: [Segment; 3], ends: [SeamEnd; 2], points: Vec<SeamPoint>) {
+    /// Records a seam; `triplet` holds the segments at its first point.
+    fn push_seam(
+        &mut self,
+        triplet: [Segment; 3],
+        ends: [SeamEnd; 2],
+        points: Vec<SeamPoint>,
+        handovers: Vec<Handover>,
+    ) {
         self.stats.points += points.len();
         let id = self.seams.len();
         self.seams.push(Seam {
@@ -352,6 +421,7 @@ impl Tracer<'_> {
             segments: triplet.iter().map(|s| s.id()).collect(),
             ends,
             points,
+            handovers,
         });
     }
 
@@ -479,18 +549,31 @@ impl Tracer<'_> {
         };
         let fwd = self.march(seed.triplet, x.clone(), dir, Some(&x));
         if fwd.end == SeamEnd::Closed {
-            self.push_seam(seed.triplet, [SeamEnd::Closed, SeamEnd::Closed], fwd.points);
+            let ends = [SeamEnd::Closed, SeamEnd::Closed];
+            self.push_seam(seed.triplet, ends, fwd.points, fwd.handovers);
             return;
         }
         let back = self.march(seed.triplet, x, -dir, None);
+        // The backward run reversed, then the forward run after the seed point; the
+        // backward run's hand-overs reversed in order and sense.
+        let nb = back.points.len();
+        let mut handovers: Vec<Handover> = back
+            .handovers
+            .into_iter()
+            .rev()
+            .map(|h| Handover {
+                point: nb - 1 - h.point,
+                from: h.to,
+                to: h.from,
+            })
+            .collect();
+        handovers.extend(fwd.handovers.into_iter().map(|h| Handover {
+            point: h.point + nb - 1,
+            ..h
+        }));
         let mut points: Vec<SeamPoint> = back.points.into_iter().rev().collect();
         points.extend(fwd.points.into_iter().skip(1));
-        for end in [&back.end, &fwd.end] {
-            if let SeamEnd::Junction(_) = end {
-                self.visited.insert((sorted(seed.triplet), end.clone()));
-            }
-        }
-        self.push_seam(seed.triplet, [back.end, fwd.end], points);
+        self.push_seam(back.triplet, [back.end, fwd.end], points, handovers);
     }
 
     /// True when the seam point `x` is medial: its touch points lie on their faces, nothing
@@ -498,11 +581,7 @@ impl Tracer<'_> {
     fn is_medial(&self, triplet: &[Segment; 3], x: &DVector<f64>) -> bool {
         let r = x[3];
         let solid = self.solid_of(triplet[0]);
-        let on_faces = triplet.iter().enumerate().all(|(i, seg)| {
-            let Segment::Face(f) = *seg;
-            let s = slot(x, i);
-            crate::geom::trim::contains(&self.model.faces[f], glam::DVec2::new(s[0], s[1]))
-        });
+        let on_faces = (0..3).all(|i| self.on_segment(triplet[i], slot(x, i)));
         let nearest = self
             .boundary
             .nearest_face_where(self.model, v3(x), |g| self.face_solid[g] == solid);
@@ -535,12 +614,13 @@ impl Tracer<'_> {
     /// point ends [`SeamEnd::Closed`].
     fn march(
         &mut self,
-        triplet: [Segment; 3],
+        mut triplet: [Segment; 3],
         x0: DVector<f64>,
         dir0: DVec3,
         close_at: Option<&DVector<f64>>,
     ) -> Run {
-        let sys = MedialSystem::new(triplet.to_vec());
+        let mut sys = MedialSystem::new(triplet.to_vec());
+        let mut handovers = vec![];
         let solid = self.solid_of(triplet[0]);
         let diag = self.model.diagonal();
         let acc = self.opts.accuracy;
@@ -553,7 +633,12 @@ impl Tracer<'_> {
         dir[2] = dir0.z;
         let Some(mut t) = self.tangent(&sys, &x, &dir) else {
             let end = SeamEnd::Open("singular tangent".into());
-            return Run { points, end };
+            return Run {
+                points,
+                end,
+                triplet,
+                handovers,
+            };
         };
         let mut h = 1e-3 * diag;
         let mut travel = 0.0;
@@ -595,23 +680,42 @@ impl Tracer<'_> {
                     break;
                 }
             }
+            // A touch point that leaves its segment is handed over to the next one across
+            // the edge it crossed (xn itself, off the segment, is not output).
+            if let Some(i) = (0..3).find(|&i| !self.on_segment(triplet[i], slot(&xn, i))) {
+                match self.hand_over(&triplet, i, &x, &t, h) {
+                    Ok((to, xc)) => {
+                        handovers.push(Handover {
+                            point: points.len(),
+                            from: triplet[i].id(),
+                            to: to.id(),
+                        });
+                        triplet[i] = to;
+                        sys = MedialSystem::new(triplet.to_vec());
+                        points.push(self.seam_point(&sys, &xc));
+                        let mut d = DVector::zeros(10);
+                        d.rows_mut(0, 3).copy_from(&t.rows(0, 3));
+                        let Some(tc) = self.tangent(&sys, &xc, &d) else {
+                            end = SeamEnd::Open("singular tangent after a hand-over".into());
+                            break;
+                        };
+                        travel += v3(&xc).distance(v3(&x));
+                        x = xc;
+                        t = tc;
+                        continue;
+                    }
+                    Err(why) => {
+                        end = SeamEnd::Open(why);
+                        break;
+                    }
+                }
+            }
             // Another part of the boundary closer than r: a junction between x and xn.
             if let Some((e, jx)) = self.junction_between(&triplet, solid, &x, &xn, &t) {
                 if let Some(jx) = jx {
                     points.push(self.seam_point(&sys, &jx.rows(0, 10).into_owned()));
                 }
                 end = e;
-                break;
-            }
-            // Touch points must stay on their faces (crossing edges is the next issue).
-            let left = (0..3).find(|&i| {
-                let Segment::Face(f) = triplet[i];
-                let s = slot(&xn, i);
-                !crate::geom::trim::contains(&self.model.faces[f], glam::DVec2::new(s[0], s[1]))
-            });
-            if let Some(i) = left {
-                // xn is not a medial point (its touch point is off the face): not output.
-                end = SeamEnd::Open(format!("touch point left {}", triplet[i].id()));
                 break;
             }
             // The curvature criterion: the ball must not poke through a touched face. Where
@@ -671,7 +775,137 @@ impl Tracer<'_> {
                 h * 0.7
             };
         }
-        Run { points, end }
+        Run {
+            points,
+            end,
+            triplet,
+            handovers,
+        }
+    }
+
+    /// Hands touch point `i` over to the next segment: finds (by bisecting the step `h` from
+    /// `x` along `t`) the last seam point with the touch point still on its segment, which is
+    /// then on the segment's boundary, and continues it on the neighbour there: across a
+    /// smooth edge the next face; onto a reflex edge the edge (the normal is that face's
+    /// normal, an end of the edge's arc); off a reflex edge's arc the face at that end.
+    /// Returns the new segment and the seam point solved for the new triplet, or why the
+    /// touch point cannot continue (a convex edge, an edge's end).
+    fn hand_over(
+        &mut self,
+        triplet: &[Segment; 3],
+        i: usize,
+        x: &DVector<f64>,
+        t: &DVector<f64>,
+        h: f64,
+    ) -> Result<(Segment, DVector<f64>), String> {
+        let acc = self.opts.accuracy;
+        let sys = MedialSystem::new(triplet.to_vec());
+        let (mut lo, mut hi) = (0.0, h);
+        let mut xc = x.clone();
+        while hi - lo > 0.1 * acc {
+            let mid = 0.5 * (lo + hi);
+            match self.step(&sys, x, t, mid) {
+                Some((xm, _, _)) if self.on_segment(triplet[i], slot(&xm, i)) => {
+                    lo = mid;
+                    xc = xm;
+                }
+                _ => hi = mid,
+            }
+        }
+        let seg = triplet[i];
+        let ev = seg
+            .eval(self.model, slot(&xc, i))
+            .ok_or_else(|| format!("touch point on {} at an undefined normal", seg.id()))?;
+        let (to, params) = match seg {
+            Segment::Face(f) => {
+                let (e, te) = self
+                    .nearest_edge_of_face(f, ev.p)
+                    .filter(|&(e, te)| {
+                        let q = crate::geom::eval_curve(&self.model.edges[e].curve, te).p;
+                        q.distance(ev.p) <= 1e3 * acc
+                    })
+                    .ok_or_else(|| format!("touch point left {} away from its edges", seg.id()))?;
+                let edge = &self.model.edges[e];
+                match self.class.edges[e].kind {
+                    EdgeKind::Reflex => {
+                        let th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)
+                            .ok_or_else(|| format!("no normal frame on E{e}"))?;
+                        (Segment::Edge(e), [te, th])
+                    }
+                    EdgeKind::Smooth => {
+                        let g = if edge.faces[0] == f {
+                            edge.faces[1]
+                        } else {
+                            edge.faces[0]
+                        };
+                        let uv = project_point(&self.model.faces[g].surface, ev.p, None)
+                            .ok_or_else(|| format!("touch point not found on F{g}"))?;
+                        (Segment::Face(g), [uv.0, uv.1])
+                    }
+                    kind => {
+                        return Err(format!(
+                            "touch point on {} reached {kind:?} edge E{e}",
+                            seg.id()
+                        ))
+                    }
+                }
+            }
+            Segment::Edge(e) => {
+                let edge = &self.model.edges[e];
+                let te = slot(&xc, i)[0];
+                let (lo, hi) = edge.range;
+                if (te - lo).min(hi - te) <= 1e-6 * (hi - lo) {
+                    return Err(format!(
+                        "touch point reached the end of reflex edge E{e} (vertex segments are not traced yet)"
+                    ));
+                }
+                let fan = self
+                    .edge_fan(e, te)
+                    .ok_or_else(|| format!("no face normals on E{e}"))?;
+                let k = if ev.n.angle_between(fan[0]) <= ev.n.angle_between(fan[1]) {
+                    0
+                } else {
+                    1
+                };
+                let g = edge.faces[k];
+                let uv = project_point(&self.model.faces[g].surface, ev.p, None)
+                    .ok_or_else(|| format!("touch point not found on F{g}"))?;
+                (Segment::Face(g), [uv.0, uv.1])
+            }
+        };
+        let mut new = *triplet;
+        new[i] = to;
+        let sys = MedialSystem::new(new.to_vec());
+        let mut y = xc.clone();
+        y[4 + 2 * i] = params[0];
+        y[5 + 2 * i] = params[1];
+        // Polish on the new system with the centre held in the plane normal to the seam.
+        let mut row = DVector::zeros(10);
+        row.rows_mut(0, 3).copy_from(&t.rows(0, 3));
+        let c = row.dot(&y);
+        let sol = solve(
+            |z| sys.eval_with_row(self.model, z, &row, c),
+            y,
+            &self.solve_opts(),
+        );
+        if sol.status != SolveStatus::Converged {
+            return Err(format!("no seam point after handing {} to {}", seg.id(), to.id()));
+        }
+        Ok((to, sol.x))
+    }
+
+    /// The edge of face `f` nearest to `p`, with the curve parameter of the nearest point.
+    fn nearest_edge_of_face(&self, f: usize, p: DVec3) -> Option<(usize, f64)> {
+        self.model.faces[f]
+            .loops
+            .iter()
+            .flat_map(|l| l.edges.iter())
+            .map(|oe| {
+                let (te, _, d) = crate::geom::nearest_on_edge(self.model, oe.edge, p, None);
+                (oe.edge, te, d)
+            })
+            .min_by(|a, b| a.2.total_cmp(&b.2))
+            .map(|(e, te, _)| (e, te))
     }
 
     /// One predictor–corrector step of length `h` from `x` along the unit tangent `t`: the new
@@ -786,7 +1020,13 @@ impl Tracer<'_> {
         if hit.distance >= r - self.opts.accuracy {
             return None;
         }
-        let fourth = Segment::Face(f);
+        let Some((fourth, s4)) = self.hit_segment(f, &hit, v3(xn)) else {
+            let why = format!(
+                "{:?} comes closer than r (vertex segments are not traced yet)",
+                hit.on
+            );
+            return Some((SeamEnd::Open(why), None));
+        };
         let far = (0..3).all(|i| {
             triplet[i] != fourth
                 || sys_point(self.model, fourth, slot(xn, i))
@@ -795,9 +1035,26 @@ impl Tracer<'_> {
         if !far {
             return None;
         }
-        let Some(jx) = self.locate_junction(triplet, x, fourth, hit.uv) else {
+        // A hit reported inside a face but next to one of its reflex edges (the trim test
+        // and the nearest-point search agree only to their tolerances) may be a touch of
+        // the edge: try it when the face has no junction.
+        let located = self
+            .locate_junction(triplet, x, fourth, s4)
+            .map(|jx| (fourth, jx))
+            .or_else(|| {
+                let Segment::Face(f) = fourth else {
+                    return None;
+                };
+                let (e, te) = self.nearest_edge_of_face(f, hit.point)?;
+                let edge = Segment::Edge(e);
+                (self.is_reflex(e) && !triplet.contains(&edge))
+                    .then(|| self.locate_junction(triplet, x, edge, [te, 0.0]))
+                    .flatten()
+                    .map(|jx| (edge, jx))
+            });
+        let Some((fourth, jx)) = located else {
             let why = format!(
-                "{} comes closer than r, but no junction with it on the faces (an edge or vertex segment is needed)",
+                "{} comes closer than r, but no junction with it on the segments",
                 fourth.id()
             );
             return Some((SeamEnd::Open(why), None));
@@ -809,6 +1066,28 @@ impl Tracer<'_> {
         self.visited
             .insert((sorted(*triplet), SeamEnd::Junction(id)));
         Some((SeamEnd::Junction(id), Some(jx)))
+    }
+
+    /// The segment a boundary hit of face `f` (from centre `b`) lies on, with its
+    /// parameters: the face itself, or the reflex edge the hit is on. `None` for a hit at a
+    /// vertex that is not convex (a vertex segment).
+    fn hit_segment(&self, f: usize, hit: &FaceHit, b: DVec3) -> Option<(Segment, [f64; 2])> {
+        match hit.on {
+            Feature::Edge(e, te) if self.is_reflex(e) => {
+                let n = (hit.point - b).normalize();
+                let th = crate::medial::equations::edge_angle(self.model, e, te, n)?;
+                Some((Segment::Edge(e), [te, th]))
+            }
+            Feature::Vertex(v)
+                if matches!(
+                    self.class.vertices[v],
+                    VertexKind::Reflex | VertexKind::Mixed
+                ) =>
+            {
+                None
+            }
+            _ => Some((Segment::Face(f), [hit.uv.0, hit.uv.1])),
+        }
     }
 
     fn seam_point(&mut self, sys: &MedialSystem, x: &DVector<f64>) -> SeamPoint {
@@ -826,18 +1105,26 @@ impl Tracer<'_> {
     }
 
     /// Solves the 4-segment system from the seam point `x` (before the crossing), starting
-    /// the fourth segment at the foot of `x` near `uv` (where the crossing was seen).
+    /// the fourth segment at the foot of `x` near `s4` (where the crossing was seen).
     fn locate_junction(
         &self,
         triplet: &[Segment; 3],
         x: &DVector<f64>,
         fourth: Segment,
-        uv: (f64, f64),
+        s4: [f64; 2],
     ) -> Option<DVector<f64>> {
-        let Segment::Face(f) = fourth;
         let b = v3(x);
-        let hint = uv.0.is_finite().then_some(uv);
-        let uv = project_point(&self.model.faces[f].surface, b, hint).or(hint)?;
+        let uv = match fourth {
+            Segment::Face(f) => {
+                let hint = s4[0].is_finite().then_some((s4[0], s4[1]));
+                project_point(&self.model.faces[f].surface, b, hint).or(hint)?
+            }
+            Segment::Edge(e) => {
+                let (te, q, d) = crate::geom::nearest_on_edge(self.model, e, b, Some(s4[0]));
+                let th = crate::medial::equations::edge_angle(self.model, e, te, (q - b) / d)?;
+                (te, th)
+            }
+        };
         let mut segs = triplet.to_vec();
         segs.push(fourth);
         let sys = MedialSystem::new(segs);
@@ -858,11 +1145,7 @@ impl Tracer<'_> {
         }
         // Every touch point must lie on its face: a ball touching a face's extension beyond
         // its edges is not a junction (the event there involves an edge or a vertex).
-        let on_faces = sys.segments.iter().enumerate().all(|(i, seg)| {
-            let Segment::Face(f) = *seg;
-            let s = slot(&sol.x, i);
-            crate::geom::trim::contains(&self.model.faces[f], glam::DVec2::new(s[0], s[1]))
-        });
+        let on_faces = (0..4).all(|i| self.on_segment(sys.segments[i], slot(&sol.x, i)));
         // Two touch points on one face must be two places, not the same one found twice.
         let r = sol.x[3];
         let distinct = (0..3).all(|i| {
@@ -906,18 +1189,30 @@ impl Tracer<'_> {
         let mut params: Vec<(f64, f64)> = (0..4).map(|i| (jx[4 + 2 * i], jx[5 + 2 * i])).collect();
         // Other faces touching the same ball (non-generic junctions).
         for f in self.boundary.within(self.model, p, r + tol) {
-            if segs.contains(&Segment::Face(f)) || self.face_solid[f] != solid {
+            if self.face_solid[f] != solid {
                 continue;
             }
             let hit = self
                 .boundary
                 .nearest_on_face(self.model, f, p, None, f64::INFINITY);
-            if let Some(hit) = hit {
-                // Touching to the output accuracy (the junction itself is solved far
-                // tighter), so every touch point reported is within it.
-                if (hit.distance - r).abs() <= self.opts.accuracy {
-                    segs.push(Segment::Face(f));
-                    params.push(hit.uv);
+            // Touching to the output accuracy (the junction itself is solved far tighter),
+            // so every touch point reported is within it; a hit on a face's convex edge is
+            // not a touch of that face.
+            let Some(hit) = hit.filter(|h| (h.distance - r).abs() <= self.opts.accuracy) else {
+                continue;
+            };
+            let seg = match hit.on {
+                Feature::Face(_) => Some((Segment::Face(f), (hit.uv.0, hit.uv.1))),
+                Feature::Edge(..) => self
+                    .hit_segment(f, &hit, p)
+                    .filter(|(s, _)| matches!(s, Segment::Edge(_)))
+                    .map(|(s, q)| (s, (q[0], q[1]))),
+                Feature::Vertex(_) => None,
+            };
+            if let Some((seg, uv)) = seg {
+                if !segs.contains(&seg) && uv.0.is_finite() {
+                    segs.push(seg);
+                    params.push(uv);
                 }
             }
         }
