@@ -684,7 +684,17 @@ impl Tracer<'_> {
             // the edge it crossed (xn itself, off the segment, is not output).
             if let Some(i) = (0..3).find(|&i| !self.on_segment(triplet[i], slot(&xn, i))) {
                 match self.hand_over(&triplet, i, &x, &t, h) {
-                    Ok((to, xc)) => {
+                    Ok((to, xc, xnew)) => {
+                        // The crossing point must itself be medial: a junction may come first.
+                        if let Some((e, jx)) = self.junction_between(&triplet, solid, &x, &xc, &t)
+                        {
+                            if let Some(jx) = jx {
+                                points.push(self.seam_point(&sys, &jx.rows(0, 10).into_owned()));
+                            }
+                            end = e;
+                            break;
+                        }
+                        let xc = xnew;
                         handovers.push(Handover {
                             point: points.len(),
                             from: triplet[i].id(),
@@ -788,8 +798,9 @@ impl Tracer<'_> {
     /// then on the segment's boundary, and continues it on the neighbour there: across a
     /// smooth edge the next face; onto a reflex edge the edge (the normal is that face's
     /// normal, an end of the edge's arc); off a reflex edge's arc the face at that end.
-    /// Returns the new segment and the seam point solved for the new triplet, or why the
-    /// touch point cannot continue (a convex edge, an edge's end).
+    /// Returns the new segment, the crossing point (on the old triplet) and the same point
+    /// solved for the new triplet, or why the touch point cannot continue (a convex edge, an
+    /// edge's end).
     fn hand_over(
         &mut self,
         triplet: &[Segment; 3],
@@ -797,7 +808,7 @@ impl Tracer<'_> {
         x: &DVector<f64>,
         t: &DVector<f64>,
         h: f64,
-    ) -> Result<(Segment, DVector<f64>), String> {
+    ) -> Result<(Segment, DVector<f64>, DVector<f64>), String> {
         let acc = self.opts.accuracy;
         let sys = MedialSystem::new(triplet.to_vec());
         let (mut lo, mut hi) = (0.0, h);
@@ -888,10 +899,15 @@ impl Tracer<'_> {
             y,
             &self.solve_opts(),
         );
-        if sol.status != SolveStatus::Converged {
+        // The same ball, touching the new segment where the old one left off.
+        let same = sol.status == SolveStatus::Converged
+            && v3(&sol.x).distance(v3(&xc)) <= 1e3 * acc
+            && sys_point(self.model, to, slot(&sol.x, i))
+                .is_some_and(|q| q.distance(ev.p) <= 1e3 * acc);
+        if !same {
             return Err(format!("no seam point after handing {} to {}", seg.id(), to.id()));
         }
-        Ok((to, sol.x))
+        Ok((to, xc, sol.x))
     }
 
     /// The edge of face `f` nearest to `p`, with the curve parameter of the nearest point.
@@ -1013,28 +1029,39 @@ impl Tracer<'_> {
         xn: &DVector<f64>,
         t: &DVector<f64>,
     ) -> Option<(SeamEnd, Option<DVector<f64>>)> {
-        let r = xn[3];
-        let (f, hit) = self
-            .boundary
-            .nearest_face_where(self.model, v3(xn), |g| self.face_solid[g] == solid)?;
-        if hit.distance >= r - self.opts.accuracy {
-            return None;
+        let (mut f, mut hit) = self.intrusion(triplet, solid, xn)?;
+        // The first intrusion between x and xn (another feature may come closer than r
+        // before the one seen at xn): bisect the step.
+        let sys = MedialSystem::new(triplet.to_vec());
+        let h = t.dot(&(xn - x)) / t.dot(t);
+        let (mut lo, mut hi) = (0.0, h);
+        let mut x_lo = x.clone();
+        let mut x_hi = xn.clone();
+        for _ in 0..12 {
+            let mid = 0.5 * (lo + hi);
+            let Some((xm, _, _)) = self.step(&sys, x, t, mid) else {
+                break;
+            };
+            match self.intrusion(triplet, solid, &xm) {
+                Some((g, hg)) => {
+                    (f, hit) = (g, hg);
+                    hi = mid;
+                    x_hi = xm;
+                }
+                None => {
+                    lo = mid;
+                    x_lo = xm;
+                }
+            }
         }
-        let Some((fourth, s4)) = self.hit_segment(f, &hit, v3(xn)) else {
+        let x = &x_lo;
+        let Some((fourth, s4)) = self.hit_segment(f, &hit, v3(&x_hi)) else {
             let why = format!(
                 "{:?} comes closer than r (vertex segments are not traced yet)",
                 hit.on
             );
             return Some((SeamEnd::Open(why), None));
         };
-        let far = (0..3).all(|i| {
-            triplet[i] != fourth
-                || sys_point(self.model, fourth, slot(xn, i))
-                    .is_none_or(|p| p.distance(hit.point) > 0.05 * r)
-        });
-        if !far {
-            return None;
-        }
         // A hit reported inside a face but next to one of its reflex edges (the trim test
         // and the nearest-point search agree only to their tolerances) may be a touch of
         // the edge: try it when the face has no junction.
@@ -1052,6 +1079,12 @@ impl Tracer<'_> {
                     .flatten()
                     .map(|jx| (edge, jx))
             });
+        // The junction itself must be medial (nothing closer than its radius).
+        let located = located.filter(|(_, jx)| {
+            self.boundary
+                .nearest_face_where(self.model, v3(jx), |g| self.face_solid[g] == solid)
+                .is_some_and(|(_, h)| h.distance >= jx[3] - 10.0 * self.opts.accuracy)
+        });
         let Some((fourth, jx)) = located else {
             let why = format!(
                 "{} comes closer than r, but no junction with it on the segments",
@@ -1066,6 +1099,30 @@ impl Tracer<'_> {
         self.visited
             .insert((sorted(*triplet), SeamEnd::Junction(id)));
         Some((SeamEnd::Junction(id), Some(jx)))
+    }
+
+    /// The nearest boundary point of the solid to the seam point `y` when it is closer than
+    /// `r` and not next to a touch point on the same face (that is the curvature
+    /// criterion's business): the face it was found on and the hit.
+    fn intrusion(
+        &self,
+        triplet: &[Segment; 3],
+        solid: usize,
+        y: &DVector<f64>,
+    ) -> Option<(usize, FaceHit)> {
+        let r = y[3];
+        let (f, hit) = self
+            .boundary
+            .nearest_face_where(self.model, v3(y), |g| self.face_solid[g] == solid)?;
+        if hit.distance >= r - self.opts.accuracy {
+            return None;
+        }
+        let far = (0..3).all(|i| {
+            triplet[i] != Segment::Face(f)
+                || sys_point(self.model, triplet[i], slot(y, i))
+                    .is_none_or(|p| p.distance(hit.point) > 0.05 * r)
+        });
+        far.then_some((f, hit))
     }
 
     /// The segment a boundary hit of face `f` (from centre `b`) lies on, with its
