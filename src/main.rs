@@ -113,7 +113,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let mut report =
                 matrace::report::TraceReport::new(&model, &class, &mat, opts.accuracy, seconds);
             let verification = verify.then(|| matrace::medial::verify(&model, &boundary, &mat));
-            report.stats.verification = verification;
+            report.stats.verification = verification.clone();
             std::fs::create_dir_all(&out).map_err(|e| {
                 anyhow::anyhow!("{}: cannot create output folder: {e}", out.display())
             })?;
@@ -143,9 +143,10 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             );
             if let Some(v) = verification {
                 println!(
-                    "verified {} balls: worst error {:.2e} mm (distance {:.2e}, touch {:.2e}, touch off boundary {:.2e}; accuracy {:.2e})",
+                    "verified {} balls: worst error {:.2e} mm{} (distance {:.2e}, touch {:.2e}, touch off boundary {:.2e}; accuracy {:.2e})",
                     v.balls,
                     v.worst(),
+                    v.worst_at.as_deref().map(|a| format!(" at {a}")).unwrap_or_default(),
                     v.worst_distance_error,
                     v.worst_touch_error,
                     v.worst_touch_off_boundary,

@@ -684,6 +684,18 @@ impl Tracer<'_> {
             // the edge it crossed (xn itself, off the segment, is not output).
             if let Some(i) = (0..3).find(|&i| !self.on_segment(triplet[i], slot(&xn, i))) {
                 match self.hand_over(&triplet, i, &x, &t, h) {
+                    Ok((to, _, _))
+                        if handovers.last().is_some_and(|h: &Handover| {
+                            h.point + 1 >= points.len() && h.to == triplet[i].id() && h.from == to.id()
+                        }) =>
+                    {
+                        end = SeamEnd::Open(format!(
+                            "touch point oscillates between {} and {} (at a vertex: vertex segments are not traced yet)",
+                            triplet[i].id(),
+                            to.id()
+                        ));
+                        break;
+                    }
                     Ok((to, xc, xnew)) => {
                         // The crossing point must itself be medial: a junction may come first.
                         if let Some((e, jx)) = self.junction_between(&triplet, solid, &x, &xc, &t)

@@ -12,7 +12,7 @@ use crate::geom::Boundary;
 use glam::DVec3;
 
 /// Worst errors over a traced medial axis.
-#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+#[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct Verification {
     /// Balls checked (seam points and junctions).
     pub balls: usize,
@@ -22,6 +22,8 @@ pub struct Verification {
     pub worst_touch_error: f64,
     /// Worst distance of a touch point from the boundary.
     pub worst_touch_off_boundary: f64,
+    /// Where the worst of the three errors is: `seam S point K` or `junction J`.
+    pub worst_at: Option<String>,
 }
 
 impl Verification {
@@ -47,8 +49,9 @@ pub fn verify(model: &Model, boundary: &Boundary, mat: &Mat) -> Verification {
             .nearest_face_where(model, p, |f| face_solid[f] == solid)
             .map_or(f64::INFINITY, |(_, h)| h.distance)
     };
-    let mut ball = |solid: usize, centre: DVec3, r: f64, touch: &[[f64; 3]]| {
+    let mut ball = |at: &dyn Fn() -> String, solid: usize, centre: DVec3, r: f64, touch: &[[f64; 3]]| {
         v.balls += 1;
+        let before = v.worst();
         let d = nearest(centre, solid);
         v.worst_distance_error = v.worst_distance_error.max((d - r).abs());
         for t in touch {
@@ -57,10 +60,14 @@ pub fn verify(model: &Model, boundary: &Boundary, mat: &Mat) -> Verification {
             let off = nearest(t, solid);
             v.worst_touch_off_boundary = v.worst_touch_off_boundary.max(off);
         }
+        if v.worst() > before {
+            v.worst_at = Some(at());
+        }
     };
     for s in &mat.seams {
-        for p in &s.points {
+        for (k, p) in s.points.iter().enumerate() {
             ball(
+                &|| format!("seam {} point {k}", s.id),
                 s.solid,
                 DVec3::new(p.point[0], p.point[1], p.point[2]),
                 p.point[3],
@@ -69,7 +76,13 @@ pub fn verify(model: &Model, boundary: &Boundary, mat: &Mat) -> Verification {
         }
     }
     for j in &mat.junctions {
-        ball(j.solid, DVec3::from_array(j.point), j.radius, &j.touch);
+        ball(
+            &|| format!("junction {}", j.id),
+            j.solid,
+            DVec3::from_array(j.point),
+            j.radius,
+            &j.touch,
+        );
     }
     v
 }
