@@ -913,9 +913,9 @@ impl Tracer<'_> {
         );
         // The same ball, touching the new segment where the old one left off.
         let same = sol.status == SolveStatus::Converged
-            && v3(&sol.x).distance(v3(&xc)) <= 1e3 * acc
+            && v3(&sol.x).distance(v3(&xc)) <= 10.0 * acc
             && sys_point(self.model, to, slot(&sol.x, i))
-                .is_some_and(|q| q.distance(ev.p) <= 1e3 * acc);
+                .is_some_and(|q| q.distance(ev.p) <= 10.0 * acc);
         if !same {
             return Err(format!("no seam point after handing {} to {}", seg.id(), to.id()));
         }
