@@ -131,11 +131,12 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 })
                 .count();
             println!(
-                "{}: {} seams ({} open), {} junctions, {} points, {:.3} s, worst residual {:.2e} mm -> {}",
+                "{}: {} seams ({} open), {} junctions, {} degenerate, {} points, {:.3} s, worst residual {:.2e} mm -> {}",
                 part.display(),
                 mat.seams.len(),
                 open,
                 mat.junctions.len(),
+                mat.degenerate.len(),
                 mat.stats.points,
                 seconds,
                 mat.stats.worst_residual,

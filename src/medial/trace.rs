@@ -131,7 +131,24 @@ pub struct TraceStats {
 pub struct Mat {
     pub seams: Vec<Seam>,
     pub junctions: Vec<Junction>,
+    /// Degenerate parts of the medial axis met while seeding: balls touching a face along a
+    /// curve or all over, whose centres form a curve or a point instead of a sheet.
+    pub degenerate: Vec<Degenerate>,
     pub stats: TraceStats,
+}
+
+/// A degenerate piece of the medial axis (a cylinder's axis, a sphere's centre, a torus's
+/// core circle): maximal balls that touch `segments` along a continuum, found by sampling.
+/// Its centres are not traced as seams; `balls` are the sampled ones, each verified maximal.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Degenerate {
+    pub solid: usize,
+    /// `"curve"` (the centres of the touching balls move along a curve: the sheet between the
+    /// segments has collapsed to it) or `"point"` (one centre: the ball touches all around).
+    pub kind: String,
+    pub segments: Vec<String>,
+    /// Sampled balls `[x, y, z, r]`.
+    pub balls: Vec<[f64; 4]>,
 }
 
 /// A point near a seam to trace from in both directions: a ball found by sampling (solids
@@ -218,6 +235,8 @@ pub fn trace_with_seeds(
             .map(|f| model.shells[f.shell].solid)
             .collect(),
         junctions: vec![],
+        degenerate: vec![],
+        touched: vec![false; model.faces.len()],
         arrivals: vec![],
         seams: vec![],
         visited: HashSet::new(),
@@ -237,9 +256,11 @@ pub fn trace_with_seeds(
         t.trace_seed(seed);
         t.run_queue();
     }
+    t.seed_by_sampling();
     Mat {
         seams: t.seams,
         junctions: t.junctions,
+        degenerate: t.degenerate,
         stats: t.stats,
     }
 }
@@ -312,6 +333,9 @@ struct Tracer<'a> {
     /// The solid of each face.
     face_solid: Vec<usize>,
     junctions: Vec<Junction>,
+    degenerate: Vec<Degenerate>,
+    /// Faces some output seam point touches.
+    touched: Vec<bool>,
     /// Per junction: unit directions (leaving the junction) of the seams that arrived there,
     /// so a branch along an arrived seam (same curve, another triplet of a non-generic
     /// junction) is not traced again.
@@ -524,6 +548,175 @@ impl Tracer<'_> {
         (d.length() > 1e-9).then(|| d.normalize())
     }
 
+    /// Completes the trace beyond the paper (DESIGN.md, "Termination and completeness"): on
+    /// every face no seam touches yet, samples boundary points, grows the maximal ball at
+    /// each (shrinking from the inward normal until it touches elsewhere), and from the two
+    /// touches and the nearest third segment solves for a seam point to trace from. Balls
+    /// whose sheet has collapsed (a cylinder's axis, a sphere's centre) are reported as
+    /// [`Degenerate`] instead.
+    fn seed_by_sampling(&mut self) {
+        const GRID: usize = 4;
+        for f in 0..self.model.faces.len() {
+            let d = self.model.faces[f].domain;
+            for k in 0..GRID * GRID {
+                if self.touched[f] || self.seams.len() >= MAX_SEAMS {
+                    break;
+                }
+                let u = d.u.0 + (d.u.1 - d.u.0) * ((k % GRID) as f64 + 0.5) / GRID as f64;
+                let v = d.v.0 + (d.v.1 - d.v.0) * ((k / GRID) as f64 + 0.5) / GRID as f64;
+                if !self.on_segment(Segment::Face(f), [u, v]) {
+                    continue;
+                }
+                for seed in self.sample_seeds(f, [u, v]) {
+                    let before = self.seams.len();
+                    self.trace_seed(&seed);
+                    self.run_queue();
+                    if self.seams.len() > before {
+                        break;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The maximal ball touching face `f` at `s` and seeds from it (see
+    /// [`Self::seed_by_sampling`]): with the nearest third segment, or with one of the two
+    /// touched faces touched again (the foot on it nearest the point opposite the touch
+    /// across the ball). None when the ball is degenerate (then recorded).
+    fn sample_seeds(&mut self, f: usize, s: [f64; 2]) -> Vec<Seed> {
+        self.sample_ball(f, s).unwrap_or_default()
+    }
+
+    fn sample_ball(&mut self, f: usize, s: [f64; 2]) -> Option<Vec<Seed>> {
+        let solid = self.face_solid[f];
+        let diag = self.model.diagonal();
+        let ev = Segment::Face(f).eval(self.model, s)?;
+        let nearest = |b: DVec3| {
+            self.boundary
+                .nearest_face_where(self.model, b, |g| self.face_solid[g] == solid)
+        };
+        // Largest r with nothing closer than r to p − r·n: bisection.
+        let fits = |r: f64| nearest(ev.p - ev.n * r).is_some_and(|(_, h)| h.distance >= r * (1.0 - 1e-9));
+        let (mut lo, mut hi) = (0.0, diag);
+        for _ in 0..48 {
+            let mid = 0.5 * (lo + hi);
+            if fits(mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+            if hi - lo <= 1e-3 * self.opts.accuracy {
+                break;
+            }
+        }
+        let r = lo;
+        let b = ev.p - ev.n * r;
+        // The other touch: the nearest point just past the maximal ball, away from p.
+        let (g, hit) = nearest(ev.p - ev.n * hi)?;
+        if r <= 10.0 * self.opts.accuracy || hit.point.distance(ev.p) <= 1e-3 * r {
+            return None; // at a convex edge, or where the ball osculates the face
+        }
+        let (seg2, s2) = self.hit_segment(g, &hit, b)?;
+        let first = Segment::Face(f);
+        if self.collapsed(first, s, seg2, s2, b, r) {
+            return None;
+        }
+        let mut thirds = vec![];
+        if let Some((k, hit3)) = self.boundary.nearest_face_where(self.model, b, |h| {
+            self.face_solid[h] == solid && h != f && Segment::Face(h) != seg2
+        }) {
+            thirds.extend(self.hit_segment(k, &hit3, b));
+        }
+        for (seg, touch) in [(first, ev.p), (seg2, hit.point)] {
+            if let Segment::Face(h) = seg {
+                let opposite = b * 2.0 - touch;
+                if let Some(uv) = project_point(&self.model.faces[h].surface, opposite, None) {
+                    thirds.push((seg, [uv.0, uv.1]));
+                }
+            }
+        }
+        Some(
+            thirds
+                .into_iter()
+                .map(|(seg3, s3)| {
+                    Seed::new(
+                        [first, seg2, seg3],
+                        b,
+                        r,
+                        [(s[0], s[1]), (s2[0], s2[1]), (s3[0], s3[1])],
+                    )
+                })
+                .collect(),
+        )
+    }
+
+    /// True (and recorded as [`Degenerate`]) when the sheet of balls touching `a` at `sa` and
+    /// `b` at `sb` has collapsed at centre `c`, radius `r`: the directions in which the two
+    /// touch points can move together (the null space of the 2-segment Jacobian, 6 × 8) move
+    /// the centre along fewer than two dimensions.
+    fn collapsed(&mut self, a: Segment, sa: [f64; 2], b: Segment, sb: [f64; 2], c: DVec3, r: f64) -> bool {
+        let sys = MedialSystem::new(vec![a, b]);
+        let mut x = DVector::zeros(8);
+        x[0] = c.x;
+        x[1] = c.y;
+        x[2] = c.z;
+        x[3] = r;
+        x[4] = sa[0];
+        x[5] = sa[1];
+        x[6] = sb[0];
+        x[7] = sb[1];
+        let Some((_, j)) = sys.eval(self.model, &x) else {
+            return false;
+        };
+        let mut m = nalgebra::DMatrix::zeros(8, 8);
+        m.view_mut((0, 0), (6, 8)).copy_from(&j);
+        let svd = m.svd(false, true);
+        let Some(vt) = svd.v_t else {
+            return false;
+        };
+        let smax = svd.singular_values.max();
+        // The null space: right singular vectors of (near-)zero singular values.
+        let null: Vec<DVec3> = (0..8)
+            .filter(|&i| svd.singular_values[i] <= 1e-6 * smax)
+            .map(|i| DVec3::new(vt[(i, 0)], vt[(i, 1)], vt[(i, 2)]))
+            .collect();
+        let rank = match null.len() {
+            0 | 1 => return false,
+            _ => {
+                let big = null.iter().map(|v| v.length()).fold(0.0, f64::max);
+                let area = (0..null.len())
+                    .flat_map(|i| (i + 1..null.len()).map(move |k| (i, k)))
+                    .map(|(i, k)| null[i].cross(null[k]).length())
+                    .fold(0.0, f64::max);
+                if area > 1e-6 {
+                    return false;
+                }
+                usize::from(big > 1e-6)
+            }
+        };
+        let kind = if rank == 0 { "point" } else { "curve" };
+        let segments = vec![a.id(), b.id()];
+        let solid = self.solid_of(a);
+        let ball = [c.x, c.y, c.z, r];
+        match self
+            .degenerate
+            .iter_mut()
+            .find(|d| d.solid == solid && d.kind == kind && d.segments == segments)
+        {
+            Some(d) => d.balls.push(ball),
+            None => self.degenerate.push(Degenerate {
+                solid,
+                kind: kind.into(),
+                segments,
+                balls: vec![ball],
+            }),
+        }
+        if let Segment::Face(f) = a {
+            self.touched[f] = true;
+        }
+        true
+    }
+
     /// Refines `seed` onto its seam and, unless it is not a medial point or lies on a seam
     /// already traced, traces that seam both ways (queueing what its junctions lead to).
     fn trace_seed(&mut self, seed: &Seed) {
@@ -582,10 +775,25 @@ impl Tracer<'_> {
         let r = x[3];
         let solid = self.solid_of(triplet[0]);
         let on_faces = (0..3).all(|i| self.on_segment(triplet[i], slot(x, i)));
+        // A segment touched twice must be touched in two places, not once counted twice
+        // (that is a sheet point, where Newton also converges).
+        let distinct = (0..3).all(|i| {
+            (0..i).all(|j| {
+                triplet[i] != triplet[j]
+                    || match (
+                        sys_point(self.model, triplet[i], slot(x, i)),
+                        sys_point(self.model, triplet[j], slot(x, j)),
+                    ) {
+                        (Some(a), Some(b)) => a.distance(b) > 1e-3 * r,
+                        _ => false,
+                    }
+            })
+        });
         let nearest = self
             .boundary
             .nearest_face_where(self.model, v3(x), |g| self.face_solid[g] == solid);
         on_faces
+            && distinct
             && nearest.is_some_and(|(_, h)| h.distance >= r - self.opts.accuracy)
             && (0..3).all(|i| curvature_allows(self.model, triplet[i], slot(x, i), r))
     }
@@ -1160,6 +1368,11 @@ impl Tracer<'_> {
     }
 
     fn seam_point(&mut self, sys: &MedialSystem, x: &DVector<f64>) -> SeamPoint {
+        for seg in &sys.segments {
+            if let Segment::Face(f) = *seg {
+                self.touched[f] = true;
+            }
+        }
         if let Some(f) = sys.residual(self.model, x) {
             self.stats.worst_residual = self.stats.worst_residual.max(f.amax());
         }
