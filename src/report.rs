@@ -35,6 +35,66 @@ pub struct TraceReport {
 pub struct MatReport {
     pub seams: Vec<crate::medial::Seam>,
     pub junctions: Vec<crate::medial::Junction>,
+    pub degenerate: Vec<crate::medial::Degenerate>,
+    pub topology: TopologyReport,
+}
+
+/// Consistency of the seam–junction graph, next to the solid's Euler characteristic (the
+/// MAT's own needs its sheets, which come with the outputs issue).
+#[derive(Clone, Debug, Serialize)]
+pub struct TopologyReport {
+    /// `V − E + F` of the B-rep as read (counting the file's vertices, edges and faces).
+    pub solid_euler: i64,
+    /// Junctions plus convex vertices where seams end.
+    pub graph_nodes: usize,
+    /// Seams (a closed seam counts as one edge with one node of its own).
+    pub graph_edges: usize,
+    /// Seam ends that are not a vertex, a junction, a closed loop or a curvature limit.
+    pub open_ends: usize,
+    /// Generic junctions (4 segments) that do not have exactly 4 seam ends, and seam ends
+    /// naming a junction that does not exist: both would be tracer bugs.
+    pub inconsistencies: Vec<String>,
+}
+
+impl TopologyReport {
+    /// Checks the graph of `mat` against `model`.
+    pub fn new(model: &Model, mat: &crate::medial::Mat) -> TopologyReport {
+        use crate::medial::SeamEnd;
+        let mut ends_at = vec![0usize; mat.junctions.len()];
+        let mut vertices = std::collections::BTreeSet::new();
+        let mut inconsistencies = vec![];
+        let mut open_ends = 0;
+        let mut closed = 0;
+        for s in &mat.seams {
+            for e in &s.ends {
+                match e {
+                    SeamEnd::Junction(j) if *j < ends_at.len() => ends_at[*j] += 1,
+                    SeamEnd::Junction(j) => {
+                        inconsistencies.push(format!("seam {} ends at missing junction {j}", s.id))
+                    }
+                    SeamEnd::Vertex(v) => {
+                        vertices.insert(*v);
+                    }
+                    SeamEnd::Open(_) => open_ends += 1,
+                    SeamEnd::Closed => closed += 1,
+                    SeamEnd::CurvatureLimit { .. } => {}
+                }
+            }
+        }
+        for (j, n) in ends_at.iter().enumerate() {
+            if mat.junctions[j].segments.len() == 4 && *n != 4 {
+                inconsistencies.push(format!("junction {j} (4 segments) has {n} seam ends"));
+            }
+        }
+        TopologyReport {
+            solid_euler: model.vertices.len() as i64 - model.edges.len() as i64
+                + model.faces.len() as i64,
+            graph_nodes: mat.junctions.len() + vertices.len() + closed / 2,
+            graph_edges: mat.seams.len(),
+            open_ends,
+            inconsistencies,
+        }
+    }
 }
 
 /// The `stats` object.
@@ -72,6 +132,8 @@ impl TraceReport {
             mat: MatReport {
                 seams: mat.seams.clone(),
                 junctions: mat.junctions.clone(),
+                degenerate: mat.degenerate.clone(),
+                topology: TopologyReport::new(model, mat),
             },
             stats: StatsReport {
                 seconds,
