@@ -14,8 +14,7 @@ pub mod verify;
 pub use equations::{FieldEval, MedialSystem, Segment};
 pub use solver::{solve, Solution, SolveOptions, SolveStatus};
 pub use trace::{
-    trace, trace_with_boundary, trace_with_seeds, Degenerate, Handover, Junction, Mat, Seam, SeamEnd,
-    SeamPoint, Seed,
-    TraceOptions,
+    trace, trace_with_boundary, trace_with_seeds, Degenerate, Handover, Junction, Mat, Seam,
+    SeamEnd, SeamPoint, Seed, TraceOptions,
 };
 pub use verify::{verify, Verification};

@@ -160,7 +160,9 @@ mod tests {
         x.rows_mut(0, 3).copy_from_slice(&b);
         x[3] = r;
         for (i, seg) in sys.segments.iter().enumerate() {
-            let Segment::Face(f) = *seg;
+            let Segment::Face(f) = *seg else {
+                panic!("test starts are built on faces");
+            };
             let d = m.faces[f].domain;
             let (a, c) = frac(i);
             x[4 + 2 * i] = d.u.0 + a * (d.u.1 - d.u.0);

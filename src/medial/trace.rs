@@ -596,7 +596,8 @@ impl Tracer<'_> {
                 .nearest_face_where(self.model, b, |g| self.face_solid[g] == solid)
         };
         // Largest r with nothing closer than r to p − r·n: bisection.
-        let fits = |r: f64| nearest(ev.p - ev.n * r).is_some_and(|(_, h)| h.distance >= r * (1.0 - 1e-9));
+        let fits =
+            |r: f64| nearest(ev.p - ev.n * r).is_some_and(|(_, h)| h.distance >= r * (1.0 - 1e-9));
         let (mut lo, mut hi) = (0.0, diag);
         for _ in 0..48 {
             let mid = 0.5 * (lo + hi);
@@ -654,7 +655,15 @@ impl Tracer<'_> {
     /// `b` at `sb` has collapsed at centre `c`, radius `r`: the directions in which the two
     /// touch points can move together (the null space of the 2-segment Jacobian, 6 × 8) move
     /// the centre along fewer than two dimensions.
-    fn collapsed(&mut self, a: Segment, sa: [f64; 2], b: Segment, sb: [f64; 2], c: DVec3, r: f64) -> bool {
+    fn collapsed(
+        &mut self,
+        a: Segment,
+        sa: [f64; 2],
+        b: Segment,
+        sb: [f64; 2],
+        c: DVec3,
+        r: f64,
+    ) -> bool {
         let sys = MedialSystem::new(vec![a, b]);
         let mut x = DVector::zeros(8);
         x[0] = c.x;
@@ -894,7 +903,9 @@ impl Tracer<'_> {
                 match self.hand_over(&triplet, i, &x, &t, h) {
                     Ok((to, _, _))
                         if handovers.last().is_some_and(|h: &Handover| {
-                            h.point + 1 >= points.len() && h.to == triplet[i].id() && h.from == to.id()
+                            h.point + 1 >= points.len()
+                                && h.to == triplet[i].id()
+                                && h.from == to.id()
                         }) =>
                     {
                         end = SeamEnd::Open(format!(
@@ -906,8 +917,7 @@ impl Tracer<'_> {
                     }
                     Ok((to, xc, xnew)) => {
                         // The crossing point must itself be medial: a junction may come first.
-                        if let Some((e, jx)) = self.junction_between(&triplet, solid, &x, &xc, &t)
-                        {
+                        if let Some((e, jx)) = self.junction_between(&triplet, solid, &x, &xc, &t) {
                             if let Some(jx) = jx {
                                 points.push(self.seam_point(&sys, &jx.rows(0, 10).into_owned()));
                             }
@@ -1125,7 +1135,11 @@ impl Tracer<'_> {
             && sys_point(self.model, to, slot(&sol.x, i))
                 .is_some_and(|q| q.distance(ev.p) <= 10.0 * acc);
         if !same {
-            return Err(format!("no seam point after handing {} to {}", seg.id(), to.id()));
+            return Err(format!(
+                "no seam point after handing {} to {}",
+                seg.id(),
+                to.id()
+            ));
         }
         Ok((to, xc, sol.x))
     }
@@ -1803,7 +1817,8 @@ mod tests {
             let boundary = Boundary::new(&m);
             let opts = TraceOptions::for_model(&m);
             let mat = trace_with_seeds(&m, &boundary, &class, &opts, &[seed]);
-            assert_eq!(mat.seams.len(), 1, "{file}");
+            // The seed's seam comes first; sampling then finds the bottom one.
+            assert_eq!(mat.seams.len(), 2, "{file}");
             let seam = &mat.seams[0];
             let diag = m.diagonal();
             for e in &seam.ends {
@@ -1856,5 +1871,287 @@ mod tests {
             }
             assert!(verify(&m, &mat) <= 1e-6 * diag, "{file}");
         }
+    }
+
+    /// No seam of `mat` has an open end, the seam–junction graph is consistent, and every
+    /// ball verifies to the default accuracy.
+    fn complete_and_verified(file: &str, m: &Model, mat: &Mat) {
+        for s in &mat.seams {
+            assert!(
+                s.ends.iter().all(|e| !matches!(e, SeamEnd::Open(_))),
+                "{file}: seam {} {:?} ends {:?}",
+                s.id,
+                s.segments,
+                s.ends
+            );
+        }
+        let topo = crate::report::TopologyReport::new(m, mat);
+        assert!(
+            topo.inconsistencies.is_empty(),
+            "{file}: {:?}",
+            topo.inconsistencies
+        );
+        let worst = verify(m, mat);
+        assert!(
+            worst <= 1e-6 * m.diagonal(),
+            "{file}: worst verified error {worst:e}"
+        );
+    }
+
+    /// The junction of `mat` nearest `p`, and its distance from `p`.
+    fn junction_near(mat: &Mat, p: DVec3) -> (&Junction, f64) {
+        mat.junctions
+            .iter()
+            .map(|j| (j, DVec3::from_array(j.point).distance(p)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap()
+    }
+
+    /// L-bracket (profile [0,60]×[0,10] ∪ [0,10]×[0,40] in xz, 30 deep in y; one reflex
+    /// edge E8 along x = 10, z = 10). Ten convex corners start ten seams. The four box-like
+    /// junctions are at the ends of the two legs, radius 5 (half the thickness):
+    /// (55, 5|25, 5) and (5, 5|25, 35). At the inner corner, the ball touching the bottom
+    /// z = 0, the back x = 0, a side y = 0|30 and the reflex edge has centre (c, c|30−c, c)
+    /// with √2·(10 − c) = c: c = 10·(2 − √2) = 5.858, radius c. Seams: 10 corner seams, one
+    /// along each leg between its two end junctions, one between the two inner-corner
+    /// junctions (bottom, back, edge), and four from the leg junctions to the inner ones,
+    /// each handing its touch point from the leg's inner face onto the reflex edge: 17.
+    #[test]
+    fn l_bracket_with_a_reflex_edge() {
+        for file in ["l_bracket.step", "l_bracket_nurbs.step"] {
+            let (m, mat) = traced(file);
+            assert_eq!(mat.seams.len(), 17, "{file}");
+            assert_eq!(mat.junctions.len(), 6, "{file}");
+            let c = 10.0 * (2.0 - 2f64.sqrt());
+            let diag = m.diagonal();
+            let want = [
+                ([55.0, 5.0, 5.0], 5.0),
+                ([55.0, 25.0, 5.0], 5.0),
+                ([5.0, 5.0, 35.0], 5.0),
+                ([5.0, 25.0, 35.0], 5.0),
+                ([c, c, c], c),
+                ([c, 30.0 - c, c], c),
+            ];
+            for (p, r) in want {
+                let (j, e) = junction_near(&mat, DVec3::from_array(p));
+                assert!(e <= 1e-9 * diag, "{file}: junction near {p:?} off by {e:e}");
+                assert!(
+                    (j.radius - r).abs() <= 1e-9 * diag,
+                    "{file}: radius {}",
+                    j.radius
+                );
+                if r == c {
+                    assert!(
+                        j.segments.iter().any(|s| s.starts_with('E')),
+                        "{file}: {:?}",
+                        j.segments
+                    );
+                }
+            }
+            let handed = mat.seams.iter().filter(|s| !s.handovers.is_empty()).count();
+            assert_eq!(handed, 4, "{file}");
+            complete_and_verified(file, &m, &mat);
+        }
+    }
+
+    /// U-channel (base [0,60]×[0,10], uprights x ∈ [0,10] and [50,60] up to z = 40, 30 deep;
+    /// two reflex edges): the L-bracket's inner-corner junctions at both inner corners,
+    /// (c | 60 − c, c | 30 − c, c) with c = 10·(2 − √2), and the box-like junctions at the
+    /// tops of the uprights, (5 | 55, 5 | 25, 35), radius 5. 12 corner seams, 2 up the
+    /// uprights' tops, 2 between the inner junctions across y, 2 along the base between
+    /// the inner corners (handing over from edge to the base's top face and onto the other
+    /// edge), 4 from the upright tops down to the inner corners: 22.
+    #[test]
+    fn u_channel_with_two_reflex_edges() {
+        let (m, mat) = traced("u_channel.step");
+        assert_eq!(mat.seams.len(), 22);
+        assert_eq!(mat.junctions.len(), 8);
+        let c = 10.0 * (2.0 - 2f64.sqrt());
+        let diag = m.diagonal();
+        for x in [c, 60.0 - c] {
+            for y in [c, 30.0 - c] {
+                let (j, e) = junction_near(&mat, DVec3::new(x, y, c));
+                assert!(e <= 1e-9 * diag && (j.radius - c).abs() <= 1e-9 * diag);
+            }
+        }
+        for x in [5.0, 55.0] {
+            for y in [5.0, 25.0] {
+                let (j, e) = junction_near(&mat, DVec3::new(x, y, 35.0));
+                assert!(e <= 1e-9 * diag && (j.radius - 5.0).abs() <= 1e-9 * diag);
+            }
+        }
+        complete_and_verified("u_channel.step", &m, &mat);
+    }
+
+    /// Plate [0,80]×[0,50]×[0,10] with through holes r = 5, 8, 5 at x = 15, 40, 65 (y = 25):
+    /// the box's 12 seams and 4 junctions (radius 5, half the thickness), plus around each
+    /// hole a closed seam (top, bottom, hole wall) no corner reaches — found by seeding:
+    /// the circle z = 5 at distance r_hole + 5 from the hole's axis, ball radius 5.
+    #[test]
+    fn plate_with_holes_has_a_closed_seam_around_each_hole() {
+        let (m, mat) = traced("plate_with_holes.step");
+        assert_eq!(mat.junctions.len(), 4);
+        assert_eq!(mat.seams.len(), 15);
+        let diag = m.diagonal();
+        let loops: Vec<&Seam> = mat
+            .seams
+            .iter()
+            .filter(|s| s.ends[0] == SeamEnd::Closed)
+            .collect();
+        assert_eq!(loops.len(), 3);
+        for s in loops {
+            let p0 = s.points[0].point;
+            let (cx, rh) = [(15.0, 5.0), (40.0, 8.0), (65.0, 5.0)]
+                .into_iter()
+                .min_by(|a, b| (a.0 - p0[0]).abs().total_cmp(&(b.0 - p0[0]).abs()))
+                .unwrap();
+            for q in &s.points {
+                let [x, y, z, r] = q.point;
+                let rho = ((x - cx).powi(2) + (y - 25.0).powi(2)).sqrt();
+                assert!(
+                    (rho - (rh + 5.0)).abs() <= 1e-6 * diag,
+                    "hole at {cx}: ρ = {rho}"
+                );
+                assert!((z - 5.0).abs() <= 1e-6 * diag && (r - 5.0).abs() <= 1e-6 * diag);
+            }
+        }
+        complete_and_verified("plate_with_holes.step", &m, &mat);
+    }
+
+    /// Solids without a convex corner. The elliptic cylinder's two seams (the ball touching
+    /// the lateral face twice and one cap) are found by seeding and end at the centres of
+    /// curvature x = ±22.5, r = 7.5 (see the seed test). The washer from OpenSCAD (inner
+    /// radius 15, outer 25, height 8) has two closed seams, the circles of radius 19 and 21
+    /// at z = 4, ball radius 4 (manifest). Cylinder, sphere and torus have degenerate medial
+    /// axes, reported as such: the cylinder's axis (x = y = 0, r = 10), the sphere's centre
+    /// (r = 15), the torus's core circle (x² + y² = 20², z = 0, r = 5).
+    #[test]
+    fn solids_without_convex_corners() {
+        for file in ["elliptic_cylinder.step", "elliptic_cylinder_nurbs.step"] {
+            let (m, mat) = traced(file);
+            assert_eq!(mat.seams.len(), 2, "{file}");
+            for s in &mat.seams {
+                assert!(
+                    s.ends
+                        .iter()
+                        .all(|e| matches!(e, SeamEnd::CurvatureLimit { .. })),
+                    "{file}: {:?}",
+                    s.ends
+                );
+                let ends = [s.points[0].point, s.points[s.points.len() - 1].point];
+                assert!(
+                    ends.iter()
+                        .all(|p| (p[0].abs() - 22.5).abs() <= 2e-5 * m.diagonal()),
+                    "{file}: {ends:?}"
+                );
+            }
+            complete_and_verified(file, &m, &mat);
+        }
+        let (m, mat) = traced("scad_rotate_extrude.step");
+        assert_eq!(mat.seams.len(), 2);
+        let mut radii: Vec<f64> = mat
+            .seams
+            .iter()
+            .map(|s| {
+                assert_eq!(s.ends, [SeamEnd::Closed, SeamEnd::Closed]);
+                let [x, y, z, r] = s.points[0].point;
+                assert!(
+                    (z - 4.0).abs() <= 1e-6 * m.diagonal()
+                        && (r - 4.0).abs() <= 1e-6 * m.diagonal()
+                );
+                (x * x + y * y).sqrt()
+            })
+            .collect();
+        radii.sort_by(f64::total_cmp);
+        assert!(
+            (radii[0] - 19.0).abs() <= 1e-6 * m.diagonal()
+                && (radii[1] - 21.0).abs() <= 1e-6 * m.diagonal(),
+            "{radii:?}"
+        );
+        complete_and_verified("scad_rotate_extrude.step", &m, &mat);
+        type Check = fn([f64; 4]) -> f64;
+        let cases: [(&str, &str, Check); 5] = [
+            ("cylinder.step", "curve", |b| {
+                b[0].hypot(b[1]) + (b[3] - 10.0).abs()
+            }),
+            ("cylinder_nurbs.step", "curve", |b| {
+                b[0].hypot(b[1]) + (b[3] - 10.0).abs()
+            }),
+            ("sphere.step", "point", |b| {
+                DVec3::new(b[0], b[1], b[2]).length() + (b[3] - 15.0).abs()
+            }),
+            ("sphere_nurbs.step", "point", |b| {
+                DVec3::new(b[0], b[1], b[2]).length() + (b[3] - 15.0).abs()
+            }),
+            ("torus.step", "curve", |b| {
+                (b[0].hypot(b[1]) - 20.0).abs() + b[2].abs() + (b[3] - 5.0).abs()
+            }),
+        ];
+        for (file, kind, err) in cases {
+            let (m, mat) = traced(file);
+            assert!(mat.seams.is_empty(), "{file}");
+            assert!(!mat.degenerate.is_empty(), "{file}");
+            for d in &mat.degenerate {
+                assert_eq!(d.kind, kind, "{file}");
+                for b in &d.balls {
+                    assert!(err(*b) <= 1e-6 * m.diagonal(), "{file}: {b:?}");
+                }
+            }
+            assert!(verify(&m, &mat) <= 1e-6 * m.diagonal(), "{file}");
+        }
+    }
+
+    /// Two solids in one file: the box [0,30]×[0,20]×[0,10] gets the box's MAT (junctions
+    /// (5|25, 5|15, 5), radius 5) computed against its own faces only; the cylinder beside it
+    /// (radius 5) gets its degenerate axis, as solid 1.
+    #[test]
+    fn each_solid_gets_its_own_medial_axis() {
+        let (m, mat) = traced("two_solids.step");
+        assert_eq!(mat.seams.len(), 12);
+        assert!(mat.seams.iter().all(|s| s.solid == 0));
+        for x in [5.0, 25.0] {
+            for y in [5.0, 15.0] {
+                let (j, e) = junction_near(&mat, DVec3::new(x, y, 5.0));
+                assert!(e <= 1e-9 * m.diagonal() && j.solid == 0);
+            }
+        }
+        assert!(mat
+            .degenerate
+            .iter()
+            .any(|d| d.solid == 1 && d.kind == "curve"));
+        complete_and_verified("two_solids.step", &m, &mat);
+    }
+
+    /// Box [0,60]×[0,40]×[0,30] with a spherical void (radius 8 at the centre (30,20,15)):
+    /// the void is part of the boundary. The part is symmetric in x = 30 and y = 20, and so
+    /// is its traced MAT: every junction has its mirror images, at the same radius.
+    #[test]
+    fn box_with_a_void() {
+        let (m, mat) = traced("box_with_void.step");
+        let diag = m.diagonal();
+        assert!(mat.junctions.len() >= 8);
+        for j in &mat.junctions {
+            let p = DVec3::from_array(j.point);
+            for q in [
+                DVec3::new(60.0 - p.x, p.y, p.z),
+                DVec3::new(p.x, 40.0 - p.y, p.z),
+            ] {
+                let (k, e) = junction_near(&mat, q);
+                assert!(
+                    e <= 1e-6 * diag && (k.radius - j.radius).abs() <= 1e-6 * diag,
+                    "no mirror of {p}"
+                );
+            }
+        }
+        assert!(
+            mat.junctions
+                .iter()
+                .any(|j| j.touch.iter().any(|t| (DVec3::from_array(*t)
+                    - DVec3::new(30.0, 20.0, 15.0))
+                .length()
+                    <= 8.0 + 1e-6)),
+            "no junction touches the void"
+        );
+        complete_and_verified("box_with_void.step", &m, &mat);
     }
 }

@@ -49,21 +49,22 @@ pub fn verify(model: &Model, boundary: &Boundary, mat: &Mat) -> Verification {
             .nearest_face_where(model, p, |f| face_solid[f] == solid)
             .map_or(f64::INFINITY, |(_, h)| h.distance)
     };
-    let mut ball = |at: &dyn Fn() -> String, solid: usize, centre: DVec3, r: f64, touch: &[[f64; 3]]| {
-        v.balls += 1;
-        let before = v.worst();
-        let d = nearest(centre, solid);
-        v.worst_distance_error = v.worst_distance_error.max((d - r).abs());
-        for t in touch {
-            let t = DVec3::from_array(*t);
-            v.worst_touch_error = v.worst_touch_error.max((t.distance(centre) - r).abs());
-            let off = nearest(t, solid);
-            v.worst_touch_off_boundary = v.worst_touch_off_boundary.max(off);
-        }
-        if v.worst() > before {
-            v.worst_at = Some(at());
-        }
-    };
+    let mut ball =
+        |at: &dyn Fn() -> String, solid: usize, centre: DVec3, r: f64, touch: &[[f64; 3]]| {
+            v.balls += 1;
+            let before = v.worst();
+            let d = nearest(centre, solid);
+            v.worst_distance_error = v.worst_distance_error.max((d - r).abs());
+            for t in touch {
+                let t = DVec3::from_array(*t);
+                v.worst_touch_error = v.worst_touch_error.max((t.distance(centre) - r).abs());
+                let off = nearest(t, solid);
+                v.worst_touch_off_boundary = v.worst_touch_off_boundary.max(off);
+            }
+            if v.worst() > before {
+                v.worst_at = Some(at());
+            }
+        };
     for s in &mat.seams {
         for (k, p) in s.points.iter().enumerate() {
             ball(
@@ -72,6 +73,17 @@ pub fn verify(model: &Model, boundary: &Boundary, mat: &Mat) -> Verification {
                 DVec3::new(p.point[0], p.point[1], p.point[2]),
                 p.point[3],
                 &p.touch,
+            );
+        }
+    }
+    for (i, d) in mat.degenerate.iter().enumerate() {
+        for (k, b) in d.balls.iter().enumerate() {
+            ball(
+                &|| format!("degenerate {i} ball {k}"),
+                d.solid,
+                DVec3::new(b[0], b[1], b[2]),
+                b[3],
+                &[],
             );
         }
     }
