@@ -7,7 +7,9 @@ For every junction and every N-th seam point (plus each seam's ends) it checks, 
     convex vertex may be ON);
   * its distance to the boundary (the shells, BRepExtrema_DistShapeShape) equals r;
   * each reported touch point lies on the boundary, at distance r from the centre, and the touch
-    points lie on at least 3 (seam) / 4 (junction) distinct faces.
+    points are at least 3 (seam) / 4 (junction) distinct places (a ball may touch one face
+    twice, or a reflex edge shared by two faces).
+Degenerate balls (a cylinder's axis, a sphere's centre) are checked for the first two.
 Lengths are in mm; the STEP reader converts units the same way matrace does. The tolerance
 defaults to 1e-6 x the model's bounding-box diagonal plus 1e-7 mm (OCCT's own precision).
 Prints one line per failure and a summary; exit status 1 when anything fails.
@@ -26,7 +28,7 @@ from OCP.BRepExtrema import BRepExtrema_DistShapeShape
 from OCP.gp import gp_Pnt
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.STEPControl import STEPControl_Reader
-from OCP.TopAbs import TopAbs_FACE, TopAbs_IN, TopAbs_ON, TopAbs_SHELL
+from OCP.TopAbs import TopAbs_IN, TopAbs_ON, TopAbs_SHELL
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS_Compound
 
@@ -73,7 +75,6 @@ def main():
 
     shape = read_step(a.step)
     shells = compound(collect(shape, TopAbs_SHELL))
-    faces = collect(shape, TopAbs_FACE)
     box = Bnd_Box()
     BRepBndLib.Add_s(shape, box)
     lo, hi = box.CornerMin(), box.CornerMax()
@@ -98,7 +99,7 @@ def main():
         d = dist(v, shells)
         if abs(d - r) > tol:
             failures.append(f"{what}: distance to boundary {d:.9g}, r = {r:.9g}")
-        on = set()
+        places = []
         for t in touch:
             tv = vertex(t)
             if dist(tv, shells) > tol:
@@ -106,14 +107,18 @@ def main():
             dc = sum((t[k] - centre[k]) ** 2 for k in range(3)) ** 0.5
             if abs(dc - r) > tol:
                 failures.append(f"{what}: touch point {t} at {dc:.9g} from the centre, r = {r:.9g}")
-            for i, f in enumerate(faces):
-                if dist(tv, f) <= tol:
-                    on.add(i)
-        if r > tol and len(on) < need:
-            failures.append(f"{what}: touches {len(on)} faces, needs {need}")
+            # Distinct places: a ball may touch one face twice, or a reflex edge between two.
+            sep = max(10 * tol, 1e-4 * r)
+            if all(sum((t[k] - q[k]) ** 2 for k in range(3)) ** 0.5 > sep for q in places):
+                places.append(t)
+        if r > tol and need and len(places) < need:
+            failures.append(f"{what}: touches {len(places)} places, needs {need}")
 
     for j in mat["junctions"]:
         check(f"junction {j['id']}", j["point"], j["radius"], j["touch"], 4)
+    for i, d in enumerate(mat.get("degenerate", [])):
+        for k, b in enumerate(d["balls"]):
+            check(f"degenerate {i} ball {k}", b[:3], b[3], [], 0)
     for s in mat["seams"]:
         pts = s["points"]
         picks = sorted(set(list(range(0, len(pts), max(1, a.every))) + [len(pts) - 1]))

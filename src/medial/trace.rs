@@ -925,6 +925,14 @@ impl Tracer<'_> {
                             break;
                         }
                         let xc = xnew;
+                        if self.coincident(&new_triplet(&triplet, i, to), &xc, true) {
+                            end = SeamEnd::Open(format!(
+                                "two touch points coincide after handing {} to {}",
+                                triplet[i].id(),
+                                to.id()
+                            ));
+                            break;
+                        }
                         handovers.push(Handover {
                             point: points.len(),
                             from: triplet[i].id(),
@@ -983,6 +991,12 @@ impl Tracer<'_> {
                         })
                 })
             };
+            // Two different segments touched at one place (where a face meets its edge): the
+            // ball touches fewer than three places, so the point is no seam point.
+            if self.coincident(&triplet, &xn, false) {
+                end = SeamEnd::Open("two touch points coincide (a degenerate seam point)".into());
+                break;
+            }
             if let Some(i) = poked(&xn) {
                 // Bisect the arclength from x to where the ball osculates, to the accuracy.
                 let (mut lo, mut hi) = (0.0, h);
@@ -1021,6 +1035,20 @@ impl Tracer<'_> {
             triplet,
             handovers,
         }
+    }
+
+    /// True when two touch points of the seam point `x` are one place (closer than 1e-4·r):
+    /// for different segments always, for a segment touched twice only with `same` (a
+    /// merging pair on one face is otherwise the curvature limit's business).
+    fn coincident(&self, triplet: &[Segment; 3], x: &DVector<f64>, same: bool) -> bool {
+        let p: [Option<DVec3>; 3] =
+            std::array::from_fn(|i| sys_point(self.model, triplet[i], slot(x, i)));
+        (0..3).any(|i| {
+            (0..i).any(|j| {
+                (same || triplet[i] != triplet[j])
+                    && matches!((p[i], p[j]), (Some(a), Some(b)) if a.distance(b) <= 1e-4 * x[3])
+            })
+        })
     }
 
     /// Hands touch point `i` over to the next segment: finds (by bisecting the step `h` from
@@ -1566,6 +1594,13 @@ impl Tracer<'_> {
         }
         id
     }
+}
+
+/// `triplet` with slot `i` replaced by `to`.
+fn new_triplet(triplet: &[Segment; 3], i: usize, to: Segment) -> [Segment; 3] {
+    let mut t = *triplet;
+    t[i] = to;
+    t
 }
 
 /// The point of segment `seg` at parameters `s`.
