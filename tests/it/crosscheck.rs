@@ -1,64 +1,152 @@
-//! The independent cross-check (DESIGN.md, "Verification"): trace the samples whose MAT the
-//! first tracer covers, then let OpenCASCADE (scripts/ocp/crosscheck_mat.py, the OCP venv,
-//! no code shared with matrace) check every junction and sampled seam points: inside the
-//! solid, at distance r from the boundary, touching ≥ 3 (≥ 4) faces. Needs `.venv-ocp`
-//! (`.ci/run` creates it); without it the test says so and passes, except under CI.
+//! Completeness and the independent cross-check (DESIGN.md, "Verification"), on every
+//! reference sample and every part of the real-world corpus: `trace --verify` must exit 0
+//! with no open seam end and a consistent seam–junction graph, and OpenCASCADE
+//! (scripts/ocp/crosscheck_mat.py, the OCP venv, no code shared with matrace) must accept
+//! every junction, every degenerate ball and sampled seam points: inside the solid, at
+//! distance r from the boundary, touching ≥ 3 (≥ 4) places.
+//!
+//! Parts that do not pass yet are listed in [`EXPECTED_FAILURES`] with the reason; the test
+//! fails when an unlisted part fails and when a listed part passes (take it off the list).
+//! Without `.venv-ocp` the OCCT half is skipped (and CI, which creates it, refuses to skip).
 
-use crate::common::{matrace, root, sample};
+use crate::common::{matrace, realworld_dir, root};
+use std::path::PathBuf;
 
-#[test]
-fn traced_samples_pass_the_opencascade_crosscheck() {
+const VERTEX_SEGMENTS: &str = "touch points reach reflex or mixed vertices, which are not \
+    boundary segments yet, so those seams end open; some 4-segment junctions get a fifth seam end";
+
+/// Parts known not to pass, and why.
+const EXPECTED_FAILURES: &[(&str, &str)] = &[
+    (
+        "filleted_box.step",
+        "the 8 corner seams stop where their touch points reach the spherical corner patches: \
+         handing over onto a patch finds no seam point (they should end at the patch centres)",
+    ),
+    (
+        "b3d_M6-1x12-countersunk-screw.step",
+        "verification fails: touch points up to 0.09 mm off the degree-13 B-spline thread \
+         faces; open seam ends at reflex and mixed vertices",
+    ),
+    ("stepswift_nist_ctc_01_asme1_rd.stp", VERTEX_SEGMENTS),
+    ("stepswift_nist_ftc_06_asme1_rd.stp", VERTEX_SEGMENTS),
+    ("stepswift_nist_ftc_09_asme1_rd.stp", VERTEX_SEGMENTS),
+    ("trimesh_featuretype.STEP", VERTEX_SEGMENTS),
+];
+
+/// Every STEP file of the samples and of the corpus.
+fn parts() -> Vec<PathBuf> {
+    let mut dirs = vec![root().join("samples")];
+    dirs.extend(realworld_dir());
+    let mut parts: Vec<PathBuf> = dirs
+        .iter()
+        .flat_map(|d| std::fs::read_dir(d).unwrap())
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| matches!(e.to_ascii_lowercase().as_str(), "step" | "stp"))
+        })
+        .collect();
+    parts.sort();
+    parts
+}
+
+/// Why `part` does not pass, or `None` when it does.
+fn failure(part: &std::path::Path, out_dir: &std::path::Path) -> Option<String> {
+    let out = matrace(
+        &[
+            "trace",
+            part.to_str().unwrap(),
+            "-o",
+            out_dir.to_str().unwrap(),
+            "--verify",
+        ],
+        &root(),
+    );
+    let mut why = vec![];
+    if !out.status.success() {
+        why.push(format!(
+            "trace --verify exit {:?}: {}",
+            out.status.code(),
+            String::from_utf8_lossy(&out.stderr).trim()
+        ));
+    }
+    let stem = part.file_stem().unwrap().to_str().unwrap();
+    let report = out_dir.join(format!("{stem}.mat.json"));
+    let Ok(text) = std::fs::read_to_string(&report) else {
+        why.push("no report".into());
+        return Some(why.join("; "));
+    };
+    let json: serde_json::Value = serde_json::from_str(&text).expect("report is JSON");
+    let topo = &json["mat"]["topology"];
+    let open = topo["open_ends"].as_u64().expect("open_ends");
+    if open > 0 {
+        why.push(format!("{open} open seam ends"));
+    }
+    let bad = topo["inconsistencies"].as_array().expect("inconsistencies");
+    if !bad.is_empty() {
+        why.push(format!("graph: {bad:?}"));
+    }
     let python = root().join(".venv-ocp/bin/python");
-    if !python.exists() {
+    if python.exists() {
+        let check = std::process::Command::new(&python)
+            .arg(root().join("scripts/ocp/crosscheck_mat.py"))
+            .arg(part)
+            .arg(&report)
+            .args(["--every", "10"])
+            .output()
+            .expect("run the OCP cross-check");
+        if !check.status.success() {
+            why.push(format!(
+                "OCCT cross-check: {}{}",
+                String::from_utf8_lossy(&check.stdout).trim(),
+                String::from_utf8_lossy(&check.stderr).trim()
+            ));
+        }
+    } else {
         assert!(
             std::env::var("CI").is_err(),
             "CI must create .venv-ocp (see .ci/run)"
         );
-        eprintln!(".venv-ocp missing: OpenCASCADE cross-check not run");
-        return;
     }
+    (!why.is_empty()).then(|| why.join("; "))
+}
+
+#[test]
+fn every_part_traces_completely_and_passes_the_opencascade_crosscheck() {
+    let parts = parts();
+    assert!(parts.len() >= 30, "only {} parts found", parts.len());
     let dir = tempfile::tempdir().unwrap();
-    let mut bad = vec![];
-    for name in [
-        "box",
-        "box_nurbs",
-        "box_inch",
-        "cube",
-        "tetrahedron",
-        "wedge",
-        "pyramid",
-        "box_bspline_top",
-        "moved_part",
-    ] {
-        let step = sample(&format!("{name}.step"));
-        let out = matrace(
-            &[
-                "trace",
-                step.to_str().unwrap(),
-                "-o",
-                dir.path().to_str().unwrap(),
-            ],
-            &root(),
-        );
-        assert!(
-            out.status.success(),
-            "{name}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let report = dir.path().join(format!("{name}.mat.json"));
-        let check = std::process::Command::new(&python)
-            .arg(root().join("scripts/ocp/crosscheck_mat.py"))
-            .arg(&step)
-            .arg(&report)
-            .output()
-            .expect("run the OCP cross-check");
-        if !check.status.success() {
-            bad.push(format!(
-                "{name}:\n{}{}",
-                String::from_utf8_lossy(&check.stdout),
-                String::from_utf8_lossy(&check.stderr)
-            ));
+    // Two workers (the OCCT check is single-threaded Python).
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let results = std::sync::Mutex::new(vec![None; parts.len()]);
+    std::thread::scope(|scope| {
+        for _ in 0..2 {
+            scope.spawn(|| loop {
+                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let Some(part) = parts.get(i) else { break };
+                let why = failure(part, dir.path());
+                results.lock().unwrap()[i] = Some(why);
+            });
+        }
+    });
+    let results = results.into_inner().unwrap();
+    let mut problems = vec![];
+    for (part, result) in parts.iter().zip(results) {
+        let name = part.file_name().unwrap().to_str().unwrap();
+        let expected = EXPECTED_FAILURES.iter().find(|(n, _)| *n == name);
+        match (result.expect("every part checked"), expected) {
+            (None, None) | (Some(_), Some(_)) => {}
+            (Some(why), None) => problems.push(format!("{name} fails: {why}")),
+            (None, Some(_)) => {
+                problems.push(format!("{name} passes now: take it off EXPECTED_FAILURES"))
+            }
         }
     }
-    assert!(bad.is_empty(), "{}", bad.join("\n"));
+    for (name, _) in EXPECTED_FAILURES {
+        if !parts.iter().any(|p| p.file_name().unwrap() == *name) {
+            problems.push(format!("{name} is listed but not found"));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
