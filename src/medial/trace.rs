@@ -180,6 +180,20 @@ struct Start {
     from: SeamEnd,
 }
 
+/// Why a touch point could not be handed over.
+enum HandOverError {
+    /// The ball osculates the next segment (touches it along a curve).
+    Osculates(Segment),
+    /// Anything else, said in words.
+    Stop(String),
+}
+
+impl From<String> for HandOverError {
+    fn from(why: String) -> Self {
+        HandOverError::Stop(why)
+    }
+}
+
 /// The points of one march along a seam and how it ended.
 struct Run {
     points: Vec<SeamPoint>,
@@ -952,8 +966,17 @@ impl Tracer<'_> {
                         t = tc;
                         continue;
                     }
-                    Err(why) => {
-                        end = SeamEnd::Open(why);
+                    Err((e, xc)) => {
+                        // The crossing point itself is a seam point when it is medial.
+                        if self.is_medial(&triplet, &xc) {
+                            points.push(self.seam_point(&sys, &xc));
+                        }
+                        end = match e {
+                            HandOverError::Osculates(seg) => {
+                                SeamEnd::CurvatureLimit { segment: seg.id() }
+                            }
+                            HandOverError::Stop(why) => SeamEnd::Open(why),
+                        };
                         break;
                     }
                 }
@@ -1066,7 +1089,7 @@ impl Tracer<'_> {
         x: &DVector<f64>,
         t: &DVector<f64>,
         h: f64,
-    ) -> Result<(Segment, DVector<f64>, DVector<f64>), String> {
+    ) -> Result<(Segment, DVector<f64>, DVector<f64>), (HandOverError, DVector<f64>)> {
         let acc = self.opts.accuracy;
         let sys = MedialSystem::new(triplet.to_vec());
         let (mut lo, mut hi) = (0.0, h);
@@ -1081,6 +1104,22 @@ impl Tracer<'_> {
                 _ => hi = mid,
             }
         }
+        match self.hand_over_at(triplet, i, &xc, t) {
+            Ok((to, xnew)) => Ok((to, xc, xnew)),
+            Err(e) => Err((e, xc)),
+        }
+    }
+
+    /// [`Self::hand_over`] at the crossing point `xc`.
+    fn hand_over_at(
+        &mut self,
+        triplet: &[Segment; 3],
+        i: usize,
+        xc: &DVector<f64>,
+        t: &DVector<f64>,
+    ) -> Result<(Segment, DVector<f64>), HandOverError> {
+        let acc = self.opts.accuracy;
+        let xc = xc.clone();
         let seg = triplet[i];
         let ev = seg
             .eval(self.model, slot(&xc, i))
@@ -1112,10 +1151,10 @@ impl Tracer<'_> {
                         (Segment::Face(g), [uv.0, uv.1])
                     }
                     kind => {
-                        return Err(format!(
+                        return Err(HandOverError::Stop(format!(
                             "touch point on {} reached {kind:?} edge E{e}",
                             seg.id()
-                        ))
+                        )))
                     }
                 }
             }
@@ -1124,9 +1163,9 @@ impl Tracer<'_> {
                 let te = slot(&xc, i)[0];
                 let (lo, hi) = edge.range;
                 if (te - lo).min(hi - te) <= 1e-6 * (hi - lo) {
-                    return Err(format!(
+                    return Err(HandOverError::Stop(format!(
                         "touch point reached the end of reflex edge E{e} (vertex segments are not traced yet)"
-                    ));
+                    )));
                 }
                 let fan = self
                     .edge_fan(e, te)
@@ -1142,6 +1181,11 @@ impl Tracer<'_> {
                 (Segment::Face(g), [uv.0, uv.1])
             }
         };
+        // The ball osculates the next face (a fillet or a corner patch of its own radius):
+        // it touches it along a curve, and the seam ends there, at that centre of curvature.
+        if !curvature_allows(self.model, to, params, xc[3] * (1.0 + 1e-6)) {
+            return Err(HandOverError::Osculates(to));
+        }
         let mut new = *triplet;
         new[i] = to;
         let sys = MedialSystem::new(new.to_vec());
@@ -1163,13 +1207,13 @@ impl Tracer<'_> {
             && sys_point(self.model, to, slot(&sol.x, i))
                 .is_some_and(|q| q.distance(ev.p) <= 10.0 * acc);
         if !same {
-            return Err(format!(
+            return Err(HandOverError::Stop(format!(
                 "no seam point after handing {} to {}",
                 seg.id(),
                 to.id()
-            ));
+            )));
         }
-        Ok((to, xc, sol.x))
+        Ok((to, sol.x))
     }
 
     /// The edge of face `f` nearest to `p`, with the curve parameter of the nearest point.
@@ -2188,5 +2232,47 @@ mod tests {
             "no junction touches the void"
         );
         complete_and_verified("box_with_void.step", &m, &mat);
+    }
+
+    /// Box [0,60]×[0,40]×[0,20] with every edge filleted at radius 4: the inner box
+    /// [4,56]×[4,36]×[4,16] offset by 4, so its medial axis is the box's with radii + 4
+    /// (manifest): the same 4 junctions, (10|50, 10|30, 10) with radius 10, and 12 seams,
+    /// the 8 corner seams now ending at the corner patches' centres (4|56, 4|36, 4|16),
+    /// radius 4, where the ball osculates the fillets (a curvature-limit end).
+    #[test]
+    fn filleted_box_seams_end_at_the_corner_patch_centres() {
+        let (m, mat) = traced("filleted_box.step");
+        let diag = m.diagonal();
+        assert_eq!(mat.seams.len(), 12);
+        assert_eq!(mat.junctions.len(), 4);
+        for x in [10.0, 50.0] {
+            for y in [10.0, 30.0] {
+                let (j, e) = junction_near(&mat, DVec3::new(x, y, 10.0));
+                assert!(e <= 1e-9 * diag && (j.radius - 10.0).abs() <= 1e-9 * diag);
+            }
+        }
+        let corner_ends: Vec<[f64; 4]> = mat
+            .seams
+            .iter()
+            .flat_map(|s| {
+                let pts = [s.points[0].point, s.points[s.points.len() - 1].point];
+                s.ends
+                    .iter()
+                    .zip(pts)
+                    .filter(|(e, _)| matches!(e, SeamEnd::CurvatureLimit { .. }))
+                    .map(|(_, p)| p)
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        assert_eq!(corner_ends.len(), 8);
+        for p in corner_ends {
+            let near = |v: f64, a: f64, b: f64| (v - a).abs().min((v - b).abs());
+            let e = near(p[0], 4.0, 56.0) + near(p[1], 4.0, 36.0) + near(p[2], 4.0, 16.0);
+            assert!(
+                e <= 1e-5 * diag && (p[3] - 4.0).abs() <= 1e-5 * diag,
+                "{p:?}"
+            );
+        }
+        complete_and_verified("filleted_box.step", &m, &mat);
     }
 }

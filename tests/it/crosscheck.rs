@@ -18,11 +18,6 @@ const VERTEX_SEGMENTS: &str = "touch points reach reflex or mixed vertices, whic
 /// Parts known not to pass, and why.
 const EXPECTED_FAILURES: &[(&str, &str)] = &[
     (
-        "filleted_box.step",
-        "the 8 corner seams stop where their touch points reach the spherical corner patches: \
-         handing over onto a patch finds no seam point (they should end at the patch centres)",
-    ),
-    (
         "b3d_M6-1x12-countersunk-screw.step",
         "verification fails: touch points up to 0.09 mm off the degree-13 B-spline thread \
          faces; open seam ends at reflex and mixed vertices",
