@@ -21,6 +21,27 @@ pub enum Segment {
     /// normal in the edge's normal plane, `N = cos θ·a(t) + sin θ·b(t)` with the frame of
     /// [`edge_frame`] (the paper's "cylinder of zero radius").
     Edge(usize),
+    /// A reflex (or mixed) vertex, parametrised by `(φ, ψ)`: the normal's longitude and
+    /// latitude in a fixed frame, `N = cos ψ·(cos φ·e₁ + sin φ·e₂) + sin ψ·e₃` (see
+    /// [`vertex_frame`]).
+    Vertex(usize),
+}
+
+/// The fixed frame of vertex normals `[e₁, e₂, e₃]`: `e₃` is a direction no CAD part favours,
+/// so a vertex's normal cone meets the frame's poles (where `φ` is undefined) only by accident.
+pub fn vertex_frame() -> [DVec3; 3] {
+    let e3 = DVec3::new(0.5, 0.7, 0.51).normalize();
+    let e1 = e3.cross(DVec3::Z).normalize();
+    [e1, e3.cross(e1), e3]
+}
+
+/// The parameters `(φ, ψ)` of a unit normal `n` of a vertex segment.
+pub fn vertex_angles(n: DVec3) -> [f64; 2] {
+    let [e1, e2, e3] = vertex_frame();
+    [
+        n.dot(e2).atan2(n.dot(e1)),
+        n.dot(e3).clamp(-1.0, 1.0).asin(),
+    ]
 }
 
 /// A normal field evaluated at one parameter: point, outward unit normal, and their
@@ -38,6 +59,18 @@ impl Segment {
     /// point where an edge's tangent vanishes).
     pub fn eval(&self, model: &Model, s: [f64; 2]) -> Option<FieldEval> {
         match *self {
+            Segment::Vertex(v) => {
+                let [e1, e2, e3] = vertex_frame();
+                let (sp, cp) = s[0].sin_cos();
+                let (sq, cq) = s[1].sin_cos();
+                let h = e1 * cp + e2 * sp;
+                Some(FieldEval {
+                    p: model.vertices[v].point,
+                    n: h * cq + e3 * sq,
+                    dp: [DVec3::ZERO, DVec3::ZERO],
+                    dn: [(e2 * cp - e1 * sp) * cq, e3 * cq - h * sq],
+                })
+            }
             Segment::Edge(e) => {
                 let edge = &model.edges[e];
                 let c = eval_curve(&edge.curve, s[0]);
@@ -83,6 +116,7 @@ impl Segment {
         match self {
             Segment::Face(f) => format!("F{f}"),
             Segment::Edge(e) => format!("E{e}"),
+            Segment::Vertex(v) => format!("V{v}"),
         }
     }
 }

@@ -16,7 +16,7 @@
 //!
 //! This is the first part of the tracer: faces only, generic junctions (four segments).
 
-use super::equations::{MedialSystem, Segment};
+use super::equations::{vertex_angles, MedialSystem, Segment};
 use super::solver::{solve, SolveOptions, SolveStatus};
 use crate::brep::Model;
 use crate::classify::{Classification, EdgeKind, VertexKind};
@@ -248,6 +248,14 @@ pub fn trace_with_seeds(
             .iter()
             .map(|f| model.shells[f.shell].solid)
             .collect(),
+        vertex_edges: {
+            let mut ve = vec![vec![]; model.vertices.len()];
+            for (e, edge) in model.edges.iter().enumerate() {
+                ve[edge.vertices[0]].push((e, false));
+                ve[edge.vertices[1]].push((e, true));
+            }
+            ve
+        },
         junctions: vec![],
         degenerate: vec![],
         touched: vec![false; model.faces.len()],
@@ -295,8 +303,8 @@ pub fn curvature_allows(model: &Model, seg: Segment, s: [f64; 2], r: f64) -> boo
                 None => true,
             }
         }
-        // A reflex edge bends away from every ball that touches it from inside.
-        Segment::Edge(_) => true,
+        // Reflex edges and vertices bend away from every ball that touches them from inside.
+        Segment::Edge(_) | Segment::Vertex(_) => true,
     }
 }
 
@@ -346,6 +354,8 @@ struct Tracer<'a> {
     opts: &'a TraceOptions,
     /// The solid of each face.
     face_solid: Vec<usize>,
+    /// The edges at each vertex, with `true` where the vertex is the edge's end.
+    vertex_edges: Vec<Vec<(usize, bool)>>,
     junctions: Vec<Junction>,
     degenerate: Vec<Degenerate>,
     /// Faces some output seam point touches.
@@ -374,7 +384,24 @@ impl Tracer<'_> {
         match seg {
             Segment::Face(f) => self.face_solid[f],
             Segment::Edge(e) => self.face_solid[self.model.edges[e].faces[0]],
+            Segment::Vertex(v) => self.vertex_edges[v]
+                .first()
+                .map_or(0, |&(e, _)| self.face_solid[self.model.edges[e].faces[0]]),
         }
+    }
+
+    /// The unit tangents of vertex `v`'s edges, pointing away from it, with the edges.
+    fn vertex_tangents(&self, v: usize) -> Vec<(usize, DVec3)> {
+        self.vertex_edges[v]
+            .iter()
+            .filter_map(|&(e, at_end)| {
+                let edge = &self.model.edges[e];
+                let t = if at_end { edge.range.1 } else { edge.range.0 };
+                let d = crate::geom::eval_curve(&edge.curve, t).d1;
+                let d = if at_end { -d } else { d };
+                (d.length() > 0.0).then(|| (e, d.normalize()))
+            })
+            .collect()
     }
 
     fn is_reflex(&self, e: usize) -> bool {
@@ -411,6 +438,16 @@ impl Tracer<'_> {
                 };
                 let span = fan[0].angle_between(fan[1]);
                 ev.n.angle_between(fan[0]) + ev.n.angle_between(fan[1]) <= span + 1e-9
+            }
+            // Touching at a vertex only, the boundary must not come closer along any of its
+            // edges: N·d ≥ 0 for every edge direction d leaving it.
+            Segment::Vertex(v) => {
+                let Some(ev) = seg.eval(self.model, s) else {
+                    return false;
+                };
+                self.vertex_tangents(v)
+                    .iter()
+                    .all(|(_, d)| ev.n.dot(*d) >= -1e-9)
             }
         }
     }
@@ -852,6 +889,7 @@ impl Tracer<'_> {
     ) -> Run {
         let mut sys = MedialSystem::new(triplet.to_vec());
         let mut handovers = vec![];
+        let first = triplet;
         let solid = self.solid_of(triplet[0]);
         let diag = self.model.diagonal();
         let acc = self.opts.accuracy;
@@ -900,7 +938,8 @@ impl Tracer<'_> {
                 break;
             }
             // Back at the seed: a closed seam.
-            if let Some(xs) = close_at {
+            // (Only on the segments it started with: the seed's parameters are theirs.)
+            if let Some(xs) = close_at.filter(|_| triplet == first) {
                 let step = v3(&xn).distance(v3(&x));
                 if travel > 3.0 * step
                     && to_chord(v3(xs), v3(&x), v3(&xn)) <= 0.05 * step + 10.0 * acc
@@ -1163,9 +1202,52 @@ impl Tracer<'_> {
                 let te = slot(&xc, i)[0];
                 let (lo, hi) = edge.range;
                 if (te - lo).min(hi - te) <= 1e-6 * (hi - lo) {
-                    return Err(HandOverError::Stop(format!(
-                        "touch point reached the end of reflex edge E{e} (vertex segments are not traced yet)"
-                    )));
+                    // On to the vertex at that end, with the same normal.
+                    let v = if te - lo < hi - te {
+                        edge.vertices[0]
+                    } else {
+                        edge.vertices[1]
+                    };
+                    // A reflex edge continued by another (a circle split at a seam vertex, a
+                    // line running into an arc, a closed edge into its own start): the touch
+                    // point goes on along it.
+                    let next: Vec<(usize, f64)> = self.vertex_edges[v]
+                        .iter()
+                        .filter(|&&(g, at_end)| {
+                            self.is_reflex(g) && !(g == e && at_end == (te - lo >= hi - te))
+                        })
+                        .map(|&(g, at_end)| {
+                            let r = self.model.edges[g].range;
+                            (g, if at_end { r.1 } else { r.0 })
+                        })
+                        .collect();
+                    if let [(g, tg)] = next[..] {
+                        if let Some(th) =
+                            crate::medial::equations::edge_angle(self.model, g, tg, ev.n)
+                        {
+                            let to = Segment::Edge(g);
+                            return self.polish_hand_over(triplet, i, &xc, t, to, [tg, th], ev.p);
+                        }
+                    }
+                    if !matches!(
+                        self.class.vertices[v],
+                        VertexKind::Reflex | VertexKind::Mixed
+                    ) {
+                        return Err(HandOverError::Stop(format!(
+                            "touch point reached the end of reflex edge E{e} at a {:?} vertex",
+                            self.class.vertices[v]
+                        )));
+                    }
+                    let to = Segment::Vertex(v);
+                    return self.polish_hand_over(
+                        triplet,
+                        i,
+                        &xc,
+                        t,
+                        to,
+                        vertex_angles(ev.n),
+                        ev.p,
+                    );
                 }
                 let fan = self
                     .edge_fan(e, te)
@@ -1180,7 +1262,50 @@ impl Tracer<'_> {
                     .ok_or_else(|| format!("touch point not found on F{g}"))?;
                 (Segment::Face(g), [uv.0, uv.1])
             }
+            Segment::Vertex(v) => {
+                // Off the vertex over the edge whose direction the normal turned away from.
+                let (e, _) = self
+                    .vertex_tangents(v)
+                    .into_iter()
+                    .min_by(|a, b| ev.n.dot(a.1).total_cmp(&ev.n.dot(b.1)))
+                    .ok_or_else(|| format!("vertex V{v} has no edges"))?;
+                if !self.is_reflex(e) {
+                    return Err(HandOverError::Stop(format!(
+                        "touch point on V{v} reached {:?} edge E{e}",
+                        self.class.edges[e].kind
+                    )));
+                }
+                let edge = &self.model.edges[e];
+                let te = if edge.vertices[0] == v {
+                    edge.range.0
+                } else {
+                    edge.range.1
+                };
+                let th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)
+                    .ok_or_else(|| format!("no normal frame on E{e}"))?;
+                (Segment::Edge(e), [te, th])
+            }
         };
+        self.polish_hand_over(triplet, i, &xc, t, to, params, ev.p)
+    }
+
+    /// The end of a hand-over: the seam point `xc` with slot `i` moved to segment `to` at
+    /// `params`, polished on the new system, which must be the same ball touching `to` at
+    /// the old touch point `p`.
+    #[allow(clippy::too_many_arguments)]
+    fn polish_hand_over(
+        &mut self,
+        triplet: &[Segment; 3],
+        i: usize,
+        xc: &DVector<f64>,
+        t: &DVector<f64>,
+        to: Segment,
+        params: [f64; 2],
+        p: DVec3,
+    ) -> Result<(Segment, DVector<f64>), HandOverError> {
+        let acc = self.opts.accuracy;
+        let seg = triplet[i];
+        let xc = xc.clone();
         // The ball osculates the next face (a fillet or a corner patch of its own radius):
         // it touches it along a curve, and the seam ends there, at that centre of curvature.
         if !curvature_allows(self.model, to, params, xc[3] * (1.0 + 1e-6)) {
@@ -1203,9 +1328,9 @@ impl Tracer<'_> {
         );
         // The same ball, touching the new segment where the old one left off.
         let same = sol.status == SolveStatus::Converged
-            && v3(&sol.x).distance(v3(&xc)) <= 10.0 * acc
+            && v3(&sol.x).distance(v3(&xc)) <= 2.0 * acc
             && sys_point(self.model, to, slot(&sol.x, i))
-                .is_some_and(|q| q.distance(ev.p) <= 10.0 * acc);
+                .is_some_and(|q| q.distance(p) <= 2.0 * acc);
         if !same {
             return Err(HandOverError::Stop(format!(
                 "no seam point after handing {} to {}",
@@ -1447,7 +1572,8 @@ impl Tracer<'_> {
                     VertexKind::Reflex | VertexKind::Mixed
                 ) =>
             {
-                None
+                let n = (hit.point - b).normalize();
+                Some((Segment::Vertex(v), vertex_angles(n)))
             }
             _ => Some((Segment::Face(f), [hit.uv.0, hit.uv.1])),
         }
@@ -1491,6 +1617,10 @@ impl Tracer<'_> {
                 let (te, q, d) = crate::geom::nearest_on_edge(self.model, e, b, Some(s4[0]));
                 let th = crate::medial::equations::edge_angle(self.model, e, te, (q - b) / d)?;
                 (te, th)
+            }
+            Segment::Vertex(v) => {
+                let a = vertex_angles((self.model.vertices[v].point - b).normalize());
+                (a[0], a[1])
             }
         };
         let mut segs = triplet.to_vec();
@@ -1575,10 +1705,18 @@ impl Tracer<'_> {
                     .hit_segment(f, &hit, p)
                     .filter(|(s, _)| matches!(s, Segment::Edge(_)))
                     .map(|(s, q)| (s, (q[0], q[1]))),
-                Feature::Vertex(_) => None,
+                Feature::Vertex(_) => self
+                    .hit_segment(f, &hit, p)
+                    .filter(|(s, _)| matches!(s, Segment::Vertex(_)))
+                    .map(|(s, q)| (s, (q[0], q[1]))),
+            };
+            // The segment must touch this very ball there: P − r·N = centre.
+            let fits = |seg: Segment, uv: (f64, f64)| {
+                seg.eval(self.model, [uv.0, uv.1])
+                    .is_some_and(|e| (e.p - e.n * r - p).length() <= self.opts.accuracy)
             };
             if let Some((seg, uv)) = seg {
-                if !segs.contains(&seg) && uv.0.is_finite() {
+                if !segs.contains(&seg) && uv.0.is_finite() && fits(seg, uv) {
                     segs.push(seg);
                     params.push(uv);
                 }
