@@ -180,6 +180,10 @@ struct Start {
     from: SeamEnd,
 }
 
+/// A hand-over: the new segment, the crossing point (old triplet) and the same point on the
+/// new triplet; or why not, with the crossing point.
+type HandOverResult = Result<(Segment, DVector<f64>, DVector<f64>), (HandOverError, DVector<f64>)>;
+
 /// Why a touch point could not be handed over.
 enum HandOverError {
     /// The ball osculates the next segment (touches it along a curve).
@@ -1128,7 +1132,7 @@ impl Tracer<'_> {
         x: &DVector<f64>,
         t: &DVector<f64>,
         h: f64,
-    ) -> Result<(Segment, DVector<f64>, DVector<f64>), (HandOverError, DVector<f64>)> {
+    ) -> HandOverResult {
         let acc = self.opts.accuracy;
         let sys = MedialSystem::new(triplet.to_vec());
         let (mut lo, mut hi) = (0.0, h);
