@@ -94,6 +94,8 @@ pub struct Seam {
     /// when the ball touches it in two places).
     pub segments: Vec<String>,
     pub ends: [SeamEnd; 2],
+    /// The three segments at the last point (after any hand-over).
+    pub end_segments: Vec<String>,
     pub points: Vec<SeamPoint>,
     /// Where a touch point moves to another segment, in the order of the points.
     pub handovers: Vec<Handover>,
@@ -124,6 +126,8 @@ pub struct TraceStats {
     pub skipped_vertices: Vec<usize>,
     /// Seeds that did not refine to a valid seam point, or lay on a seam already traced.
     pub skipped_seeds: usize,
+    /// Seams traced a second time from their other end, and dropped.
+    pub duplicate_seams: usize,
 }
 
 /// The traced medial axis.
@@ -266,6 +270,7 @@ pub fn trace_with_seeds(
         arrivals: vec![],
         seams: vec![],
         visited: HashSet::new(),
+        traced_between: HashSet::new(),
         queue: VecDeque::new(),
         stats: TraceStats::default(),
     };
@@ -283,6 +288,7 @@ pub fn trace_with_seeds(
         t.run_queue();
     }
     t.seed_by_sampling();
+    t.drop_open_halves();
     Mat {
         seams: t.seams,
         junctions: t.junctions,
@@ -369,6 +375,8 @@ struct Tracer<'a> {
     /// junction) is not traced again.
     arrivals: Vec<Vec<DVec3>>,
     seams: Vec<Seam>,
+    /// The two ends (and the segments there) of every seam between proper ends.
+    traced_between: HashSet<[(String, [Segment; 3]); 2]>,
     /// (sorted triplet, where it starts or ends) already traced.
     visited: HashSet<([Segment; 3], SeamEnd)>,
     queue: VecDeque<Start>,
@@ -477,6 +485,7 @@ impl Tracer<'_> {
             let run = self.march(start.triplet, start.x, start.dir, None);
             self.push_seam(
                 start.triplet,
+                run.triplet,
                 [start.from, run.end],
                 run.points,
                 run.handovers,
@@ -484,14 +493,67 @@ impl Tracer<'_> {
         }
     }
 
-    /// Records a seam; `triplet` holds the segments at its first point.
+    /// Drops each seam that leaves a junction and ends open when another seam arrives at that
+    /// junction on the same segments: the same curve, traced completely from its other end
+    /// (the open one stopped at a hand-over the other side did not need). Renumbers the rest.
+    fn drop_open_halves(&mut self) {
+        let key = |segs: &[String]| {
+            let mut k = segs.to_vec();
+            k.sort();
+            k
+        };
+        let arrived: HashSet<(usize, Vec<String>)> = self
+            .seams
+            .iter()
+            .filter(|s| !s.ends.iter().any(|e| matches!(e, SeamEnd::Open(_))))
+            .flat_map(|s| {
+                let a = match s.ends[0] {
+                    SeamEnd::Junction(j) => Some((j, key(&s.segments))),
+                    _ => None,
+                };
+                let b = match s.ends[1] {
+                    SeamEnd::Junction(j) => Some((j, key(&s.end_segments))),
+                    _ => None,
+                };
+                a.into_iter().chain(b)
+            })
+            .collect();
+        let before = self.seams.len();
+        self.seams.retain(|s| {
+            !matches!((&s.ends[0], &s.ends[1]), (SeamEnd::Junction(j), SeamEnd::Open(_))
+                if arrived.contains(&(*j, key(&s.segments))))
+        });
+        self.stats.duplicate_seams += before - self.seams.len();
+        for (id, s) in self.seams.iter_mut().enumerate() {
+            s.id = id;
+        }
+        self.stats.points = self.seams.iter().map(|s| s.points.len()).sum();
+    }
+
+    /// Records a seam; `triplet` holds the segments at its first point, `last` at its last.
+    /// A seam between two proper ends (vertices, junctions) that repeats one already traced
+    /// — the same ends on the same segments, reached from the other end after the branch
+    /// there was traced — is dropped.
     fn push_seam(
         &mut self,
         triplet: [Segment; 3],
+        last: [Segment; 3],
         ends: [SeamEnd; 2],
         points: Vec<SeamPoint>,
         handovers: Vec<Handover>,
     ) {
+        let proper = |e: &SeamEnd| matches!(e, SeamEnd::Vertex(_) | SeamEnd::Junction(_));
+        if ends.iter().all(proper) {
+            let mut key = [
+                (format!("{:?}", ends[0]), sorted(triplet)),
+                (format!("{:?}", ends[1]), sorted(last)),
+            ];
+            key.sort();
+            if !self.traced_between.insert(key) {
+                self.stats.duplicate_seams += 1;
+                return;
+            }
+        }
         self.stats.points += points.len();
         let id = self.seams.len();
         self.seams.push(Seam {
@@ -499,6 +561,7 @@ impl Tracer<'_> {
             solid: self.solid_of(triplet[0]),
             segments: triplet.iter().map(|s| s.id()).collect(),
             ends,
+            end_segments: last.iter().map(|s| s.id()).collect(),
             points,
             handovers,
         });
@@ -807,7 +870,7 @@ impl Tracer<'_> {
         let fwd = self.march(seed.triplet, x.clone(), dir, Some(&x));
         if fwd.end == SeamEnd::Closed {
             let ends = [SeamEnd::Closed, SeamEnd::Closed];
-            self.push_seam(seed.triplet, ends, fwd.points, fwd.handovers);
+            self.push_seam(seed.triplet, fwd.triplet, ends, fwd.points, fwd.handovers);
             return;
         }
         let back = self.march(seed.triplet, x, -dir, None);
@@ -830,7 +893,13 @@ impl Tracer<'_> {
         }));
         let mut points: Vec<SeamPoint> = back.points.into_iter().rev().collect();
         points.extend(fwd.points.into_iter().skip(1));
-        self.push_seam(back.triplet, [back.end, fwd.end], points, handovers);
+        self.push_seam(
+            back.triplet,
+            fwd.triplet,
+            [back.end, fwd.end],
+            points,
+            handovers,
+        );
     }
 
     /// True when the seam point `x` is medial: its touch points lie on their faces, nothing
