@@ -1406,9 +1406,11 @@ impl Tracer<'_> {
                 .is_some_and(|q| q.distance(p) <= 2.0 * acc);
         if !same {
             return Err(HandOverError::Stop(format!(
-                "no seam point after handing {} to {}",
+                "no seam point after handing {} to {} (corrector {:?}, centre moved {:.2e} mm)",
                 seg.id(),
-                to.id()
+                to.id(),
+                sol.status,
+                v3(&sol.x).distance(v3(&xc)),
             )));
         }
         Ok((to, sol.x))
