@@ -910,18 +910,7 @@ impl Tracer<'_> {
         let on_faces = (0..3).all(|i| self.on_segment(triplet[i], slot(x, i)));
         // A segment touched twice must be touched in two places, not once counted twice
         // (that is a sheet point, where Newton also converges).
-        let distinct = (0..3).all(|i| {
-            (0..i).all(|j| {
-                triplet[i] != triplet[j]
-                    || match (
-                        sys_point(self.model, triplet[i], slot(x, i)),
-                        sys_point(self.model, triplet[j], slot(x, j)),
-                    ) {
-                        (Some(a), Some(b)) => a.distance(b) > 1e-3 * r,
-                        _ => false,
-                    }
-            })
-        });
+        let distinct = !touches_meet(self.model, triplet, x, 1e-3 * r, Pairs::SameSegment);
         let nearest = self
             .boundary
             .nearest_face_where(self.model, v3(x), |g| self.face_solid[g] == solid);
@@ -1176,14 +1165,12 @@ impl Tracer<'_> {
     /// for different segments always, for a segment touched twice only with `same` (a
     /// merging pair on one face is otherwise the curvature limit's business).
     fn coincident(&self, triplet: &[Segment; 3], x: &DVector<f64>, same: bool) -> bool {
-        let p: [Option<DVec3>; 3] =
-            std::array::from_fn(|i| sys_point(self.model, triplet[i], slot(x, i)));
-        (0..3).any(|i| {
-            (0..i).any(|j| {
-                (same || triplet[i] != triplet[j])
-                    && matches!((p[i], p[j]), (Some(a), Some(b)) if a.distance(b) <= 1e-4 * x[3])
-            })
-        })
+        let pairs = if same {
+            Pairs::All
+        } else {
+            Pairs::DifferentSegments
+        };
+        touches_meet(self.model, triplet, x, 1e-4 * x[3], pairs)
     }
 
     /// Hands touch point `i` over to the next segment: finds (by bisecting the step `h` from
@@ -1721,16 +1708,13 @@ impl Tracer<'_> {
         let on_faces = (0..4).all(|i| self.on_segment(sys.segments[i], slot(&sol.x, i)));
         // Two touch points on one face must be two places, not the same one found twice.
         let r = sol.x[3];
-        let distinct = (0..3).all(|i| {
-            sys.segments[i] != fourth
-                || match (
-                    sys_point(self.model, fourth, slot(&sol.x, i)),
-                    sys_point(self.model, fourth, slot(&sol.x, 3)),
-                ) {
-                    (Some(a), Some(b)) => a.distance(b) > 1e-3 * r,
-                    _ => false,
-                }
-        });
+        let distinct = !touches_meet(
+            self.model,
+            &sys.segments,
+            &sol.x,
+            1e-3 * r,
+            Pairs::SameSegment,
+        );
         (on_faces && distinct).then_some(sol.x)
     }
 
@@ -1851,6 +1835,39 @@ impl Tracer<'_> {
         }
         id
     }
+}
+
+/// Which pairs of touch points [`touches_meet`] compares.
+#[derive(Clone, Copy, PartialEq)]
+enum Pairs {
+    /// Two slots of one segment (a face touched twice).
+    SameSegment,
+    /// Slots of different segments.
+    DifferentSegments,
+    All,
+}
+
+/// True when two touch points of `x` (unknowns over `segs`), among `pairs`, are within `tol`
+/// of each other — or one of them is undefined (a pole).
+fn touches_meet(model: &Model, segs: &[Segment], x: &DVector<f64>, tol: f64, pairs: Pairs) -> bool {
+    let p: Vec<Option<DVec3>> = (0..segs.len())
+        .map(|i| sys_point(model, segs[i], slot(x, i)))
+        .collect();
+    (0..segs.len()).any(|i| {
+        (0..i).any(|j| {
+            let same = segs[i] == segs[j];
+            let compared = match pairs {
+                Pairs::SameSegment => same,
+                Pairs::DifferentSegments => !same,
+                Pairs::All => true,
+            };
+            compared
+                && match (p[i], p[j]) {
+                    (Some(a), Some(b)) => a.distance(b) <= tol,
+                    _ => true,
+                }
+        })
+    })
 }
 
 /// `triplet` with slot `i` replaced by `to`.
