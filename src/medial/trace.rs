@@ -1733,7 +1733,7 @@ impl Tracer<'_> {
         let p = v3(jx);
         let r = jx[3];
         let solid = self.solid_of(fourth);
-        let tol = 1e3 * self.opts.accuracy;
+        let tol = 10.0 * self.opts.accuracy;
         if let Some(id) = self
             .junctions
             .iter()
