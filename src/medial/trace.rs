@@ -2505,4 +2505,60 @@ mod tests {
         }
         complete_and_verified("filleted_box.step", &m, &mat);
     }
+
+    /// The L-bracket with its reflex edge replaced by a concave fillet of radius 5 (axis
+    /// x = 15, z = 15): the leg-end junctions stay at (55, 5|25, 5) and (5, 5|25, 35),
+    /// radius 5. The inner-corner junctions touch bottom, back, a side and the fillet from
+    /// outside its cylinder: centre (c, c|30 − c, c) with √2·(15 − c) = c + 5, so
+    /// c = (15√2 − 5)/(1 + √2) = 6.7157, radius c. 17 seams as for the sharp bracket.
+    #[test]
+    fn l_bracket_with_a_concave_fillet() {
+        let (m, mat) = traced("l_bracket_concave_fillet.step");
+        let diag = m.diagonal();
+        assert_eq!(mat.seams.len(), 17);
+        assert_eq!(mat.junctions.len(), 6);
+        let c = (15.0 * 2f64.sqrt() - 5.0) / (1.0 + 2f64.sqrt());
+        let want = [
+            ([55.0, 5.0, 5.0], 5.0),
+            ([55.0, 25.0, 5.0], 5.0),
+            ([5.0, 5.0, 35.0], 5.0),
+            ([5.0, 25.0, 35.0], 5.0),
+            ([c, c, c], c),
+            ([c, 30.0 - c, c], c),
+        ];
+        for (p, r) in want {
+            let (j, e) = junction_near(&mat, DVec3::from_array(p));
+            assert!(e <= 1e-9 * diag, "junction near {p:?} off by {e:e}");
+            assert!((j.radius - r).abs() <= 1e-9 * diag, "radius {}", j.radius);
+        }
+        complete_and_verified("l_bracket_concave_fillet.step", &m, &mat);
+    }
+
+    /// Plate [0,80]×[0,60]×[0,10] with a boss (radius 12, z from 10 to 30) at (40, 30): the
+    /// plate's box-like junctions at (5|75, 5|55, 5), radius 5, far from the boss; and the
+    /// boss's axis x = 40, y = 30 as a degenerate curve of balls of radius 12 touching its
+    /// whole wall.
+    #[test]
+    fn boss_on_a_plate() {
+        let (m, mat) = traced("boss_on_plate.step");
+        let diag = m.diagonal();
+        for x in [5.0, 75.0] {
+            for y in [5.0, 55.0] {
+                let (j, e) = junction_near(&mat, DVec3::new(x, y, 5.0));
+                assert!(e <= 1e-9 * diag && (j.radius - 5.0).abs() <= 1e-9 * diag);
+            }
+        }
+        let axis: Vec<&[f64; 4]> = mat
+            .degenerate
+            .iter()
+            .filter(|d| d.kind == "curve")
+            .flat_map(|d| &d.balls)
+            .collect();
+        assert!(!axis.is_empty());
+        for b in axis {
+            let e = (b[0] - 40.0).hypot(b[1] - 30.0) + (b[3] - 12.0).abs();
+            assert!(e <= 1e-6 * diag, "{b:?}");
+        }
+        complete_and_verified("boss_on_plate.step", &m, &mat);
+    }
 }
