@@ -4,8 +4,9 @@
 //! The Jacobian is analytic: `∂Fᵢ/∂B = −I`, `∂Fᵢ/∂r = −Nᵢ`, `∂Fᵢ/∂sᵢ = ∂Pᵢ − r·∂Nᵢ`, where
 //! for a face `N = m/‖m‖`, `m = σ·(Su × Sv)` and
 //! `∂N = (∂m − N·(N·∂m)) / ‖m‖`, `∂m/∂u = σ·(Suu × Sv + Su × Suv)`,
-//! `∂m/∂v = σ·(Suv × Sv + Su × Svv)` (σ = the face's `sign`). Reflex edges and vertices will
-//! join [`Segment`] with the same two-parameter interface (DESIGN.md).
+//! `∂m/∂v = σ·(Suv × Sv + Su × Svv)` (σ = the face's `sign`). Reflex edges (`(t, θ)` in the
+//! frame of [`edge_frame`]) and reflex vertices (`(φ, ψ)` in [`vertex_frame`]) are segments
+//! with the same two-parameter interface (DESIGN.md).
 
 use crate::brep::Model;
 use crate::geom::{eval_curve, eval_surface};
@@ -344,5 +345,56 @@ mod tests {
             }
         }
         assert!(checked >= 8, "only {checked} systems checked");
+    }
+
+    /// The same check for reflex-edge and vertex segments: the boss's reflex foot circle
+    /// (a curved edge, so ∂N/∂t involves the curve's second derivative), the L-bracket's
+    /// straight reflex edge, and vertex normals at several angles; each with two faces.
+    #[test]
+    fn edge_and_vertex_jacobians_match_finite_differences() {
+        let mut checked = 0;
+        for file in ["boss_on_plate.step", "l_bracket.step"] {
+            let m = sample(file);
+            let class = crate::classify(&m, &Default::default());
+            let reflex: Vec<usize> = (0..m.edges.len())
+                .filter(|&e| class.edges[e].kind == crate::classify::EdgeKind::Reflex)
+                .collect();
+            assert!(!reflex.is_empty(), "{file}");
+            let (lo, hi) = m.bounding_box();
+            let c = (lo + hi) * 0.5;
+            for (k, seg) in reflex
+                .iter()
+                .map(|&e| Segment::Edge(e))
+                .chain([Segment::Vertex(0), Segment::Vertex(m.vertices.len() - 1)])
+                .enumerate()
+            {
+                let sys = MedialSystem::new(vec![seg, Segment::Face(0), Segment::Face(1)]);
+                let mut x = DVector::zeros(sys.unknowns());
+                x[0] = c.x + 0.3;
+                x[1] = c.y - 0.2;
+                x[2] = c.z + 0.1;
+                x[3] = 7.3;
+                x[4] = match seg {
+                    Segment::Edge(e) => {
+                        let r = m.edges[e].range;
+                        r.0 + 0.37 * (r.1 - r.0)
+                    }
+                    _ => 0.4 + 0.9 * k as f64,
+                };
+                x[5] = 0.3 + 0.7 * k as f64;
+                for (i, f) in [0usize, 1].into_iter().enumerate() {
+                    let d = m.faces[f].domain;
+                    x[6 + 2 * i] = d.u.0 + 0.41 * (d.u.1 - d.u.0);
+                    x[7 + 2 * i] = d.v.0 + 0.59 * (d.v.1 - d.v.0);
+                }
+                let (_, ja) = sys.eval(&m, &x).unwrap();
+                let jf = sys.jacobian_fd(&m, &x, 1e-6).unwrap();
+                let err = (&ja - &jf).amax();
+                let scale = ja.amax().max(1.0);
+                assert!(err <= 1e-6 * scale, "{file} {seg:?}: |J − J_fd| = {err:e}");
+                checked += 1;
+            }
+        }
+        assert!(checked >= 5, "only {checked} systems checked");
     }
 }

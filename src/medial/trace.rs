@@ -1,20 +1,29 @@
 //! Seam tracing by pseudo-arclength continuation (Ramanathan & Gurumoorthy 2005, §4; Allgower
-//! & Georg's predictor–corrector, the paper's ref. [1]).
+//! & Georg's predictor–corrector, the paper's ref. \[1\]).
 //!
 //! A seam is a curve of the 3-segment medial system (9 equations, 10 unknowns). From a known
 //! point `x` with unit tangent `t` (the null vector of the Jacobian, scaled so that its centre
 //! part `t_B` has unit length), the predictor is `x + h·t` and the corrector solves the square
 //! system `[F(x); t·(x − x_pred)] = 0`. The step `h` (millimetres of centre travel) grows when
-//! the corrector converges in few iterations and halves when it fails.
+//! the corrector converges in few iterations, shrinks when it needs many, and halves when it
+//! fails or the seam turns by more than [`MAX_TURN`].
 //!
-//! Seams start at convex vertices where exactly three faces meet (`r = 0`), leaving along the
-//! direction that moves equally away from the three tangent planes. A seam ends when another
-//! face comes closer than `r` (a junction, located exactly by the 4-segment system), when `r`
-//! returns to 0 (a convex vertex), or — left for the next issue — when a touch point leaves its
-//! face. From a new junction the three other triplets leave along the normal of the plane
-//! through their touch points, in the sense in which the omitted segment moves away.
+//! Segments are faces, reflex edges and reflex (or mixed) vertices ([`Segment`]). Seams start
+//! at convex vertices (`r = 0`), leaving along each direction that moves equally away from
+//! three tangent planes and no slower from the others; then from seeds: maximal balls sampled
+//! on faces no seam touches (holes, solids without corners). A seam ends
+//! - at a junction, when another part of the solid comes closer than `r` (located by
+//!   bisection, then exactly by the 4-segment system); the other triplets leave along the
+//!   normal of the plane through their touch points, in the sense in which the omitted
+//!   segment moves away;
+//! - at a convex vertex, when `r` returns to 0;
+//! - at a curvature limit, where the ball osculates a face (two touch points on one face
+//!   meet, or the curvature criterion fails): a skeletal edge starts there;
+//! - closed, back at its seed;
+//! - or open, with the reason, where none of these is reached.
 //!
-//! This is the first part of the tracer: faces only, generic junctions (four segments).
+//! A touch point that leaves its segment is handed over: across a smooth edge to the next
+//! face, onto and off reflex edges, from a reflex edge into the next one or onto its vertex.
 
 use super::equations::{vertex_angles, MedialSystem, Segment};
 use super::solver::{solve, SolveOptions, SolveStatus};
