@@ -153,4 +153,9 @@ impl Model {
         let (lo, hi) = self.bounding_box();
         (hi - lo).length()
     }
+
+    /// The solid face `f` bounds.
+    pub fn solid_of_face(&self, f: usize) -> usize {
+        self.shells[self.faces[f].shell].solid
+    }
 }

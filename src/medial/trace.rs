@@ -260,10 +260,8 @@ pub fn trace_with_seeds(
         boundary,
         class,
         opts,
-        face_solid: model
-            .faces
-            .iter()
-            .map(|f| model.shells[f.shell].solid)
+        face_solid: (0..model.faces.len())
+            .map(|f| model.solid_of_face(f))
             .collect(),
         vertex_edges: {
             let mut ve = vec![vec![]; model.vertices.len()];
@@ -423,6 +421,12 @@ impl Tracer<'_> {
                 (d.length() > 0.0).then(|| (e, d.normalize()))
             })
             .collect()
+    }
+
+    /// The nearest point of solid `solid`'s boundary to `p`, with the face it is on.
+    fn nearest_in(&self, solid: usize, p: DVec3) -> Option<(usize, FaceHit)> {
+        self.boundary
+            .nearest_face_where(self.model, p, |g| self.face_solid[g] == solid)
     }
 
     fn is_reflex(&self, e: usize) -> bool {
@@ -718,10 +722,7 @@ impl Tracer<'_> {
         let solid = self.face_solid[f];
         let diag = self.model.diagonal();
         let ev = Segment::Face(f).eval(self.model, s)?;
-        let nearest = |b: DVec3| {
-            self.boundary
-                .nearest_face_where(self.model, b, |g| self.face_solid[g] == solid)
-        };
+        let nearest = |b: DVec3| self.nearest_in(solid, b);
         // Largest r with nothing closer than r to p − r·n: bisection.
         let fits =
             |r: f64| nearest(ev.p - ev.n * r).is_some_and(|(_, h)| h.distance >= r * (1.0 - 1e-9));
@@ -920,9 +921,7 @@ impl Tracer<'_> {
         // A segment touched twice must be touched in two places, not once counted twice
         // (that is a sheet point, where Newton also converges).
         let distinct = !touches_meet(self.model, triplet, x, 1e-3 * r, Pairs::SameSegment);
-        let nearest = self
-            .boundary
-            .nearest_face_where(self.model, v3(x), |g| self.face_solid[g] == solid);
+        let nearest = self.nearest_in(solid, v3(x));
         on_faces
             && distinct
             && nearest.is_some_and(|(_, h)| h.distance >= r - self.opts.accuracy)
@@ -1583,8 +1582,7 @@ impl Tracer<'_> {
             });
         // The junction itself must be medial (nothing closer than its radius).
         let located = located.filter(|(_, jx)| {
-            self.boundary
-                .nearest_face_where(self.model, v3(jx), |g| self.face_solid[g] == solid)
+            self.nearest_in(solid, v3(jx))
                 .is_some_and(|(_, h)| h.distance >= jx[3] - 10.0 * self.opts.accuracy)
         });
         let Some((fourth, jx)) = located else {
@@ -1613,9 +1611,7 @@ impl Tracer<'_> {
         y: &DVector<f64>,
     ) -> Option<(usize, FaceHit)> {
         let r = y[3];
-        let (f, hit) = self
-            .boundary
-            .nearest_face_where(self.model, v3(y), |g| self.face_solid[g] == solid)?;
+        let (f, hit) = self.nearest_in(solid, v3(y))?;
         if hit.distance >= r - self.opts.accuracy {
             return None;
         }
@@ -1974,23 +1970,7 @@ mod tests {
         );
         assert_eq!(mat.junctions.len(), junctions.len(), "{file}");
         for (p, r) in junctions {
-            let p = DVec3::from_array(*p);
-            let j = mat
-                .junctions
-                .iter()
-                .min_by(|a, b| {
-                    DVec3::from_array(a.point)
-                        .distance(p)
-                        .total_cmp(&DVec3::from_array(b.point).distance(p))
-                })
-                .unwrap();
-            let e = DVec3::from_array(j.point).distance(p);
-            assert!(e <= 1e-9 * diag, "{file}: junction near {p} off by {e:e}");
-            assert!(
-                (j.radius - r).abs() <= 1e-9 * diag,
-                "{file}: radius {} vs {r}",
-                j.radius
-            );
+            assert_junction_at(file, &m, &mat, *p, *r);
         }
         for s in &mat.seams {
             assert!(
@@ -2216,6 +2196,26 @@ mod tests {
         );
     }
 
+    /// Asserts a junction of `mat` at `p` with radius `r`, both to 1e-9 × the diagonal (the
+    /// junction accuracy DESIGN.md asks for), and returns it.
+    fn assert_junction_at<'m>(
+        file: &str,
+        m: &Model,
+        mat: &'m Mat,
+        p: [f64; 3],
+        r: f64,
+    ) -> &'m Junction {
+        let diag = m.diagonal();
+        let (j, e) = junction_near(mat, DVec3::from_array(p));
+        assert!(e <= 1e-9 * diag, "{file}: junction near {p:?} off by {e:e}");
+        assert!(
+            (j.radius - r).abs() <= 1e-9 * diag,
+            "{file}: radius {} vs {r}",
+            j.radius
+        );
+        j
+    }
+
     /// The junction of `mat` nearest `p`, and its distance from `p`.
     fn junction_near(mat: &Mat, p: DVec3) -> (&Junction, f64) {
         mat.junctions
@@ -2241,7 +2241,6 @@ mod tests {
             assert_eq!(mat.seams.len(), 17, "{file}");
             assert_eq!(mat.junctions.len(), 6, "{file}");
             let c = 10.0 * (2.0 - 2f64.sqrt());
-            let diag = m.diagonal();
             let want = [
                 ([55.0, 5.0, 5.0], 5.0),
                 ([55.0, 25.0, 5.0], 5.0),
@@ -2251,13 +2250,7 @@ mod tests {
                 ([c, 30.0 - c, c], c),
             ];
             for (p, r) in want {
-                let (j, e) = junction_near(&mat, DVec3::from_array(p));
-                assert!(e <= 1e-9 * diag, "{file}: junction near {p:?} off by {e:e}");
-                assert!(
-                    (j.radius - r).abs() <= 1e-9 * diag,
-                    "{file}: radius {}",
-                    j.radius
-                );
+                let j = assert_junction_at(file, &m, &mat, p, r);
                 if r == c {
                     assert!(
                         j.segments.iter().any(|s| s.starts_with('E')),
@@ -2285,17 +2278,14 @@ mod tests {
         assert_eq!(mat.seams.len(), 22);
         assert_eq!(mat.junctions.len(), 8);
         let c = 10.0 * (2.0 - 2f64.sqrt());
-        let diag = m.diagonal();
         for x in [c, 60.0 - c] {
             for y in [c, 30.0 - c] {
-                let (j, e) = junction_near(&mat, DVec3::new(x, y, c));
-                assert!(e <= 1e-9 * diag && (j.radius - c).abs() <= 1e-9 * diag);
+                assert_junction_at("u_channel.step", &m, &mat, [x, y, c], c);
             }
         }
         for x in [5.0, 55.0] {
             for y in [5.0, 25.0] {
-                let (j, e) = junction_near(&mat, DVec3::new(x, y, 35.0));
-                assert!(e <= 1e-9 * diag && (j.radius - 5.0).abs() <= 1e-9 * diag);
+                assert_junction_at("u_channel.step", &m, &mat, [x, y, 35.0], 5.0);
             }
         }
         complete_and_verified("u_channel.step", &m, &mat);
@@ -2429,8 +2419,8 @@ mod tests {
         assert!(mat.seams.iter().all(|s| s.solid == 0));
         for x in [5.0, 25.0] {
             for y in [5.0, 15.0] {
-                let (j, e) = junction_near(&mat, DVec3::new(x, y, 5.0));
-                assert!(e <= 1e-9 * m.diagonal() && j.solid == 0);
+                let j = assert_junction_at("two_solids.step", &m, &mat, [x, y, 5.0], 5.0);
+                assert_eq!(j.solid, 0);
             }
         }
         assert!(mat
@@ -2486,8 +2476,7 @@ mod tests {
         assert_eq!(mat.junctions.len(), 4);
         for x in [10.0, 50.0] {
             for y in [10.0, 30.0] {
-                let (j, e) = junction_near(&mat, DVec3::new(x, y, 10.0));
-                assert!(e <= 1e-9 * diag && (j.radius - 10.0).abs() <= 1e-9 * diag);
+                assert_junction_at("filleted_box.step", &m, &mat, [x, y, 10.0], 10.0);
             }
         }
         let corner_ends: Vec<[f64; 4]> = mat
@@ -2523,7 +2512,6 @@ mod tests {
     #[test]
     fn l_bracket_with_a_concave_fillet() {
         let (m, mat) = traced("l_bracket_concave_fillet.step");
-        let diag = m.diagonal();
         assert_eq!(mat.seams.len(), 17);
         assert_eq!(mat.junctions.len(), 6);
         let c = (15.0 * 2f64.sqrt() - 5.0) / (1.0 + 2f64.sqrt());
@@ -2536,9 +2524,7 @@ mod tests {
             ([c, 30.0 - c, c], c),
         ];
         for (p, r) in want {
-            let (j, e) = junction_near(&mat, DVec3::from_array(p));
-            assert!(e <= 1e-9 * diag, "junction near {p:?} off by {e:e}");
-            assert!((j.radius - r).abs() <= 1e-9 * diag, "radius {}", j.radius);
+            assert_junction_at("l_bracket_concave_fillet.step", &m, &mat, p, r);
         }
         complete_and_verified("l_bracket_concave_fillet.step", &m, &mat);
     }
@@ -2553,8 +2539,7 @@ mod tests {
         let diag = m.diagonal();
         for x in [5.0, 75.0] {
             for y in [5.0, 55.0] {
-                let (j, e) = junction_near(&mat, DVec3::new(x, y, 5.0));
-                assert!(e <= 1e-9 * diag && (j.radius - 5.0).abs() <= 1e-9 * diag);
+                assert_junction_at("boss_on_plate.step", &m, &mat, [x, y, 5.0], 5.0);
             }
         }
         let axis: Vec<&[f64; 4]> = mat

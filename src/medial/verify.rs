@@ -38,15 +38,10 @@ impl Verification {
 /// Checks every seam point and junction of `mat` against `model`'s boundary.
 pub fn verify(model: &Model, boundary: &Boundary, mat: &Mat) -> Verification {
     let mut v = Verification::default();
-    let face_solid: Vec<usize> = model
-        .faces
-        .iter()
-        .map(|f| model.shells[f.shell].solid)
-        .collect();
     // Distance to the boundary of one solid (each solid has its own medial axis).
     let nearest = |p: DVec3, solid: usize| {
         boundary
-            .nearest_face_where(model, p, |f| face_solid[f] == solid)
+            .nearest_face_where(model, p, |f| model.solid_of_face(f) == solid)
             .map_or(f64::INFINITY, |(_, h)| h.distance)
     };
     let mut ball =
