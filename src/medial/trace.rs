@@ -445,6 +445,31 @@ impl Tracer<'_> {
         Some([normal(edge.faces[0])?, normal(edge.faces[1])?])
     }
 
+    /// Where a touch point with parameters `s` on reflex edge `e` is: within the edge's
+    /// range, and with its normal inside the arc between the edge's faces' normals.
+    fn edge_status(&self, e: usize, s: [f64; 2]) -> (bool, bool) {
+        // A touch point that the corrector leaves a hair past an end (the accuracy, in
+        // length along the curve) is still on the edge: where the edge runs on into another
+        // (a circle split at a seam vertex) and the touch point sits at that vertex while
+        // the normal turns, an exact range test would hand it back and forth between the two.
+        let (lo, hi) = self.model.edges[e].range;
+        let end = s[0].clamp(lo, hi);
+        let in_range = end == s[0]
+            || (s[0] - end).abs()
+                * crate::geom::eval_curve(&self.model.edges[e].curve, end)
+                    .d1
+                    .length()
+                <= self.opts.accuracy;
+        let in_arc = match (self.edge_fan(e, s[0]), Segment::Edge(e).eval(self.model, s)) {
+            (Some(fan), Some(ev)) => {
+                let span = fan[0].angle_between(fan[1]);
+                ev.n.angle_between(fan[0]) + ev.n.angle_between(fan[1]) <= span + 1e-9
+            }
+            _ => false,
+        };
+        (in_range, in_arc)
+    }
+
     /// True when parameters `s` lie on segment `seg`: inside a face's trim, or on a reflex
     /// edge within its range with the normal inside the arc between its faces' normals.
     fn on_segment(&self, seg: Segment, s: [f64; 2]) -> bool {
@@ -453,16 +478,8 @@ impl Tracer<'_> {
                 crate::geom::trim::contains(&self.model.faces[f], glam::DVec2::new(s[0], s[1]))
             }
             Segment::Edge(e) => {
-                let (lo, hi) = self.model.edges[e].range;
-                if s[0] < lo || s[0] > hi {
-                    return false;
-                }
-                let (Some(fan), Some(ev)) = (self.edge_fan(e, s[0]), seg.eval(self.model, s))
-                else {
-                    return false;
-                };
-                let span = fan[0].angle_between(fan[1]);
-                ev.n.angle_between(fan[0]) + ev.n.angle_between(fan[1]) <= span + 1e-9
+                let (in_range, in_arc) = self.edge_status(e, s);
+                in_range && in_arc
             }
             // Touching at a vertex only, the boundary must not come closer along any of its
             // edges: N·d ≥ 0 for every edge direction d leaving it.
@@ -998,14 +1015,19 @@ impl Tracer<'_> {
             };
             let r = xn[3];
             // Back to a convex vertex: r returns to zero.
+            // (Away from a vertex with a touch point off its segment, the step overshot a
+            // hand-over or a junction: that is handled below.)
             if r <= acc && points.len() > 1 {
-                let (xe, v) = self.land_at_vertex(&sys, xn);
-                points.push(self.seam_point(&sys, &xe));
-                end = v.map_or_else(
-                    || SeamEnd::Open("radius reached zero away from a vertex".into()),
-                    SeamEnd::Vertex,
-                );
-                break;
+                let (xe, v) = self.land_at_vertex(&sys, xn.clone());
+                let off = (0..3).any(|i| !self.on_segment(triplet[i], slot(&xn, i)));
+                if v.is_some() || !off {
+                    points.push(self.seam_point(&sys, &xe));
+                    end = v.map_or_else(
+                        || SeamEnd::Open("radius reached zero away from a vertex".into()),
+                        SeamEnd::Vertex,
+                    );
+                    break;
+                }
             }
             // Back at the seed: a closed seam.
             // (Only on the segments it started with: the seed's parameters are theirs.)
@@ -1024,19 +1046,48 @@ impl Tracer<'_> {
             // the edge it crossed (xn itself, off the segment, is not output).
             if let Some(i) = (0..3).find(|&i| !self.on_segment(triplet[i], slot(&xn, i))) {
                 match self.hand_over(&triplet, i, &x, &t, h) {
-                    Ok((to, _, _))
+                    Ok((to, xc, _))
                         if handovers.last().is_some_and(|h: &Handover| {
                             h.point + 1 >= points.len()
                                 && h.to == triplet[i].id()
                                 && h.from == to.id()
                         }) =>
                     {
-                        end = SeamEnd::Open(format!(
-                            "touch point oscillates between {} and {} (at a vertex: vertex segments are not traced yet)",
-                            triplet[i].id(),
-                            to.id()
-                        ));
-                        break;
+                        // The touch point sits at a vertex while the normal turns: it is
+                        // on the vertex (a corner of two reflex edges, or of faceted faces
+                        // meeting at small angles), not on either neighbour.
+                        let from = triplet[i];
+                        match self.onto_vertex(&triplet, i, &xc, &t) {
+                            Some((v, xv)) => {
+                                handovers.push(Handover {
+                                    point: points.len(),
+                                    from: from.id(),
+                                    to: v.id(),
+                                });
+                                triplet[i] = v;
+                                sys = MedialSystem::new(triplet.to_vec());
+                                points.push(self.seam_point(&sys, &xv));
+                                let mut d = DVector::zeros(10);
+                                d.rows_mut(0, 3).copy_from(&t.rows(0, 3));
+                                let Some(tc) = self.tangent(&sys, &xv, &d) else {
+                                    end =
+                                        SeamEnd::Open("singular tangent after a hand-over".into());
+                                    break;
+                                };
+                                travel += v3(&xv).distance(v3(&x));
+                                x = xv;
+                                t = tc;
+                                continue;
+                            }
+                            None => {
+                                end = SeamEnd::Open(format!(
+                                    "touch point oscillates between {} and {} and cannot stay on a vertex",
+                                    from.id(),
+                                    to.id()
+                                ));
+                                break;
+                            }
+                        }
                     }
                     Ok((to, xc, xnew)) => {
                         // The crossing point must itself be medial: a junction may come first.
@@ -1076,6 +1127,15 @@ impl Tracer<'_> {
                         continue;
                     }
                     Err((e, xc)) => {
+                        // A junction before the crossing ends the seam there instead (the
+                        // step that left the segment may have passed it).
+                        if let Some((e, jx)) = self.junction_between(&triplet, solid, &x, &xc, &t) {
+                            if let Some(jx) = jx {
+                                points.push(self.seam_point(&sys, &jx.rows(0, 10).into_owned()));
+                            }
+                            end = e;
+                            break;
+                        }
                         // The crossing point itself is a seam point when it is medial.
                         if self.is_medial(&triplet, &xc) {
                             points.push(self.seam_point(&sys, &xc));
@@ -1201,6 +1261,8 @@ impl Tracer<'_> {
         let sys = MedialSystem::new(triplet.to_vec());
         let (mut lo, mut hi) = (0.0, h);
         let mut xc = x.clone();
+        // The nearest point past the crossing: which of an edge's bounds it broke.
+        let mut off = None;
         while hi - lo > 0.1 * acc {
             let mid = 0.5 * (lo + hi);
             match self.step(&sys, x, t, mid) {
@@ -1208,22 +1270,32 @@ impl Tracer<'_> {
                     lo = mid;
                     xc = xm;
                 }
-                _ => hi = mid,
+                Some((xm, _, _)) => {
+                    hi = mid;
+                    off = Some(slot(&xm, i));
+                }
+                None => hi = mid,
             }
         }
-        match self.hand_over_at(triplet, i, &xc, t) {
+        let exit = match (triplet[i], off) {
+            (Segment::Edge(e), Some(s)) => Some(self.edge_status(e, s)),
+            _ => None,
+        };
+        match self.hand_over_at(triplet, i, &xc, t, exit) {
             Ok((to, xnew)) => Ok((to, xc, xnew)),
             Err(e) => Err((e, xc)),
         }
     }
 
-    /// [`Self::hand_over`] at the crossing point `xc`.
+    /// [`Self::hand_over`] at the crossing point `xc`. For a touch point on an edge, `exit`
+    /// says which bounds the point just past the crossing kept (range, arc), when known.
     fn hand_over_at(
         &mut self,
         triplet: &[Segment; 3],
         i: usize,
         xc: &DVector<f64>,
         t: &DVector<f64>,
+        exit: Option<(bool, bool)>,
     ) -> Result<(Segment, DVector<f64>), HandOverError> {
         let acc = self.opts.accuracy;
         let xc = xc.clone();
@@ -1269,7 +1341,23 @@ impl Tracer<'_> {
                 let edge = &self.model.edges[e];
                 let te = slot(&xc, i)[0];
                 let (lo, hi) = edge.range;
-                if (te - lo).min(hi - te) <= 1e-6 * (hi - lo) {
+                // Off the edge's end or off its arc? The crossing is bisected on the centre's
+                // travel, so the touch point may stop short of the end by more than a
+                // relative 1e-6: an end within 10× the accuracy, or a normal well inside
+                // the arc, means the end.
+                let near_end = self.model.vertices[edge.vertices[0]]
+                    .point
+                    .distance(ev.p)
+                    .min(self.model.vertices[edge.vertices[1]].point.distance(ev.p))
+                    <= 10.0 * acc;
+                let inside_arc = self.edge_fan(e, te).is_some_and(|fan| {
+                    ev.n.angle_between(fan[0]).min(ev.n.angle_between(fan[1])) > 1e-4
+                });
+                let at_end = match exit {
+                    Some((in_range, in_arc)) => !in_range && in_arc,
+                    None => (te - lo).min(hi - te) <= 1e-6 * (hi - lo) || (near_end && inside_arc),
+                };
+                if at_end {
                     // On to the vertex at that end, with the same normal.
                     let v = if te - lo < hi - te {
                         edge.vertices[0]
@@ -1355,6 +1443,34 @@ impl Tracer<'_> {
             }
         };
         self.polish_hand_over(triplet, i, &xc, t, to, params, ev.p)
+    }
+
+    /// Moves touch point `i` of the seam point `xc` onto the vertex it sits at (within 10×
+    /// the accuracy), keeping its normal, when the ball may touch that vertex there (the
+    /// normal inside the vertex's cone) and the re-solved point is the same ball.
+    fn onto_vertex(
+        &mut self,
+        triplet: &[Segment; 3],
+        i: usize,
+        xc: &DVector<f64>,
+        t: &DVector<f64>,
+    ) -> Option<(Segment, DVector<f64>)> {
+        let ev = triplet[i].eval(self.model, slot(xc, i))?;
+        let v = (0..self.model.vertices.len())
+            .filter(|&v| self.model.vertices[v].point.distance(ev.p) <= 10.0 * self.opts.accuracy)
+            .min_by(|&a, &b| {
+                let da = self.model.vertices[a].point.distance(ev.p);
+                da.total_cmp(&self.model.vertices[b].point.distance(ev.p))
+            })?;
+        let to = Segment::Vertex(v);
+        let params = vertex_angles(ev.n);
+        if !self.on_segment(to, params) {
+            return None;
+        }
+        let (to, xv) = self
+            .polish_hand_over(triplet, i, xc, t, to, params, ev.p)
+            .ok()?;
+        (!self.coincident(&new_triplet(triplet, i, to), &xv, true)).then_some((to, xv))
     }
 
     /// The end of a hand-over: the seam point `xc` with slot `i` moved to segment `to` at
