@@ -142,6 +142,26 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 mat.stats.worst_residual,
                 path.display()
             );
+            for e in &report.mat.topology.euler {
+                let sheets = report
+                    .mat
+                    .sheets
+                    .iter()
+                    .filter(|s| s.solid == e.solid)
+                    .count();
+                match (e.mat_euler, &e.unknown) {
+                    (Some(chi), _) => println!(
+                        "solid {}: {sheets} sheets; Euler characteristic {chi} (solid {})",
+                        e.solid, e.solid_euler
+                    ),
+                    (None, why) => println!(
+                        "solid {}: {sheets} sheets; Euler characteristic not counted: {} (solid {})",
+                        e.solid,
+                        why.as_deref().unwrap_or("unknown"),
+                        e.solid_euler
+                    ),
+                }
+            }
             if let Some(v) = verification {
                 println!(
                     "verified {} balls: worst error {:.2e} mm{} (distance {:.2e}, touch {:.2e}, touch off boundary {:.2e}; accuracy {:.2e})",

@@ -30,17 +30,20 @@ pub struct TraceReport {
     pub stats: StatsReport,
 }
 
-/// The `mat` object: seams and junctions (sheets come with the outputs issue).
+/// The `mat` object: seams, junctions, sheets (by their boundaries), degenerate pieces and
+/// the topology check.
 #[derive(Clone, Debug, Serialize)]
 pub struct MatReport {
     pub seams: Vec<crate::medial::Seam>,
     pub junctions: Vec<crate::medial::Junction>,
+    pub sheets: Vec<crate::medial::Sheet>,
     pub degenerate: Vec<crate::medial::Degenerate>,
     pub topology: TopologyReport,
 }
 
-/// Consistency of the seam–junction graph, next to the solid's Euler characteristic (the
-/// MAT's own needs its sheets, which come with the outputs issue).
+/// Consistency of the seam–junction graph, and the Euler characteristic of each solid next to
+/// its medial axis's (which must be equal: the medial axis is a deformation retract of the
+/// solid).
 #[derive(Clone, Debug, Serialize)]
 pub struct TopologyReport {
     /// `V − E + F` of the B-rep as read (counting the file's vertices, edges and faces).
@@ -54,11 +57,19 @@ pub struct TopologyReport {
     /// Generic junctions (4 segments) that do not have exactly 4 seam ends, and seam ends
     /// naming a junction that does not exist: both would be tracer bugs.
     pub inconsistencies: Vec<String>,
+    /// Per solid: `V − E + F` of the B-rep and `V − E + Σ χ(sheet)` of its medial axis.
+    pub euler: Vec<crate::medial::SolidEuler>,
+    /// Sheet-boundary arc ends that could not be paired at a node (tracer gaps).
+    pub unpaired: Vec<String>,
 }
 
 impl TopologyReport {
-    /// Checks the graph of `mat` against `model`.
-    pub fn new(model: &Model, mat: &crate::medial::Mat) -> TopologyReport {
+    /// Checks the graph of `mat` against `model`; `sheets` are `mat`'s sheets.
+    pub fn new(
+        model: &Model,
+        mat: &crate::medial::Mat,
+        sheets: &crate::medial::Sheets,
+    ) -> TopologyReport {
         use crate::medial::SeamEnd;
         let mut ends_at = vec![0usize; mat.junctions.len()];
         let mut vertices = std::collections::BTreeSet::new();
@@ -93,6 +104,8 @@ impl TopologyReport {
             graph_edges: mat.seams.len(),
             open_ends,
             inconsistencies,
+            euler: sheets.solids.clone(),
+            unpaired: sheets.unpaired.clone(),
         }
     }
 }
@@ -125,6 +138,7 @@ impl TraceReport {
         seconds: f64,
     ) -> TraceReport {
         let base = Report::new(model, class);
+        let sheets = crate::medial::sheets(model, class, mat);
         TraceReport {
             schema: SCHEMA,
             input: base.input,
@@ -132,8 +146,9 @@ impl TraceReport {
             mat: MatReport {
                 seams: mat.seams.clone(),
                 junctions: mat.junctions.clone(),
+                sheets: sheets.sheets.clone(),
                 degenerate: mat.degenerate.clone(),
-                topology: TopologyReport::new(model, mat),
+                topology: TopologyReport::new(model, mat, &sheets),
             },
             stats: StatsReport {
                 seconds,

@@ -7,11 +7,13 @@
 //! solves them by damped Newton ([`solver`]); the tracer builds on both.
 
 pub mod equations;
+pub mod sheets;
 pub mod solver;
 pub mod trace;
 pub mod verify;
 
 pub use equations::{FieldEval, MedialSystem, Segment};
+pub use sheets::{sheets, BoundaryRef, Sheet, Sheets, SolidEuler};
 pub use solver::{solve, Solution, SolveOptions, SolveStatus};
 pub use trace::{
     trace, trace_with_boundary, trace_with_seeds, Degenerate, Handover, Junction, Mat, Seam,

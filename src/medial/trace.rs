@@ -2299,12 +2299,20 @@ mod tests {
                 s.ends
             );
         }
-        let topo = crate::report::TopologyReport::new(m, mat);
+        let class = crate::classify(m, &Default::default());
+        let sheets = crate::medial::sheets(m, &class, mat);
+        let topo = crate::report::TopologyReport::new(m, mat, &sheets);
         assert!(
             topo.inconsistencies.is_empty(),
             "{file}: {:?}",
             topo.inconsistencies
         );
+        // Where the sheets are complete, the medial axis is homotopy-equivalent to the solid.
+        for e in &topo.euler {
+            if let Some(chi) = e.mat_euler {
+                assert_eq!(chi, e.solid_euler, "{file}: Euler characteristics {e:?}");
+            }
+        }
         let worst = verify(m, mat);
         assert!(
             worst <= 1e-6 * m.diagonal(),

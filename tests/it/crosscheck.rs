@@ -84,6 +84,15 @@ fn failure(part: &std::path::Path, out_dir: &std::path::Path) -> Option<String> 
     if !bad.is_empty() {
         why.push(format!("graph: {bad:?}"));
     }
+    // Where the sheets are complete, the medial axis must have the solid's Euler
+    // characteristic (it is a deformation retract of the solid).
+    for e in topo["euler"].as_array().expect("euler") {
+        if let Some(chi) = e["mat_euler"].as_i64() {
+            if Some(chi) != e["solid_euler"].as_i64() {
+                why.push(format!("Euler characteristics differ: {e}"));
+            }
+        }
+    }
     let python = root().join(".venv-ocp/bin/python");
     if python.exists() {
         let check = std::process::Command::new(&python)

@@ -1,0 +1,637 @@
+//! Sheets: the 2-dimensional pieces of the medial axis, found from their boundaries
+//! (DESIGN.md, "Sheets").
+//!
+//! A seam with touch triplet {a, b, c} bounds the three sheets {a, b}, {b, c}, {a, c}; a convex
+//! edge between faces a and b is the *rim* of sheet {a, b} (balls of radius → 0 there). So the
+//! boundary of every sheet is a set of closed loops made of seam *sides* and rims, joined at
+//! junctions and convex vertices. This module walks them:
+//!
+//! 1. every seam gives three *arcs* (one per pair of its touch slots; a closed seam's arcs are
+//!    loops on their own), every convex edge one;
+//! 2. at each node (a junction, or a vertex where seams end or rims meet) the arc ends are
+//!    paired by the sheet they bound, named by the two *segment groups* touched: faces joined
+//!    by smooth or reflex edges (with those edges and the reflex vertices between them) form
+//!    one group, because a touch point moves across such an edge without the sheet ending
+//!    (a fillet, a split face, the inner corner of an L). Where a group pair is ambiguous at
+//!    a node (more than two arc ends), the exact segment pair decides;
+//! 3. paired arcs form loops, and the loops with the same group pair form one sheet.
+//!
+//! Counting then gives the medial axis's Euler characteristic `V − E + Σ χ(sheet)`, with
+//! `χ = 2 − loops` for a sheet (a disc with holes). That assumes each sheet has genus 0 and
+//! that loops of one group pair are one sheet; both hold for the reference parts (tests), and
+//! the count is withheld, with the reason, wherever the boundary is incomplete: open seam
+//! ends, curvature-limit ends (the skeletal edges from there are not traced), degenerate
+//! pieces (a cylinder's axis) or mixed edges.
+
+use crate::brep::Model;
+use crate::classify::{Classification, EdgeKind};
+use crate::medial::trace::{Mat, SeamEnd};
+use serde::Serialize;
+use std::collections::{BTreeMap, BTreeSet};
+
+/// One element of a sheet's boundary.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BoundaryRef {
+    /// A seam (by id).
+    Seam(usize),
+    /// A convex edge of the model: the sheet's rim.
+    Edge(usize),
+}
+
+/// A sheet, named by two of the segments it touches, with its boundary.
+#[derive(Clone, Debug, Serialize)]
+pub struct Sheet {
+    pub id: usize,
+    pub solid: usize,
+    /// Two segments whose touch points the sheet's balls have (where its first boundary arc
+    /// starts; along the sheet the touch points may move onto neighbouring segments of the
+    /// same group).
+    pub segments: [String; 2],
+    /// Every seam and rim on the boundary, in loop order.
+    pub boundary: Vec<BoundaryRef>,
+    /// The boundary as closed loops (a sheet with holes has several).
+    pub loops: Vec<Vec<BoundaryRef>>,
+}
+
+/// Euler characteristics of one solid and of its medial axis.
+#[derive(Clone, Debug, Serialize)]
+pub struct SolidEuler {
+    pub solid: usize,
+    /// The solid's Euler characteristic: half its boundary's, `V − E + Σ(2 − loops)` over
+    /// its faces (Euler–Poincaré). 1 for a ball, 1 − g for a solid with g through-holes.
+    pub solid_euler: i64,
+    /// `V − E + Σ χ(sheet)` of the medial axis, when its sheets are complete.
+    pub mat_euler: Option<i64>,
+    /// Nodes (junctions and the vertices seams and rims end at), arcs (seams and rims) and
+    /// sheets counted.
+    pub nodes: usize,
+    pub arcs: usize,
+    pub sheets: usize,
+    /// Why `mat_euler` is withheld.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unknown: Option<String>,
+}
+
+/// The sheets of a medial axis, the per-solid Euler characteristics, and arc ends that could
+/// not be paired (with why).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Sheets {
+    pub sheets: Vec<Sheet>,
+    pub solids: Vec<SolidEuler>,
+    pub unpaired: Vec<String>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Node {
+    Junction(usize),
+    Vertex(usize),
+}
+
+/// An arc: one side of a seam, or a rim.
+struct Arc {
+    element: BoundaryRef,
+    solid: usize,
+    /// The segment pair at each end (exact ids) and the group pair.
+    ends: [Option<(Node, [String; 2])>; 2],
+    groups: [usize; 2],
+    /// A closed seam's side: a loop by itself.
+    closed: bool,
+}
+
+/// Finds the sheets of `mat` and the Euler characteristics of each solid and its medial axis.
+pub fn sheets(model: &Model, class: &Classification, mat: &Mat) -> Sheets {
+    let groups = SegmentGroups::new(model, class);
+    let mut arcs: Vec<Arc> = vec![];
+    for s in &mat.seams {
+        let closed = s.ends.iter().all(|e| matches!(e, SeamEnd::Closed));
+        let node = |e: &SeamEnd| match e {
+            SeamEnd::Junction(j) => Some(Node::Junction(*j)),
+            SeamEnd::Vertex(v) => Some(Node::Vertex(*v)),
+            _ => None,
+        };
+        for (i, j) in [(0, 1), (1, 2), (0, 2)] {
+            let pair = |segs: &[String]| match (segs.get(i), segs.get(j)) {
+                (Some(a), Some(b)) => Some(sorted_pair(a, b)),
+                _ => None,
+            };
+            let start = node(&s.ends[0]).zip(pair(&s.segments));
+            let end = node(&s.ends[1]).zip(pair(&s.end_segments));
+            let g = [
+                groups.of(&s.segments[i]).unwrap_or(usize::MAX),
+                groups.of(&s.segments[j]).unwrap_or(usize::MAX),
+            ];
+            arcs.push(Arc {
+                element: BoundaryRef::Seam(s.id),
+                solid: s.solid,
+                ends: [start, end],
+                groups: [g[0].min(g[1]), g[0].max(g[1])],
+                closed,
+            });
+        }
+    }
+    let mut mixed = BTreeSet::new();
+    for (e, edge) in model.edges.iter().enumerate() {
+        match class.edges[e].kind {
+            EdgeKind::Convex if edge.faces.len() == 2 && edge.faces[0] != edge.faces[1] => {
+                let (a, b) = (format!("F{}", edge.faces[0]), format!("F{}", edge.faces[1]));
+                let pair = sorted_pair(&a, &b);
+                let g = [groups.of(&a).unwrap(), groups.of(&b).unwrap()];
+                arcs.push(Arc {
+                    element: BoundaryRef::Edge(e),
+                    solid: model.solid_of_face(edge.faces[0]),
+                    ends: [
+                        Some((Node::Vertex(edge.vertices[0]), pair.clone())),
+                        Some((Node::Vertex(edge.vertices[1]), pair)),
+                    ],
+                    groups: [g[0].min(g[1]), g[0].max(g[1])],
+                    closed: false,
+                });
+            }
+            EdgeKind::Mixed => {
+                mixed.insert(model.solid_of_face(edge.faces[0]));
+            }
+            _ => {}
+        }
+    }
+
+    // Pair arc ends at each node by group pair, then (if ambiguous) by segment pair.
+    let mut at: BTreeMap<Node, Vec<(usize, usize)>> = BTreeMap::new();
+    for (k, arc) in arcs.iter().enumerate() {
+        for (end, e) in arc.ends.iter().enumerate() {
+            if let Some((node, _)) = e {
+                at.entry(*node).or_default().push((k, end));
+            }
+        }
+    }
+    let mut uf = UnionFind::new(arcs.len());
+    let mut paired = vec![[false; 2]; arcs.len()];
+    let mut unpaired = vec![];
+    for (node, ends) in &at {
+        let mut by_group: BTreeMap<[usize; 2], Vec<(usize, usize)>> = BTreeMap::new();
+        for &(k, end) in ends {
+            by_group.entry(arcs[k].groups).or_default().push((k, end));
+        }
+        for (_, list) in by_group {
+            let mut tries = vec![list];
+            if tries[0].len() > 2 {
+                let mut by_pair: BTreeMap<[String; 2], Vec<(usize, usize)>> = BTreeMap::new();
+                for &(k, end) in &tries[0] {
+                    let pair = arcs[k].ends[end].as_ref().unwrap().1.clone();
+                    by_pair.entry(pair).or_default().push((k, end));
+                }
+                tries = by_pair.into_values().collect();
+            }
+            for list in tries {
+                if let [(k1, e1), (k2, e2)] = list[..] {
+                    uf.union(k1, k2);
+                    paired[k1][e1] = true;
+                    paired[k2][e2] = true;
+                } else {
+                    let names: Vec<String> = list
+                        .iter()
+                        .map(|&(k, end)| {
+                            let pair = &arcs[k].ends[end].as_ref().unwrap().1;
+                            format!("{} {{{},{}}}", name(arcs[k].element), pair[0], pair[1])
+                        })
+                        .collect();
+                    unpaired.push(format!(
+                        "{}: {} arc end(s) of one sheet: {}",
+                        node_name(*node),
+                        list.len(),
+                        names.join(", ")
+                    ));
+                }
+            }
+        }
+    }
+
+    // Loops: components of paired arcs; complete when every end is paired.
+    let mut components: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    for k in 0..arcs.len() {
+        components.entry(uf.find(k)).or_default().push(k);
+    }
+    let mut incomplete_solids = BTreeSet::new();
+    let mut by_sheet: BTreeMap<(usize, [usize; 2]), Vec<Vec<usize>>> = BTreeMap::new();
+    for (_, members) in components {
+        let complete = members
+            .iter()
+            .all(|&k| arcs[k].closed || (paired[k][0] && paired[k][1]));
+        let first = &arcs[members[0]];
+        if !complete {
+            incomplete_solids.insert(first.solid);
+            continue;
+        }
+        by_sheet
+            .entry((first.solid, first.groups))
+            .or_default()
+            .push(order_loop(&arcs, &members));
+    }
+
+    let mut out = Sheets {
+        unpaired,
+        ..Default::default()
+    };
+    for ((solid, _), loops) in by_sheet {
+        let first = &arcs[loops[0][0]];
+        let segments = match &first.ends[0] {
+            Some((_, pair)) => pair.clone(),
+            None => match (&first.element, &first.ends[1]) {
+                (_, Some((_, pair))) => pair.clone(),
+                (BoundaryRef::Seam(s), None) => {
+                    let seam = &mat.seams[*s];
+                    [seam.segments[0].clone(), seam.segments[1].clone()]
+                }
+                (BoundaryRef::Edge(_), None) => unreachable!("rims always have two ends"),
+            },
+        };
+        let loops: Vec<Vec<BoundaryRef>> = loops
+            .iter()
+            .map(|l| l.iter().map(|&k| arcs[k].element).collect())
+            .collect();
+        out.sheets.push(Sheet {
+            id: out.sheets.len(),
+            solid,
+            segments,
+            boundary: loops.concat(),
+            loops,
+        });
+    }
+
+    for (solid, _) in model.solids.iter().enumerate() {
+        let faces: Vec<usize> = (0..model.faces.len())
+            .filter(|&f| model.solid_of_face(f) == solid)
+            .collect();
+        let mut edges = BTreeSet::new();
+        let mut vertices = BTreeSet::new();
+        for &f in &faces {
+            for l in &model.faces[f].loops {
+                vertices.extend(l.vertex);
+                for oe in &l.edges {
+                    edges.insert(oe.edge);
+                    vertices.extend(model.edges[oe.edge].vertices);
+                }
+            }
+        }
+        // χ of the boundary surface by Euler–Poincaré (a face with k loops is a disc with
+        // k − 1 holes; a face with no loop at all is a closed surface: a torus, or else a
+        // sphere), and the solid's χ is half of it.
+        let boundary_euler: i64 = vertices.len() as i64 - edges.len() as i64
+            + faces
+                .iter()
+                .map(|&f| match model.faces[f].loops.len() {
+                    0 if crate::geom::surface_kind(&model.faces[f].surface) == "torus" => 0,
+                    0 => 2,
+                    k => 2 - k as i64,
+                })
+                .sum::<i64>();
+        let solid_euler = boundary_euler / 2;
+        let mine: Vec<&Arc> = arcs.iter().filter(|a| a.solid == solid).collect();
+        let nodes: BTreeSet<Node> = mine
+            .iter()
+            .flat_map(|a| a.ends.iter().flatten().map(|(n, _)| *n))
+            .collect();
+        let mut elements: BTreeSet<BoundaryRef> = BTreeSet::new();
+        let mut closed_seams = BTreeSet::new();
+        for a in &mine {
+            if a.closed {
+                closed_seams.insert(a.element);
+            } else {
+                elements.insert(a.element);
+            }
+        }
+        let sheets: Vec<&Sheet> = out.sheets.iter().filter(|s| s.solid == solid).collect();
+        let seams_of_solid = mat.seams.iter().filter(|s| s.solid == solid);
+        let reason = if mixed.contains(&solid) {
+            Some("the solid has mixed edges (convex along part, reflex along the rest)".into())
+        } else if mat.degenerate.iter().any(|d| d.solid == solid) {
+            Some(
+                "the medial axis has degenerate pieces (sampled, not yet in the cell count)".into(),
+            )
+        } else if seams_of_solid.clone().any(|s| {
+            s.ends
+                .iter()
+                .any(|e| matches!(e, SeamEnd::CurvatureLimit { .. }))
+        }) {
+            Some("seams end at curvature limits, where untraced skeletal edges begin".into())
+        } else if seams_of_solid
+            .clone()
+            .any(|s| s.ends.iter().any(|e| matches!(e, SeamEnd::Open(_))))
+        {
+            Some("seams end open".into())
+        } else if incomplete_solids.contains(&solid) {
+            Some("some sheet boundaries do not close (see `unpaired`)".into())
+        } else {
+            None
+        };
+        // A closed seam is a loop with one node of its own: it adds 1 − 1 = 0.
+        let chi_sheets: i64 = sheets.iter().map(|s| 2 - s.loops.len() as i64).sum();
+        out.solids.push(SolidEuler {
+            solid,
+            solid_euler,
+            mat_euler: reason
+                .is_none()
+                .then(|| nodes.len() as i64 - elements.len() as i64 + chi_sheets),
+            nodes: nodes.len() + closed_seams.len(),
+            arcs: elements.len() + closed_seams.len(),
+            sheets: sheets.len(),
+            unknown: reason,
+        });
+    }
+    out
+}
+
+/// Orders a loop's arcs so consecutive arcs share a node (for the report; the count does not
+/// depend on it).
+fn order_loop(arcs: &[Arc], members: &[usize]) -> Vec<usize> {
+    if members.len() <= 2 {
+        return members.to_vec();
+    }
+    let mut left: Vec<usize> = members.to_vec();
+    let mut out = vec![left.remove(0)];
+    let mut at = arcs[out[0]].ends[1].as_ref().map(|(n, _)| *n);
+    while !left.is_empty() {
+        let next = left
+            .iter()
+            .position(|&k| arcs[k].ends.iter().flatten().any(|(n, _)| Some(*n) == at));
+        let Some(p) = next else {
+            out.append(&mut left);
+            break;
+        };
+        let k = left.remove(p);
+        at = arcs[k]
+            .ends
+            .iter()
+            .flatten()
+            .map(|(n, _)| *n)
+            .find(|n| Some(*n) != at)
+            .or(at);
+        out.push(k);
+    }
+    out
+}
+
+fn sorted_pair(a: &str, b: &str) -> [String; 2] {
+    if a <= b {
+        [a.to_string(), b.to_string()]
+    } else {
+        [b.to_string(), a.to_string()]
+    }
+}
+
+fn name(e: BoundaryRef) -> String {
+    match e {
+        BoundaryRef::Seam(s) => format!("seam {s}"),
+        BoundaryRef::Edge(e) => format!("rim E{e}"),
+    }
+}
+
+fn node_name(n: Node) -> String {
+    match n {
+        Node::Junction(j) => format!("junction {j}"),
+        Node::Vertex(v) => format!("vertex V{v}"),
+    }
+}
+
+/// Faces joined across smooth and reflex edges, with those reflex edges and the reflex
+/// vertices on them: the touch point of a sheet's ball moves within a group.
+struct SegmentGroups {
+    faces: usize,
+    edges: usize,
+    uf: std::cell::RefCell<UnionFind>,
+}
+
+impl SegmentGroups {
+    fn new(model: &Model, class: &Classification) -> SegmentGroups {
+        let (nf, ne) = (model.faces.len(), model.edges.len());
+        let mut uf = UnionFind::new(nf + ne + model.vertices.len());
+        for (e, edge) in model.edges.iter().enumerate() {
+            if matches!(class.edges[e].kind, EdgeKind::Smooth | EdgeKind::Reflex) {
+                for &f in &edge.faces {
+                    uf.union(f, nf + e);
+                }
+                if class.edges[e].kind == EdgeKind::Reflex {
+                    for &v in &edge.vertices {
+                        uf.union(nf + e, nf + ne + v);
+                    }
+                }
+            }
+        }
+        SegmentGroups {
+            faces: nf,
+            edges: ne,
+            uf: std::cell::RefCell::new(uf),
+        }
+    }
+
+    /// The group of a segment id (`F3`, `E5`, `V7`).
+    fn of(&self, id: &str) -> Option<usize> {
+        let k: usize = id.get(1..)?.parse().ok()?;
+        let i = match id.as_bytes().first()? {
+            b'F' if k < self.faces => k,
+            b'E' if k < self.edges => self.faces + k,
+            b'V' => self.faces + self.edges + k,
+            _ => return None,
+        };
+        let mut uf = self.uf.borrow_mut();
+        (i < uf.parent.len()).then(|| uf.find(i))
+    }
+}
+
+struct UnionFind {
+    parent: Vec<usize>,
+}
+
+impl UnionFind {
+    fn new(n: usize) -> UnionFind {
+        UnionFind {
+            parent: (0..n).collect(),
+        }
+    }
+
+    fn find(&mut self, mut i: usize) -> usize {
+        while self.parent[i] != i {
+            self.parent[i] = self.parent[self.parent[i]];
+            i = self.parent[i];
+        }
+        i
+    }
+
+    fn union(&mut self, a: usize, b: usize) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            self.parent[ra.max(rb)] = ra.min(rb);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sheets_of(name: &str) -> (Mat, Sheets) {
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("samples")
+            .join(name);
+        let m = crate::read_model(&p).unwrap();
+        let c = crate::classify(&m, &Default::default());
+        let mat = crate::medial::trace(&m, &c, &crate::medial::TraceOptions::for_model(&m));
+        let s = sheets(&m, &c, &mat);
+        (mat, s)
+    }
+
+    fn loop_sizes(s: &Sheets) -> Vec<usize> {
+        let mut v: Vec<usize> = s.sheets.iter().map(|s| s.loops.len()).collect();
+        v.sort();
+        v
+    }
+
+    /// Box [0,60]×[0,40]×[0,20] (three different side lengths): one sheet along each of its
+    /// 12 edges (bounded by that edge's rim and seams), and one in the middle between top and
+    /// bottom bounded by the 4 inner seams: 13 sheets, each a disc. Nodes: 4 junctions and
+    /// 8 corners; arcs: 12 seams and 12 rims. V − E + F = 12 − 24 + 13 = 1, the solid's.
+    #[test]
+    fn box_has_thirteen_sheets() {
+        for file in ["box.step", "box_nurbs.step"] {
+            let (mat, s) = sheets_of(file);
+            assert_eq!(s.sheets.len(), 13, "{file}");
+            assert!(s.unpaired.is_empty(), "{file}: {:?}", s.unpaired);
+            assert_eq!(loop_sizes(&s), vec![1; 13], "{file}");
+            let e = &s.solids[0];
+            assert_eq!((e.nodes, e.arcs, e.sheets), (12, 24, 13), "{file}");
+            assert_eq!((e.solid_euler, e.mat_euler), (1, Some(1)), "{file}");
+            // The middle sheet: the one without a rim, bounded by the four seams that join
+            // the junctions (both ends at junctions).
+            let inner: Vec<&Sheet> = s
+                .sheets
+                .iter()
+                .filter(|sh| {
+                    sh.boundary
+                        .iter()
+                        .all(|b| matches!(b, BoundaryRef::Seam(_)))
+                })
+                .collect();
+            assert_eq!(inner.len(), 1, "{file}");
+            assert_eq!(inner[0].boundary.len(), 4, "{file}");
+            for b in &inner[0].boundary {
+                let BoundaryRef::Seam(k) = b else {
+                    unreachable!()
+                };
+                assert!(
+                    mat.seams[*k]
+                        .ends
+                        .iter()
+                        .all(|e| matches!(e, SeamEnd::Junction(_))),
+                    "{file}: seam {k}"
+                );
+            }
+            // Every rim bounds exactly one sheet, every seam three.
+            let mut uses: BTreeMap<BoundaryRef, usize> = BTreeMap::new();
+            for sh in &s.sheets {
+                for b in &sh.boundary {
+                    *uses.entry(*b).or_default() += 1;
+                }
+            }
+            for (b, n) in uses {
+                let want = if matches!(b, BoundaryRef::Seam(_)) {
+                    3
+                } else {
+                    1
+                };
+                assert_eq!(n, want, "{file}: {b:?}");
+            }
+        }
+    }
+
+    /// L-bracket (8 planar faces, 17 convex edges, 1 reflex edge between the inner faces F2
+    /// and F3). Nodes: 6 junctions and 12 vertices = 18; arcs: 17 seams and 17 rims = 34.
+    /// Sheets: each convex edge's rim starts a sheet, but on each end face the two rims
+    /// beside the reflex edge (F2|F6 and F3|F6; F2|F7 and F3|F7) bound one sheet, because its
+    /// balls' touch point moves from F2 over the reflex edge onto F3: 17 − 2 = 15 sheets with
+    /// rims; and each leg has a mid-sheet between its two parallel faces, bounded by seams
+    /// only: 15 + 2 = 17 discs. V − E + F = 18 − 34 + 17 = 1, the solid's.
+    #[test]
+    fn l_bracket_has_seventeen_sheets() {
+        for file in ["l_bracket.step", "l_bracket_nurbs.step"] {
+            let (_, s) = sheets_of(file);
+            assert!(s.unpaired.is_empty(), "{file}: {:?}", s.unpaired);
+            assert_eq!(loop_sizes(&s), vec![1; 17], "{file}");
+            let e = &s.solids[0];
+            assert_eq!((e.nodes, e.arcs, e.sheets), (18, 34, 17), "{file}");
+            assert_eq!((e.solid_euler, e.mat_euler), (1, Some(1)), "{file}");
+            let two_rims = s
+                .sheets
+                .iter()
+                .filter(|sh| {
+                    sh.boundary
+                        .iter()
+                        .filter(|b| matches!(b, BoundaryRef::Edge(_)))
+                        .count()
+                        == 2
+                })
+                .count();
+            let no_rim = s
+                .sheets
+                .iter()
+                .filter(|sh| {
+                    sh.boundary
+                        .iter()
+                        .all(|b| matches!(b, BoundaryRef::Seam(_)))
+                })
+                .count();
+            assert_eq!((two_rims, no_rim), (2, 2), "{file}");
+        }
+    }
+
+    /// Plate with three cylindrical through-holes (a curved part; χ = 1 − 3 = −2). The box
+    /// part gives 4 junctions, 8 corners, 12 seams, 12 rims and 12 edge sheets. Each hole adds
+    /// a closed seam (top, bottom, hole wall) — a loop with a node of its own — and two circle
+    /// rims with one vertex each; the sheets {top, hole} and {bottom, hole} are annuli (the
+    /// closed seam and a rim: χ = 0), and the mid-sheet {top, bottom} is a disc with three
+    /// holes (χ = 2 − 4 = −2). V = 12 + 3 + 6 = 21, E = 24 + 3 + 6 = 33, Σχ = 12 − 2 + 0:
+    /// V − E + Σχ = 21 − 33 + 10 = −2, the solid's.
+    #[test]
+    fn plate_with_holes_has_annuli_and_a_mid_sheet_with_three_holes() {
+        let (_, s) = sheets_of("plate_with_holes.step");
+        assert!(s.unpaired.is_empty(), "{:?}", s.unpaired);
+        let mut want = vec![1; 12];
+        want.extend([2; 6]);
+        want.push(4);
+        assert_eq!(loop_sizes(&s), want);
+        let e = &s.solids[0];
+        assert_eq!((e.nodes, e.arcs, e.sheets), (21, 33, 19));
+        assert_eq!((e.solid_euler, e.mat_euler), (-2, Some(-2)));
+    }
+
+    /// Where the boundary is incomplete the count is withheld with a reason, never guessed:
+    /// the cylinder's medial axis is its axis (degenerate), the elliptic cylinder's seams end
+    /// at curvature limits.
+    #[test]
+    fn euler_withheld_where_sheets_are_incomplete() {
+        let (_, s) = sheets_of("cylinder.step");
+        assert_eq!(s.solids[0].mat_euler, None);
+        assert!(s.solids[0]
+            .unknown
+            .as_deref()
+            .unwrap()
+            .contains("degenerate"));
+        let (_, s) = sheets_of("elliptic_cylinder.step");
+        assert_eq!(s.solids[0].mat_euler, None);
+        assert!(s.solids[0]
+            .unknown
+            .as_deref()
+            .unwrap()
+            .contains("curvature"));
+    }
+
+    /// A box with a void is homotopy-equivalent to a sphere (χ = 2); so is its medial axis.
+    #[test]
+    fn box_with_void_has_euler_two() {
+        let (_, s) = sheets_of("box_with_void.step");
+        assert!(s.unpaired.is_empty(), "{:?}", s.unpaired);
+        assert_eq!(
+            (s.solids[0].solid_euler, s.solids[0].mat_euler),
+            (2, Some(2))
+        );
+    }
+}
