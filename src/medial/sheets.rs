@@ -395,14 +395,15 @@ fn node_name(n: Node) -> String {
 
 /// Faces joined across smooth and reflex edges, with those reflex edges and the reflex
 /// vertices on them: the touch point of a sheet's ball moves within a group.
-struct SegmentGroups {
+#[derive(Clone, Debug)]
+pub(crate) struct SegmentGroups {
     faces: usize,
     edges: usize,
-    uf: std::cell::RefCell<UnionFind>,
+    group: Vec<usize>,
 }
 
 impl SegmentGroups {
-    fn new(model: &Model, class: &Classification) -> SegmentGroups {
+    pub(crate) fn new(model: &Model, class: &Classification) -> SegmentGroups {
         let (nf, ne) = (model.faces.len(), model.edges.len());
         let mut uf = UnionFind::new(nf + ne + model.vertices.len());
         for (e, edge) in model.edges.iter().enumerate() {
@@ -417,24 +418,35 @@ impl SegmentGroups {
                 }
             }
         }
+        let group = (0..uf.parent.len()).map(|i| uf.find(i)).collect();
         SegmentGroups {
             faces: nf,
             edges: ne,
-            uf: std::cell::RefCell::new(uf),
+            group,
         }
     }
 
     /// The group of a segment id (`F3`, `E5`, `V7`).
     fn of(&self, id: &str) -> Option<usize> {
         let k: usize = id.get(1..)?.parse().ok()?;
-        let i = match id.as_bytes().first()? {
-            b'F' if k < self.faces => k,
-            b'E' if k < self.edges => self.faces + k,
-            b'V' => self.faces + self.edges + k,
-            _ => return None,
-        };
-        let mut uf = self.uf.borrow_mut();
-        (i < uf.parent.len()).then(|| uf.find(i))
+        match id.as_bytes().first()? {
+            b'F' if k < self.faces => Some(self.of_segment(crate::medial::Segment::Face(k))),
+            b'E' if k < self.edges => Some(self.of_segment(crate::medial::Segment::Edge(k))),
+            b'V' if k < self.group.len() - self.faces - self.edges => {
+                Some(self.of_segment(crate::medial::Segment::Vertex(k)))
+            }
+            _ => None,
+        }
+    }
+
+    /// The group of a segment.
+    pub(crate) fn of_segment(&self, seg: crate::medial::Segment) -> usize {
+        use crate::medial::Segment;
+        self.group[match seg {
+            Segment::Face(f) => f,
+            Segment::Edge(e) => self.faces + e,
+            Segment::Vertex(v) => self.faces + self.edges + v,
+        }]
     }
 }
 

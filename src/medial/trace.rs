@@ -271,6 +271,7 @@ pub fn trace_with_seeds(
             }
             ve
         },
+        groups: crate::medial::sheets::SegmentGroups::new(model, class),
         junctions: vec![],
         degenerate: vec![],
         touched: vec![false; model.faces.len()],
@@ -373,6 +374,8 @@ struct Tracer<'a> {
     face_solid: Vec<usize>,
     /// The edges at each vertex, with `true` where the vertex is the edge's end.
     vertex_edges: Vec<Vec<(usize, bool)>>,
+    /// Faces joined by smooth and reflex edges (with those edges and reflex vertices).
+    groups: crate::medial::sheets::SegmentGroups,
     junctions: Vec<Junction>,
     degenerate: Vec<Degenerate>,
     /// Faces some output seam point touches.
@@ -1044,8 +1047,8 @@ impl Tracer<'_> {
             }
             // A touch point that leaves its segment is handed over to the next one across
             // the edge it crossed (xn itself, off the segment, is not output).
-            if let Some(i) = (0..3).find(|&i| !self.on_segment(triplet[i], slot(&xn, i))) {
-                match self.hand_over(&triplet, i, &x, &t, h) {
+            if let Some(mut i) = (0..3).find(|&i| !self.on_segment(triplet[i], slot(&xn, i))) {
+                match self.hand_over(&triplet, &mut i, &x, &t, h) {
                     Ok((to, xc, _))
                         if handovers.last().is_some_and(|h: &Handover| {
                             h.point + 1 >= points.len()
@@ -1090,6 +1093,7 @@ impl Tracer<'_> {
                         }
                     }
                     Ok((to, xc, xnew)) => {
+                        let xc_old = xc.clone();
                         // The crossing point must itself be medial: a junction may come first.
                         if let Some((e, jx)) = self.junction_between(&triplet, solid, &x, &xc, &t) {
                             if let Some(jx) = jx {
@@ -1099,12 +1103,29 @@ impl Tracer<'_> {
                             break;
                         }
                         let xc = xnew;
-                        if self.coincident(&new_triplet(&triplet, i, to), &xc, true) {
-                            end = SeamEnd::Open(format!(
-                                "two touch points coincide after handing {} to {}",
-                                triplet[i].id(),
-                                to.id()
-                            ));
+                        let nt = new_triplet(&triplet, i, to);
+                        if self.coincident(&nt, &xc, true) {
+                            // Two touch points on one part of the boundary (faces and the
+                            // reflex edges and vertices joining them, across which a touch
+                            // point moves on) have met: the ball osculates it there, like a
+                            // face touched twice at its curvature limit, and the seam ends.
+                            let at = |k: usize| sys_point(self.model, nt[k], slot(&xc, k));
+                            let merged = (0..3).find(|&k| {
+                                k != i
+                                    && self.groups.of_segment(nt[k]) == self.groups.of_segment(to)
+                                    && matches!((at(k), at(i)), (Some(a), Some(b)) if a.distance(b) <= 1e-4 * xc[3])
+                            });
+                            end = match merged {
+                                Some(_) => {
+                                    points.push(self.seam_point(&sys, &xc_old));
+                                    SeamEnd::CurvatureLimit { segment: to.id() }
+                                }
+                                None => SeamEnd::Open(format!(
+                                    "two touch points coincide after handing {} to {}",
+                                    triplet[i].id(),
+                                    to.id()
+                                )),
+                            };
                             break;
                         }
                         handovers.push(Handover {
@@ -1252,7 +1273,7 @@ impl Tracer<'_> {
     fn hand_over(
         &mut self,
         triplet: &[Segment; 3],
-        i: usize,
+        i: &mut usize,
         x: &DVector<f64>,
         t: &DVector<f64>,
         h: f64,
@@ -1261,26 +1282,55 @@ impl Tracer<'_> {
         let sys = MedialSystem::new(triplet.to_vec());
         let (mut lo, mut hi) = (0.0, h);
         let mut xc = x.clone();
-        // The nearest point past the crossing: which of an edge's bounds it broke.
-        let mut off = None;
+        // The nearest point past the crossing: which touch point left first (two may leave
+        // within one step, at a rounded corner), and which of an edge's bounds it broke.
+        let mut off: Option<DVector<f64>> = None;
+        let on_all =
+            |me: &Self, y: &DVector<f64>| (0..3).all(|k| me.on_segment(triplet[k], slot(y, k)));
         while hi - lo > 0.1 * acc {
             let mid = 0.5 * (lo + hi);
             match self.step(&sys, x, t, mid) {
-                Some((xm, _, _)) if self.on_segment(triplet[i], slot(&xm, i)) => {
+                Some((xm, _, _)) if on_all(self, &xm) => {
                     lo = mid;
                     xc = xm;
                 }
                 Some((xm, _, _)) => {
                     hi = mid;
-                    off = Some(slot(&xm, i));
+                    off = Some(xm);
                 }
                 None => hi = mid,
             }
         }
+        if let Some(k) = off
+            .as_ref()
+            .and_then(|y| (0..3).find(|&k| !self.on_segment(triplet[k], slot(y, k))))
+        {
+            *i = k;
+        }
+        let i = *i;
+        let off = off.map(|y| slot(&y, i));
         let exit = match (triplet[i], off) {
             (Segment::Edge(e), Some(s)) => Some(self.edge_status(e, s)),
             _ => None,
         };
+        // Off an edge's end: the crossing is where the touch point is exactly at the end
+        // (the bisection on the centre's travel leaves it up to the accuracy short of or
+        // past it), so the next segment takes over the same ball at the shared vertex.
+        if let (Segment::Edge(e), Some((false, true))) = (triplet[i], exit) {
+            let (lo, hi) = self.model.edges[e].range;
+            let te = slot(&xc, i)[0];
+            let end = if te - lo < hi - te { lo } else { hi };
+            let mut row = DVector::zeros(10);
+            row[4 + 2 * i] = 1.0;
+            let sol = solve(
+                |z| sys.eval_with_row(self.model, z, &row, end),
+                xc.clone(),
+                &self.solve_opts(),
+            );
+            if sol.status == SolveStatus::Converged && v3(&sol.x).distance(v3(&xc)) <= 10.0 * acc {
+                xc = sol.x;
+            }
+        }
         match self.hand_over_at(triplet, i, &xc, t, exit) {
             Ok((to, xnew)) => Ok((to, xc, xnew)),
             Err(e) => Err((e, xc)),
@@ -1377,9 +1427,23 @@ impl Tracer<'_> {
                             (g, if at_end { r.1 } else { r.0 })
                         })
                         .collect();
+                    // (Only where the two run on tangentially. At a corner of two reflex
+                    // edges the touch point stays on the vertex while the normal turns.)
                     if let [(g, tg)] = next[..] {
-                        if let Some(th) =
-                            crate::medial::equations::edge_angle(self.model, g, tg, ev.n)
+                        let tangents = self.vertex_tangents(v);
+                        let leaving =
+                            |k: usize| tangents.iter().find(|(h, _)| *h == k).map(|(_, d)| *d);
+                        let tangential = match (leaving(e), leaving(g)) {
+                            // Leaving v along e is arriving along −e; g goes on from there.
+                            (Some(de), Some(dg)) if e != g => {
+                                (-de).angle_between(dg)
+                                    <= crate::classify::DEFAULT_ANGLE_TOL_DEG.to_radians()
+                            }
+                            _ => true,
+                        };
+                        if let Some(th) = tangential
+                            .then(|| crate::medial::equations::edge_angle(self.model, g, tg, ev.n))
+                            .flatten()
                         {
                             let to = Segment::Edge(g);
                             return self.polish_hand_over(triplet, i, &xc, t, to, [tg, th], ev.p);
