@@ -1035,3 +1035,37 @@ mod tests {
         assert!(checked > 100, "checked {checked} faces");
     }
 }
+
+/// True when the straight UV path from `a` to `b` leaves `face` and comes back: it crosses
+/// its trimming loops at least twice. A touch point that steps over a hole (or a notch of
+/// the outline) lands inside the face again, and [`contains`] alone would not see that it
+/// left. (One crossing is no exit: a path from a point on the boundary — after a hand-over —
+/// may cross the sampled loop polygon once where it cuts the exact curve's chord.) Periodic
+/// faces are not tested (their loops live in unwrapped coordinates), nor faces without loops.
+pub fn path_crosses_loops(face: &Face, a: DVec2, b: DVec2) -> bool {
+    if face.domain.u_period.is_some() || face.domain.v_period.is_some() || a == b {
+        return false;
+    }
+    let (lo, hi) = (a.min(b), a.max(b));
+    let crossings: usize = face
+        .loops
+        .iter()
+        .map(|l| {
+            let n = l.uv.len();
+            (0..n)
+                .filter(|&k| {
+                    let (p, q) = (l.uv[k], l.uv[(k + 1) % n]);
+                    // Quick reject on the boxes, then the orientation test.
+                    if p.max(q).cmplt(lo).any() || p.min(q).cmpgt(hi).any() {
+                        return false;
+                    }
+                    let cross = |o: DVec2, x: DVec2, y: DVec2| (x - o).perp_dot(y - o);
+                    let (d1, d2) = (cross(a, b, p), cross(a, b, q));
+                    let (d3, d4) = (cross(p, q, a), cross(p, q, b));
+                    d1 * d2 < 0.0 && d3 * d4 < 0.0
+                })
+                .count()
+        })
+        .sum();
+    crossings >= 2
+}

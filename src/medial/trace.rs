@@ -473,6 +473,21 @@ impl Tracer<'_> {
         (in_range, in_arc)
     }
 
+    /// True when a touch point moving from parameters `from` to `to` stays on segment `seg`:
+    /// `to` is on it, and on a face the path between did not cross a trimming loop (a step
+    /// over a hole lands on the face again).
+    fn stays_on(&self, seg: Segment, from: [f64; 2], to: [f64; 2]) -> bool {
+        self.on_segment(seg, to)
+            && match seg {
+                Segment::Face(f) => !crate::geom::trim::path_crosses_loops(
+                    &self.model.faces[f],
+                    glam::DVec2::from(from),
+                    glam::DVec2::from(to),
+                ),
+                _ => true,
+            }
+    }
+
     /// True when parameters `s` lie on segment `seg`: inside a face's trim, or on a reflex
     /// edge within its range with the normal inside the arc between its faces' normals.
     fn on_segment(&self, seg: Segment, s: [f64; 2]) -> bool {
@@ -1047,7 +1062,9 @@ impl Tracer<'_> {
             }
             // A touch point that leaves its segment is handed over to the next one across
             // the edge it crossed (xn itself, off the segment, is not output).
-            if let Some(mut i) = (0..3).find(|&i| !self.on_segment(triplet[i], slot(&xn, i))) {
+            if let Some(mut i) =
+                (0..3).find(|&i| !self.stays_on(triplet[i], slot(&x, i), slot(&xn, i)))
+            {
                 match self.hand_over(&triplet, &mut i, &x, &t, h) {
                     Ok((to, xc, _))
                         if handovers.last().is_some_and(|h: &Handover| {
@@ -1285,8 +1302,9 @@ impl Tracer<'_> {
         // The nearest point past the crossing: which touch point left first (two may leave
         // within one step, at a rounded corner), and which of an edge's bounds it broke.
         let mut off: Option<DVector<f64>> = None;
-        let on_all =
-            |me: &Self, y: &DVector<f64>| (0..3).all(|k| me.on_segment(triplet[k], slot(y, k)));
+        let on_all = |me: &Self, y: &DVector<f64>| {
+            (0..3).all(|k| me.stays_on(triplet[k], slot(x, k), slot(y, k)))
+        };
         while hi - lo > 0.1 * acc {
             let mid = 0.5 * (lo + hi);
             match self.step(&sys, x, t, mid) {
@@ -1303,7 +1321,7 @@ impl Tracer<'_> {
         }
         if let Some(k) = off
             .as_ref()
-            .and_then(|y| (0..3).find(|&k| !self.on_segment(triplet[k], slot(y, k))))
+            .and_then(|y| (0..3).find(|&k| !self.stays_on(triplet[k], slot(x, k), slot(y, k))))
         {
             *i = k;
         }
