@@ -1592,11 +1592,15 @@ impl Tracer<'_> {
             y,
             &self.solve_opts(),
         );
-        // The same ball, touching the new segment where the old one left off.
+        // The same ball, touching the new segment where the old one left off: to 2× the
+        // accuracy, plus the gap between where the touch point left its segment and where
+        // the new one starts (a face's trim is a sampled polygon; its crossing is off the
+        // exact edge by up to the polygon's sag). The new point is solved exactly anyway.
+        let gap = sys_point(self.model, to, params).map_or(0.0, |q| q.distance(p));
         let same = sol.status == SolveStatus::Converged
-            && v3(&sol.x).distance(v3(&xc)) <= 2.0 * acc
+            && v3(&sol.x).distance(v3(&xc)) <= 2.0 * acc + 10.0 * gap
             && sys_point(self.model, to, slot(&sol.x, i))
-                .is_some_and(|q| q.distance(p) <= 2.0 * acc);
+                .is_some_and(|q| q.distance(p) <= 2.0 * acc + 2.0 * gap);
         if !same {
             return Err(HandOverError::Stop(format!(
                 "no seam point after handing {} to {} (corrector {:?}, centre moved {:.2e} mm)",
