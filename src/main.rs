@@ -121,6 +121,18 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let path = out.join(format!("{stem}.mat.json"));
             std::fs::write(&path, serde_json::to_string_pretty(&report)?)
                 .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", path.display()))?;
+            // The sheets' geometry, as a triangle mesh (OBJ), next to the report.
+            let sheets = matrace::medial::sheets(&model, &class, &mat);
+            let mesh = matrace::medial::sheet_mesh(
+                &model,
+                &boundary,
+                &class,
+                &sheets,
+                &matrace::medial::MeshOptions::new(opts.accuracy),
+            );
+            let obj_path = out.join(format!("{stem}.sheets.obj"));
+            std::fs::write(&obj_path, mesh.to_obj(&part.display().to_string()))
+                .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", obj_path.display()))?;
             let open = mat
                 .seams
                 .iter()
@@ -162,6 +174,12 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     ),
                 }
             }
+            println!(
+                "sheet mesh: {} triangles on {} sheets -> {}",
+                mesh.triangles(),
+                mesh.parts.len(),
+                obj_path.display()
+            );
             if let Some(v) = verification {
                 println!(
                     "verified {} balls: worst error {:.2e} mm{} (distance {:.2e}, touch {:.2e}, touch off boundary {:.2e}; accuracy {:.2e})",

@@ -7,12 +7,14 @@
 //! solves them by damped Newton ([`solver`]); the tracer builds on both.
 
 pub mod equations;
+pub mod sheet_mesh;
 pub mod sheets;
 pub mod solver;
 pub mod trace;
 pub mod verify;
 
 pub use equations::{FieldEval, MedialSystem, Segment};
+pub use sheet_mesh::{sheet_mesh, MeshOptions, SheetMesh};
 pub use sheets::{sheets, BoundaryRef, Sheet, Sheets, SolidEuler};
 pub use solver::{solve, Solution, SolveOptions, SolveStatus};
 pub use trace::{

@@ -97,6 +97,8 @@ struct Arc {
     groups: [usize; 2],
     /// A closed seam's side: a loop by itself.
     closed: bool,
+    /// The segment pair where the arc starts (a closed seam's side has no node to name it).
+    pair: [String; 2],
 }
 
 /// Finds the sheets of `mat` and the Euler characteristics of each solid and its medial axis.
@@ -127,6 +129,7 @@ pub fn sheets(model: &Model, class: &Classification, mat: &Mat) -> Sheets {
                 ends: [start, end],
                 groups: [g[0].min(g[1]), g[0].max(g[1])],
                 closed,
+                pair: sorted_pair(&s.segments[i], &s.segments[j]),
             });
         }
     }
@@ -142,10 +145,11 @@ pub fn sheets(model: &Model, class: &Classification, mat: &Mat) -> Sheets {
                     solid: model.solid_of_face(edge.faces[0]),
                     ends: [
                         Some((Node::Vertex(edge.vertices[0]), pair.clone())),
-                        Some((Node::Vertex(edge.vertices[1]), pair)),
+                        Some((Node::Vertex(edge.vertices[1]), pair.clone())),
                     ],
                     groups: [g[0].min(g[1]), g[0].max(g[1])],
                     closed: false,
+                    pair,
                 });
             }
             EdgeKind::Mixed => {
@@ -234,17 +238,7 @@ pub fn sheets(model: &Model, class: &Classification, mat: &Mat) -> Sheets {
     };
     for ((solid, _), loops) in by_sheet {
         let first = &arcs[loops[0][0]];
-        let segments = match &first.ends[0] {
-            Some((_, pair)) => pair.clone(),
-            None => match (&first.element, &first.ends[1]) {
-                (_, Some((_, pair))) => pair.clone(),
-                (BoundaryRef::Seam(s), None) => {
-                    let seam = &mat.seams[*s];
-                    [seam.segments[0].clone(), seam.segments[1].clone()]
-                }
-                (BoundaryRef::Edge(_), None) => unreachable!("rims always have two ends"),
-            },
-        };
+        let segments = first.pair.clone();
         let loops: Vec<Vec<BoundaryRef>> = loops
             .iter()
             .map(|l| l.iter().map(|&k| arcs[k].element).collect())
@@ -427,7 +421,7 @@ impl SegmentGroups {
     }
 
     /// The group of a segment id (`F3`, `E5`, `V7`).
-    fn of(&self, id: &str) -> Option<usize> {
+    pub(crate) fn of(&self, id: &str) -> Option<usize> {
         let k: usize = id.get(1..)?.parse().ok()?;
         match id.as_bytes().first()? {
             b'F' if k < self.faces => Some(self.of_segment(crate::medial::Segment::Face(k))),

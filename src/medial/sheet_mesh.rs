@@ -1,0 +1,327 @@
+//! Sheet geometry as a triangle mesh (DESIGN.md, "Sheets": mesh first).
+//!
+//! Every point `p` of a face, with inward normal `m`, is the foot point of exactly one
+//! maximal ball: the largest ball tangent to the face at `p` inside the solid. Its centre is
+//! a medial point, on the sheet of the face and whatever the ball touches second. So a grid
+//! over each face's trimmed parameter domain, each grid point mapped to its maximal ball,
+//! gives the sheets as height fields over the faces; grid cells whose corners belong to one
+//! sheet become two triangles.
+//!
+//! The maximal ball is found by *shrinking*: start with a ball too large, take the nearest
+//! boundary point `q` to its centre, and shrink to the ball tangent at `p` through `q`,
+//! `r = ‖q − p‖² / (2 m·(q − p))`, until nothing is nearer than `r` (each step one exact
+//! nearest-point query; a few steps suffice). Mesh vertices are therefore exact medial points
+//! (to the accuracy); only the triangles between them are linear.
+//!
+//! A sheet is meshed from the faces of one side only (its lower-numbered segment group), so
+//! it is not covered twice; a sheet between two touches of one group (a face touching the ball
+//! twice) is meshed from both foot regions, which cover it twice. Cells are cut at the sheet
+//! boundaries, not fitted to them: the mesh stops up to one cell short of a seam or rim.
+
+use crate::brep::Model;
+use crate::classify::Classification;
+use crate::geom::Boundary;
+use crate::medial::sheets::{SegmentGroups, Sheets};
+use crate::medial::Segment;
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+
+/// How densely the faces are sampled.
+#[derive(Clone, Copy, Debug)]
+pub struct MeshOptions {
+    /// About this many grid points over the whole part, shared among faces by area.
+    pub samples: usize,
+    /// Grid points per face side, at least and at most.
+    pub min_side: usize,
+    pub max_side: usize,
+    /// The accuracy of the ball radii (mm).
+    pub accuracy: f64,
+}
+
+/// Default sampling budget: ~3000 grid points (refined near sheet boundaries), enough to see every sheet of the
+/// reference parts and about a second on a 200-face part.
+pub const DEFAULT_SAMPLES: usize = 3000;
+
+impl MeshOptions {
+    /// Defaults for `model` at the trace accuracy `accuracy`.
+    pub fn new(accuracy: f64) -> MeshOptions {
+        MeshOptions {
+            samples: DEFAULT_SAMPLES,
+            min_side: 4,
+            max_side: 48,
+            accuracy,
+        }
+    }
+}
+
+/// Triangles of the medial sheets: vertices `[x, y, z, r]`, triangles (indices into
+/// `vertices`) grouped by sheet.
+#[derive(Clone, Debug, Default)]
+pub struct SheetMesh {
+    pub vertices: Vec<[f64; 4]>,
+    /// Per sheet: its id in [`Sheets::sheets`] (None where the sheet's boundary did not close,
+    /// so it has no entry), its two segment groups' names, and its triangles.
+    pub parts: Vec<MeshPart>,
+}
+
+/// The triangles of one sheet.
+#[derive(Clone, Debug)]
+pub struct MeshPart {
+    pub sheet: Option<usize>,
+    /// The faces whose foot points the part's vertices come from, and the segment the balls
+    /// touch second, as a readable name (`F3|F7`).
+    pub name: String,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl SheetMesh {
+    /// Number of triangles over all parts.
+    pub fn triangles(&self) -> usize {
+        self.parts.iter().map(|p| p.triangles.len()).sum()
+    }
+
+    /// The mesh as Wavefront OBJ text: one group per sheet (`g sheet_<id>`), vertices in
+    /// millimetres; the radius of each vertex's ball is not part of OBJ and is left out.
+    pub fn to_obj(&self, title: &str) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(s, "# matrace medial sheets of {title}");
+        let _ = writeln!(
+            s,
+            "# {} vertices, {} triangles, {} sheets",
+            self.vertices.len(),
+            self.triangles(),
+            self.parts.len()
+        );
+        for v in &self.vertices {
+            let _ = writeln!(s, "v {:.6} {:.6} {:.6}", v[0], v[1], v[2]);
+        }
+        for p in &self.parts {
+            match p.sheet {
+                Some(id) => {
+                    let _ = writeln!(s, "g sheet_{id}");
+                }
+                None => {
+                    let _ = writeln!(s, "g unbounded_{}", p.name.replace('|', "_"));
+                }
+            }
+            for t in &p.triangles {
+                let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+            }
+        }
+        s
+    }
+}
+
+/// One sampled ball: centre, radius, and the group of what it touches second.
+#[derive(Clone, Copy, Debug)]
+struct Ball {
+    c: DVec3,
+    r: f64,
+    partner: usize,
+}
+
+/// Meshes the sheets of a traced part. `sheets` names them (see [`crate::medial::sheets()`]).
+pub fn sheet_mesh(
+    model: &Model,
+    boundary: &Boundary,
+    class: &Classification,
+    sheets: &Sheets,
+    opts: &MeshOptions,
+) -> SheetMesh {
+    let groups = SegmentGroups::new(model, class);
+    let group_of_face = |f: usize| groups.of_segment(Segment::Face(f));
+    // Sheets by (solid, group pair).
+    let mut sheet_of: BTreeMap<(usize, usize, usize), usize> = BTreeMap::new();
+    for s in &sheets.sheets {
+        if let (Some(a), Some(b)) = (groups.of(&s.segments[0]), groups.of(&s.segments[1])) {
+            sheet_of.insert((s.solid, a.min(b), a.max(b)), s.id);
+        }
+    }
+    // Grid cells of about one size over the whole part (the budget shared by area), so a
+    // long thin face gets long thin rows of square-ish cells.
+    let extents: Vec<(f64, f64)> = (0..model.faces.len())
+        .map(|f| approx_extent(model, f))
+        .collect();
+    let total: f64 = extents.iter().map(|(a, b)| a * b).sum::<f64>();
+    let h = (total / opts.samples as f64).sqrt().max(f64::MIN_POSITIVE);
+    let per_face: Vec<(Vec<[f64; 4]>, Vec<(usize, usize, [u32; 3])>)> = (0..model.faces.len())
+        .into_par_iter()
+        .map(|f| {
+            let side = |len: f64| ((len / h).round() as usize).clamp(opts.min_side, opts.max_side);
+            let (nu, nv) = (side(extents[f].0), side(extents[f].1));
+            face_mesh(model, boundary, f, (nu, nv), opts, &group_of_face)
+        })
+        .collect();
+    let mut mesh = SheetMesh::default();
+    let mut part_index: BTreeMap<(usize, usize, usize), usize> = BTreeMap::new();
+    for (f, (verts, tris)) in per_face.into_iter().enumerate() {
+        let base = mesh.vertices.len() as u32;
+        mesh.vertices.extend(verts);
+        let solid = model.solid_of_face(f);
+        for (ga, gb, t) in tris {
+            let key = (solid, ga.min(gb), ga.max(gb));
+            let k = *part_index.entry(key).or_insert_with(|| {
+                mesh.parts.push(MeshPart {
+                    sheet: sheet_of.get(&key).copied(),
+                    name: format!("G{}|G{}", key.1, key.2),
+                    triangles: vec![],
+                });
+                mesh.parts.len() - 1
+            });
+            mesh.parts[k]
+                .triangles
+                .push([t[0] + base, t[1] + base, t[2] + base]);
+        }
+    }
+    mesh.parts
+        .sort_by_key(|p| (p.sheet.is_none(), p.sheet, p.name.clone()));
+    mesh
+}
+
+/// Times a grid cell is split in four where its corners do not lie on one sheet, so the mesh
+/// reaches to 1/2³ of a cell from the sheet boundaries.
+const REFINE: u32 = 3;
+
+/// The mesh from face `f`'s foot points: local vertices and triangles tagged with the two
+/// groups of their sheet.
+fn face_mesh(
+    model: &Model,
+    boundary: &Boundary,
+    f: usize,
+    (nu, nv): (usize, usize),
+    opts: &MeshOptions,
+    group_of_face: &(dyn Fn(usize) -> usize + Sync),
+) -> (Vec<[f64; 4]>, Vec<(usize, usize, [u32; 3])>) {
+    let face = &model.faces[f];
+    let (u0, u1) = face.domain.u;
+    let (v0, v1) = face.domain.v;
+    let me = group_of_face(f);
+    let solid = model.solid_of_face(f);
+    // Balls on a lattice 2^REFINE times finer than the grid, computed on demand.
+    let k = 1usize << REFINE;
+    let (lu, lv) = (nu * k, nv * k);
+    let mut balls: std::collections::HashMap<(usize, usize), Option<Ball>> = Default::default();
+    let mut ball = |i: usize, j: usize| -> Option<Ball> {
+        *balls.entry((i, j)).or_insert_with(|| {
+            let uv = DVec2::new(
+                u0 + (u1 - u0) * (i as f64 + 0.5 * k as f64) / lu as f64,
+                v0 + (v1 - v0) * (j as f64 + 0.5 * k as f64) / lv as f64,
+            );
+            if crate::geom::trim::contains(face, uv) {
+                maximal_ball(model, boundary, f, solid, uv, opts.accuracy, group_of_face)
+            } else {
+                None
+            }
+        })
+    };
+    let mut verts = vec![];
+    let mut index: std::collections::HashMap<(usize, usize), u32> = Default::default();
+    let mut tris = vec![];
+    // Cells to visit: (lattice corner, size); coarse cells first.
+    let mut stack: Vec<(usize, usize, usize)> = vec![];
+    for j in 0..nv.saturating_sub(1) {
+        for i in 0..nu.saturating_sub(1) {
+            stack.push((i * k, j * k, k));
+        }
+    }
+    while let Some((i, j, size)) = stack.pop() {
+        let corners = [(i, j), (i + size, j), (i + size, j + size), (i, j + size)];
+        let cell: Vec<Option<Ball>> = corners.iter().map(|&(a, b)| ball(a, b)).collect();
+        let uniform = cell.iter().all(|b| b.is_some()) && {
+            let p = cell[0].unwrap().partner;
+            cell.iter().all(|b| b.unwrap().partner == p)
+        };
+        // A cell of one sheet whose centres do not jump (a jump means a seam runs through
+        // it: the sheet folds or another sheet takes over).
+        let smooth = uniform && {
+            let c: Vec<Ball> = cell.iter().map(|b| b.unwrap()).collect();
+            let diagonal = c[0].c.distance(c[2].c).max(c[1].c.distance(c[3].c));
+            let sides = (0..4)
+                .map(|q| c[q].c.distance(c[(q + 1) % 4].c))
+                .fold(0.0, f64::max);
+            diagonal <= 2.0 * sides + opts.accuracy
+        };
+        if smooth {
+            let partner = cell[0].unwrap().partner;
+            // One sheet, meshed from its lower group's side (both when a group touches
+            // itself).
+            if partner < me {
+                continue;
+            }
+            let mut local = [0u32; 4];
+            for (q, &(a, b)) in corners.iter().enumerate() {
+                local[q] = *index.entry((a, b)).or_insert_with(|| {
+                    let c = cell[q].unwrap();
+                    verts.push([c.c.x, c.c.y, c.c.z, c.r]);
+                    (verts.len() - 1) as u32
+                });
+            }
+            tris.push((me, partner, [local[0], local[1], local[2]]));
+            tris.push((me, partner, [local[0], local[2], local[3]]));
+        } else if size > 1 && cell.iter().any(|b| b.is_some()) {
+            let h = size / 2;
+            stack.extend([(i, j, h), (i + h, j, h), (i + h, j + h, h), (i, j + h, h)]);
+        }
+    }
+    (verts, tris)
+}
+
+/// The maximal ball tangent to face `f` at `uv`, by shrinking (module docs). None at a pole,
+/// where the ball is degenerate (r ≈ 0, at a convex edge), or if shrinking does not settle.
+fn maximal_ball(
+    model: &Model,
+    boundary: &Boundary,
+    f: usize,
+    solid: usize,
+    uv: DVec2,
+    acc: f64,
+    group_of_face: &(dyn Fn(usize) -> usize + Sync),
+) -> Option<Ball> {
+    let ev = Segment::Face(f).eval(model, [uv.x, uv.y])?;
+    let (p, m) = (ev.p, -ev.n);
+    let mut r = model.diagonal();
+    let nearest =
+        |c: DVec3| boundary.nearest_face_where(model, c, |g| model.solid_of_face(g) == solid);
+    for _ in 0..64 {
+        let c = p + m * r;
+        let (g, hit) = nearest(c)?;
+        if hit.distance >= r - acc {
+            // Settled: the ball's second touch is the nearest point just beyond it.
+            if r <= 100.0 * acc {
+                return None;
+            }
+            let (g2, _) = nearest(p + m * (r + 10.0 * acc)).unwrap_or((g, hit));
+            return Some(Ball {
+                c,
+                r,
+                partner: group_of_face(g2),
+            });
+        }
+        let d = hit.point - p;
+        let along = m.dot(d);
+        if along <= 0.0 {
+            return None;
+        }
+        let next = d.length_squared() / (2.0 * along);
+        if !(next < r) {
+            return None;
+        }
+        r = next;
+    }
+    None
+}
+
+/// Rough lengths of face `f` along u and v (for sharing the sampling budget): |Su|·Δu and
+/// |Sv|·Δv at the middle of its domain.
+fn approx_extent(model: &Model, f: usize) -> (f64, f64) {
+    let face = &model.faces[f];
+    let (u0, u1) = face.domain.u;
+    let (v0, v1) = face.domain.v;
+    Segment::Face(f)
+        .eval(model, [0.5 * (u0 + u1), 0.5 * (v0 + v1)])
+        .map_or((0.0, 0.0), |e| {
+            (e.dp[0].length() * (u1 - u0), e.dp[1].length() * (v1 - v0))
+        })
+}
