@@ -1,0 +1,1252 @@
+//! The picture `<stem>.mat.svg`: the part's edges and its medial axis from three orthographic
+//! views and one isometric view, for a design review.
+//!
+//! Layout (a 1400 × 1000 user-unit page, `viewBox` so it scales): a 2 × 2 grid of panels in
+//! **third-angle projection** — TOP above FRONT, RIGHT to the right of FRONT, the ISOMETRIC
+//! view in the free corner — a legend column on the right (colour bar of the seam radius,
+//! symbols, scale bar) and a title block along the bottom (file, counts, accuracy).
+//!
+//! Views, with `(u, v)` the picture's right and up directions and the viewer on the `toward`
+//! side:
+//! - FRONT: `u = x`, `v = z`, seen from −y (looking along +y);
+//! - TOP: `u = x`, `v = y`, seen from +z (looking along −z);
+//! - RIGHT: `u = y`, `v = z`, seen from +x (looking along −x);
+//! - ISOMETRIC: seen from `(1, −1, 1)`, `u = (1, 1, 0)/√2`, `v = (−1, 1, 2)/√6`, so the front
+//!   (−y), right (+x) and top (+z) faces of the part are the visible ones.
+//!
+//! Model `v` (z or y) points up in the picture: SVG's y axis is flipped. The three
+//! orthographic views share one scale and are centred in equal cells, so FRONT and TOP line up
+//! in x and FRONT and RIGHT in z, as a drawing must; the isometric view is fitted to its cell
+//! at its own scale and carries its own scale bar.
+//!
+//! The picture is a wireframe (the medial axis is inside the part, so hidden-line removal
+//! would hide exactly what the picture is for). As a depth cue each part edge is grey by its
+//! mean depth in the view — near edges dark, far edges light — and everything is drawn far
+//! to near. Tangent (smooth) edges are drawn thinner.
+//!
+//! Curves are sampled from the exact geometry: lines by their ends, polylines by their
+//! vertices, other curves by recursive midpoint subdivision until the curve is within a
+//! fraction of a pixel of its chords; every polyline is then thinned per view by
+//! Douglas–Peucker to [`SvgOptions::px_tol`] (D. Douglas, T. Peucker, "Algorithms for the
+//! reduction of the number of points required to represent a digitized line or its
+//! caricature", *The Canadian Cartographer* 10(2), 1973). A seam is split into runs of equal
+//! colour (the radius quantised to [`COLOUR_LEVELS`] levels of viridis) before thinning, so
+//! thinning never moves a colour. Coordinates are written with one decimal (0.1 px): the
+//! output is deterministic, byte for byte, for the same input.
+
+use crate::brep::Model;
+use crate::classify::{Classification, EdgeKind};
+use crate::error::{Error, Result};
+use crate::geom::eval_curve;
+use crate::medial::Mat;
+use glam::{DVec2, DVec3};
+use std::fmt::Write as _;
+use std::path::Path;
+use truck_stepio::r#in::alias::Curve3D;
+
+/// Page width in SVG user units (px at 100 %).
+pub const PAGE_WIDTH: f64 = 1400.0;
+/// Page height in SVG user units.
+pub const PAGE_HEIGHT: f64 = 1000.0;
+/// Default thinning tolerance: points within this distance (px) of the drawn chord are dropped.
+pub const DEFAULT_PX_TOL: f64 = 0.25;
+/// Default largest number of junctions whose ids are written in the isometric view.
+pub const DEFAULT_MAX_JUNCTION_LABELS: usize = 60;
+/// Number of distinct seam colours (the radius range is quantised to this many levels).
+pub const COLOUR_LEVELS: usize = 24;
+/// Largest depth of the midpoint subdivision of a curved edge (2^12 pieces per interval at
+/// most).
+const MAX_SUBDIVISION_DEPTH: u32 = 12;
+
+const MARGIN: f64 = 12.0;
+const LEGEND_WIDTH: f64 = 230.0;
+const TITLE_HEIGHT: f64 = 92.0;
+const LABEL_BAND: f64 = 24.0;
+/// Smallest share of the grid's width or height a column or row of panels gets.
+const MIN_SPLIT: f64 = 0.4;
+const INSET: f64 = 16.0;
+const DEGENERATE_COLOUR: &str = "#d0109a";
+const FONT: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
+/// Greys of a part edge from near to far.
+const EDGE_GREYS: [&str; 4] = ["#262626", "#555555", "#858585", "#b0b0b0"];
+
+/// Options of [`render_svg`].
+#[derive(Clone, Debug)]
+pub struct SvgOptions {
+    /// The part's name in the title block (empty: the file name of the model's source).
+    pub title: String,
+    /// The trace's output accuracy (mm), written in the title block when known.
+    pub accuracy: Option<f64>,
+    /// Thinning tolerance in px: polyline points this close to the drawn chord are dropped.
+    pub px_tol: f64,
+    /// Junction ids are written in the isometric view when there are at most this many.
+    pub max_junction_labels: usize,
+}
+
+impl Default for SvgOptions {
+    fn default() -> Self {
+        SvgOptions {
+            title: String::new(),
+            accuracy: None,
+            px_tol: DEFAULT_PX_TOL,
+            max_junction_labels: DEFAULT_MAX_JUNCTION_LABELS,
+        }
+    }
+}
+
+/// A direction of view: the picture's right (`u`) and up (`v`) axes in model space, and the
+/// direction toward the viewer.
+#[derive(Clone, Copy, Debug)]
+struct View {
+    name: &'static str,
+    /// What the view looks along, for the panel label.
+    note: &'static str,
+    u: DVec3,
+    v: DVec3,
+    toward: DVec3,
+}
+
+const FRONT: View = View {
+    name: "FRONT",
+    note: "looking along +y",
+    u: DVec3::X,
+    v: DVec3::Z,
+    toward: DVec3::NEG_Y,
+};
+const TOP: View = View {
+    name: "TOP",
+    note: "looking along \u{2212}z",
+    u: DVec3::X,
+    v: DVec3::Y,
+    toward: DVec3::Z,
+};
+const RIGHT: View = View {
+    name: "RIGHT",
+    note: "looking along \u{2212}x",
+    u: DVec3::Y,
+    v: DVec3::Z,
+    toward: DVec3::X,
+};
+
+fn isometric() -> View {
+    View {
+        name: "ISOMETRIC",
+        note: "from (1, \u{2212}1, 1)",
+        u: DVec3::new(1.0, 1.0, 0.0).normalize(),
+        v: DVec3::new(-1.0, 1.0, 2.0).normalize(),
+        toward: DVec3::new(1.0, -1.0, 1.0).normalize(),
+    }
+}
+
+/// A rectangle on the page.
+#[derive(Clone, Copy, Debug)]
+struct Rect {
+    x: f64,
+    y: f64,
+    w: f64,
+    h: f64,
+}
+
+/// One view placed on the page: model point → page point.
+#[derive(Clone, Copy, Debug)]
+struct Panel {
+    view: View,
+    cell: Rect,
+    /// px per mm.
+    scale: f64,
+    /// `(u, v)` of the model's bounding-box centre, drawn at `origin`.
+    centre: DVec2,
+    origin: DVec2,
+    /// Depth (along `toward`) of the nearest and farthest bounding-box corner.
+    depth_range: (f64, f64),
+}
+
+impl Panel {
+    fn page_point(&self, p: DVec3) -> DVec2 {
+        let (u, v) = (p.dot(self.view.u), p.dot(self.view.v));
+        DVec2::new(
+            self.origin.x + (u - self.centre.x) * self.scale,
+            self.origin.y - (v - self.centre.y) * self.scale,
+        )
+    }
+
+    fn depth(&self, p: DVec3) -> f64 {
+        p.dot(self.view.toward)
+    }
+
+    /// 0 at the nearest bounding-box corner, 1 at the farthest.
+    fn farness(&self, p: DVec3) -> f64 {
+        let (near, far) = self.depth_range;
+        if near - far > 0.0 {
+            ((near - self.depth(p)) / (near - far)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The four panels: FRONT, TOP, RIGHT, ISOMETRIC.
+struct Layout {
+    panels: [Panel; 4],
+    legend: Rect,
+    title: Rect,
+}
+
+fn corners(bbox: (DVec3, DVec3)) -> [DVec3; 8] {
+    let (lo, hi) = bbox;
+    std::array::from_fn(|k| {
+        DVec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        )
+    })
+}
+
+/// `(u range, v range, centre, depth range)` of the bounding box in a view.
+fn extent(view: &View, bbox: (DVec3, DVec3)) -> (DVec2, DVec2, (f64, f64)) {
+    let mut lo = DVec2::splat(f64::INFINITY);
+    let mut hi = DVec2::splat(f64::NEG_INFINITY);
+    let (mut near, mut far) = (f64::NEG_INFINITY, f64::INFINITY);
+    for c in corners(bbox) {
+        let q = DVec2::new(c.dot(view.u), c.dot(view.v));
+        lo = lo.min(q);
+        hi = hi.max(q);
+        let d = c.dot(view.toward);
+        near = near.max(d);
+        far = far.min(d);
+    }
+    (hi - lo, (lo + hi) * 0.5, (near, far))
+}
+
+fn layout(bbox: (DVec3, DVec3)) -> Layout {
+    let grid_w = PAGE_WIDTH - 3.0 * MARGIN - LEGEND_WIDTH;
+    let grid_h = PAGE_HEIGHT - 3.0 * MARGIN - TITLE_HEIGHT;
+    // Split the grid where the orthographic views need it: the left column holds x (TOP,
+    // FRONT), the right one y (RIGHT); the top row holds y (TOP), the bottom one z (FRONT,
+    // RIGHT). Each column and row keeps at least MIN_SPLIT of the grid, so a flat part still
+    // leaves the isometric view room. Cells of one column share their x, cells of one row
+    // their y, so the views stay aligned.
+    let size = (bbox.1 - bbox.0).max(DVec3::splat(1e-9));
+    let split = |a: f64, b: f64| (a / (a + b)).clamp(MIN_SPLIT, 1.0 - MIN_SPLIT);
+    let cw = [
+        split(size.x, size.y) * grid_w,
+        (1.0 - split(size.x, size.y)) * grid_w,
+    ];
+    let rh = [
+        split(size.y, size.z) * grid_h,
+        (1.0 - split(size.y, size.z)) * grid_h,
+    ];
+    let cell = |col: usize, row: usize| Rect {
+        x: MARGIN + if col == 0 { 0.0 } else { cw[0] },
+        y: MARGIN + if row == 0 { 0.0 } else { rh[0] },
+        w: cw[col],
+        h: rh[row],
+    };
+    // Third-angle: TOP above FRONT, RIGHT right of FRONT, ISOMETRIC in the free corner.
+    let views = [FRONT, TOP, RIGHT, isometric()];
+    let cells = [cell(0, 1), cell(0, 0), cell(1, 1), cell(1, 0)];
+    let fit = |size: DVec2, c: Rect| {
+        let size = size.max(DVec2::splat(1e-9));
+        let (aw, ah) = (c.w - 2.0 * INSET, c.h - LABEL_BAND - 2.0 * INSET);
+        (aw / size.x).min(ah / size.y)
+    };
+    let extents = views.map(|v| extent(&v, bbox));
+    let ortho = (0..3)
+        .map(|k| fit(extents[k].0, cells[k]))
+        .fold(f64::INFINITY, f64::min);
+    let panels = std::array::from_fn(|k| {
+        let c = cells[k];
+        Panel {
+            view: views[k],
+            cell: c,
+            scale: if k < 3 { ortho } else { fit(extents[k].0, c) },
+            centre: extents[k].1,
+            origin: DVec2::new(c.x + c.w / 2.0, c.y + LABEL_BAND + (c.h - LABEL_BAND) / 2.0),
+            depth_range: extents[k].2,
+        }
+    });
+    Layout {
+        panels,
+        legend: Rect {
+            x: PAGE_WIDTH - MARGIN - LEGEND_WIDTH,
+            y: MARGIN,
+            w: LEGEND_WIDTH,
+            h: grid_h,
+        },
+        title: Rect {
+            x: MARGIN,
+            y: PAGE_HEIGHT - MARGIN - TITLE_HEIGHT,
+            w: PAGE_WIDTH - 2.0 * MARGIN,
+            h: TITLE_HEIGHT,
+        },
+    }
+}
+
+/// Samples an edge's exact curve over `range` so that the polyline is within `tol` (mm) of
+/// the curve: lines by their ends, polylines by their vertices, others by midpoint
+/// subdivision from 16 equal intervals (32 for a closed edge).
+fn sample_curve(curve: &Curve3D, range: (f64, f64), closed: bool, tol: f64) -> Vec<DVec3> {
+    let at = |t: f64| eval_curve(curve, t).p;
+    let (t0, t1) = range;
+    match curve {
+        Curve3D::Line(_) => vec![at(t0), at(t1)],
+        Curve3D::Polyline(_) => {
+            let (a, b) = (t0.min(t1), t0.max(t1));
+            let mut ts = vec![a];
+            let mut k = a.floor() + 1.0;
+            while k < b {
+                ts.push(k);
+                k += 1.0;
+            }
+            ts.push(b);
+            if t0 > t1 {
+                ts.reverse();
+            }
+            ts.into_iter().map(at).collect()
+        }
+        _ => {
+            let n = if closed { 32 } else { 16 };
+            let mut out = vec![at(t0)];
+            for k in 0..n {
+                let a = t0 + (t1 - t0) * k as f64 / n as f64;
+                let b = t0 + (t1 - t0) * (k + 1) as f64 / n as f64;
+                subdivide(&at, (a, at(a)), (b, at(b)), tol, 0, &mut out);
+            }
+            out
+        }
+    }
+}
+
+fn subdivide(
+    at: &impl Fn(f64) -> DVec3,
+    a: (f64, DVec3),
+    b: (f64, DVec3),
+    tol: f64,
+    depth: u32,
+    out: &mut Vec<DVec3>,
+) {
+    let tm = 0.5 * (a.0 + b.0);
+    let m = at(tm);
+    if depth < MAX_SUBDIVISION_DEPTH && distance_to_segment(m, a.1, b.1) > tol {
+        subdivide(at, a, (tm, m), tol, depth + 1, out);
+        subdivide(at, (tm, m), b, tol, depth + 1, out);
+    } else {
+        out.push(b.1);
+    }
+}
+
+fn distance_to_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    let s = if l2 > 0.0 {
+        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * s).distance(p)
+}
+
+fn distance_to_segment_2d(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    let s = if l2 > 0.0 {
+        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * s).distance(p)
+}
+
+/// Douglas–Peucker thinning: the points of `pts` farther than `tol` from the chords of the
+/// kept points, with both ends always kept.
+fn thin(pts: &[DVec2], tol: f64) -> Vec<DVec2> {
+    if pts.len() <= 2 {
+        return pts.to_vec();
+    }
+    let mut keep = vec![false; pts.len()];
+    keep[0] = true;
+    keep[pts.len() - 1] = true;
+    let mut stack = vec![(0, pts.len() - 1)];
+    while let Some((i, j)) = stack.pop() {
+        let mut worst = (0.0, 0);
+        for k in i + 1..j {
+            let d = distance_to_segment_2d(pts[k], pts[i], pts[j]);
+            if d > worst.0 {
+                worst = (d, k);
+            }
+        }
+        if worst.0 > tol {
+            keep[worst.1] = true;
+            stack.push((i, worst.1));
+            stack.push((worst.1, j));
+        }
+    }
+    pts.iter()
+        .zip(keep)
+        .filter_map(|(p, k)| k.then_some(*p))
+        .collect()
+}
+
+/// A number with at most one decimal, without a trailing `.0` or a negative zero.
+fn num(x: f64) -> String {
+    let r = (x * 10.0).round() / 10.0;
+    if r == 0.0 {
+        return "0".into();
+    }
+    let s = format!("{r:.1}");
+    s.strip_suffix(".0").map(str::to_owned).unwrap_or(s)
+}
+
+fn points_attr(pts: &[DVec2]) -> String {
+    let mut s = String::with_capacity(pts.len() * 12);
+    for (k, p) in pts.iter().enumerate() {
+        if k > 0 {
+            s.push(' ');
+        }
+        let _ = write!(s, "{},{}", num(p.x), num(p.y));
+    }
+    s
+}
+
+/// SVG path data of a polyline: `M x y L x y x y …`.
+fn path_data(pts: &[DVec2]) -> String {
+    let mut s = String::with_capacity(pts.len() * 12);
+    for (k, p) in pts.iter().enumerate() {
+        let _ = match k {
+            0 => write!(s, "M{} {}", num(p.x), num(p.y)),
+            1 => write!(s, "L{} {}", num(p.x), num(p.y)),
+            _ => write!(s, " {} {}", num(p.x), num(p.y)),
+        };
+    }
+    s
+}
+
+/// A length in mm for a label: about four significant digits, no trailing zeros.
+fn mm(x: f64) -> String {
+    let a = x.abs();
+    let decimals = if a == 0.0 || a >= 100.0 {
+        1
+    } else if a >= 10.0 {
+        2
+    } else if a >= 1.0 {
+        3
+    } else {
+        4
+    };
+    let s = format!("{x:.decimals$}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// viridis (matplotlib's perceptually uniform map, S. van der Walt & N. Smith, 2015) at nine
+/// stops, interpolated linearly in sRGB.
+const VIRIDIS: [[u8; 3]; 9] = [
+    [0x44, 0x01, 0x54],
+    [0x47, 0x2d, 0x7b],
+    [0x3b, 0x52, 0x8b],
+    [0x2c, 0x72, 0x8e],
+    [0x21, 0x91, 0x8c],
+    [0x28, 0xae, 0x80],
+    [0x5e, 0xc9, 0x62],
+    [0xad, 0xdc, 0x30],
+    [0xfd, 0xe7, 0x25],
+];
+/// The part of viridis used: its last, light-yellow tenth is too faint on white.
+const VIRIDIS_END: f64 = 0.9;
+
+/// The colour of `t ∈ [0, 1]` (small radius dark blue, large radius yellow-green).
+fn colour(t: f64) -> String {
+    let x = t.clamp(0.0, 1.0) * VIRIDIS_END * (VIRIDIS.len() - 1) as f64;
+    let i = (x.floor() as usize).min(VIRIDIS.len() - 2);
+    let f = x - i as f64;
+    let c: [u8; 3] = std::array::from_fn(|k| {
+        let (a, b) = (VIRIDIS[i][k] as f64, VIRIDIS[i + 1][k] as f64);
+        (a + (b - a) * f).round() as u8
+    });
+    format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
+}
+
+/// The radius range coloured, `(lo, hi)` with `hi > lo`.
+#[derive(Clone, Copy, Debug)]
+struct RadiusScale {
+    lo: f64,
+    hi: f64,
+}
+
+impl RadiusScale {
+    fn of(mat: &Mat) -> Option<RadiusScale> {
+        let rs = mat
+            .seams
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| p.point[3]))
+            .chain(mat.junctions.iter().map(|j| j.radius))
+            .filter(|r| r.is_finite());
+        let (lo, hi) = rs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+            (a.min(r), b.max(r))
+        });
+        if lo > hi {
+            return None;
+        }
+        let hi = if hi - lo > 1e-12 * hi.abs().max(1.0) {
+            hi
+        } else {
+            lo + hi.abs().max(1.0) * 1e-3
+        };
+        Some(RadiusScale { lo, hi })
+    }
+
+    fn t(&self, r: f64) -> f64 {
+        ((r - self.lo) / (self.hi - self.lo)).clamp(0.0, 1.0)
+    }
+
+    /// The quantised colour level of `r`.
+    fn level(&self, r: f64) -> usize {
+        ((self.t(r) * COLOUR_LEVELS as f64) as usize).min(COLOUR_LEVELS - 1)
+    }
+
+    fn level_colour(level: usize) -> String {
+        colour((level as f64 + 0.5) / COLOUR_LEVELS as f64)
+    }
+}
+
+/// The largest of 1, 2, 5 × 10ᵏ not above `x`.
+fn nice_floor(x: f64) -> f64 {
+    let p = 10f64.powf(x.log10().floor());
+    [5.0, 2.0, 1.0]
+        .into_iter()
+        .map(|m| m * p)
+        .find(|v| *v <= x * (1.0 + 1e-12))
+        .unwrap_or(p)
+}
+
+/// About `n` round values inside `[lo, hi]`.
+fn ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    let step = nice_floor((hi - lo) / n as f64);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    (first..=last).map(|k| k as f64 * step).collect()
+}
+
+/// Renders the picture of `model` and its medial axis `mat` as an SVG document.
+pub fn render_svg(model: &Model, class: &Classification, mat: &Mat, opts: &SvgOptions) -> String {
+    let lay = layout(model.bbox);
+    let radius = RadiusScale::of(mat);
+    let max_scale = lay.panels.iter().map(|p| p.scale).fold(0.0, f64::max);
+    let curve_tol = 0.5 * opts.px_tol / max_scale.max(1e-12);
+    let edges: Vec<Vec<DVec3>> = model
+        .edges
+        .iter()
+        .map(|e| sample_curve(&e.curve, e.range, e.is_closed(), curve_tol))
+        .collect();
+
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="{FONT}" font-size="12">"#,
+        w = num(PAGE_WIDTH),
+        h = num(PAGE_HEIGHT)
+    );
+    let title = if opts.title.is_empty() {
+        Path::new(&model.source.path)
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    } else {
+        opts.title.clone()
+    };
+    let _ = writeln!(s, "<title>{} — medial axis</title>", escape(&title));
+    // The seam colours, one class per level.
+    s.push_str("<defs><style>");
+    for l in 0..COLOUR_LEVELS {
+        let _ = write!(s, ".c{l}{{stroke:{}}}", RadiusScale::level_colour(l));
+    }
+    s.push_str("</style></defs>\n");
+    let _ = writeln!(s, r##"<rect width="100%" height="100%" fill="#ffffff"/>"##);
+    for (k, panel) in lay.panels.iter().enumerate() {
+        draw_panel(&mut s, class, mat, &edges, panel, radius, opts, k == 3);
+    }
+    draw_legend(&mut s, mat, radius, &lay);
+    draw_title_block(&mut s, model, mat, &title, opts, &lay);
+    s.push_str("</svg>\n");
+    s
+}
+
+#[allow(clippy::too_many_arguments)]
+fn draw_panel(
+    s: &mut String,
+    class: &Classification,
+    mat: &Mat,
+    edges: &[Vec<DVec3>],
+    panel: &Panel,
+    radius: Option<RadiusScale>,
+    opts: &SvgOptions,
+    is_iso: bool,
+) {
+    let c = panel.cell;
+    let id = panel.view.name.to_ascii_lowercase();
+    let _ = writeln!(s, r#"<g class="view" id="view-{id}">"#);
+    let _ = writeln!(
+        s,
+        r##"<rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#c8c8c8" stroke-width="1"/>"##,
+        num(c.x + 3.0),
+        num(c.y + 3.0),
+        num(c.w - 6.0),
+        num(c.h - 6.0)
+    );
+    let _ = writeln!(
+        s,
+        r##"<text x="{}" y="{}" font-size="14" font-weight="bold" fill="#202020">{}<tspan dx="10" font-weight="normal" font-size="11" fill="#707070">{}</tspan></text>"##,
+        num(c.x + 12.0),
+        num(c.y + 21.0),
+        panel.view.name,
+        panel.view.note
+    );
+
+    // Part edges, grey by mean depth, in groups from far to near; tangent edges thinner.
+    let mut groups: Vec<Vec<usize>> = vec![vec![]; 2 * EDGE_GREYS.len()];
+    for (i, pts) in edges.iter().enumerate() {
+        let far = pts.iter().map(|p| panel.farness(*p)).sum::<f64>() / pts.len().max(1) as f64;
+        let level = ((far * EDGE_GREYS.len() as f64) as usize).min(EDGE_GREYS.len() - 1);
+        let smooth = class
+            .edges
+            .get(i)
+            .is_some_and(|e| e.kind == EdgeKind::Smooth);
+        groups[2 * (EDGE_GREYS.len() - 1 - level) + usize::from(!smooth)].push(i);
+    }
+    for (g, members) in groups.iter().enumerate() {
+        if members.is_empty() {
+            continue;
+        }
+        let smooth = g % 2 == 0;
+        let _ = writeln!(
+            s,
+            r#"<g class="edges{}" fill="none" stroke="{}" stroke-width="{}" stroke-linecap="round" stroke-linejoin="round">"#,
+            if smooth { " smooth" } else { "" },
+            EDGE_GREYS[EDGE_GREYS.len() - 1 - g / 2],
+            if smooth { "0.6" } else { "1.1" }
+        );
+        for &i in members {
+            let px: Vec<DVec2> = edges[i].iter().map(|p| panel.page_point(*p)).collect();
+            let _ = writeln!(s, r#"<path d="{}"/>"#, path_data(&thin(&px, opts.px_tol)));
+        }
+        s.push_str("</g>\n");
+    }
+
+    // Degenerate pieces: magenta, dashed through the sampled centres, a diamond at each
+    // centre and the ball's outline.
+    if !mat.degenerate.is_empty() {
+        let _ = writeln!(
+            s,
+            r#"<g class="degenerates" fill="none" stroke="{DEGENERATE_COLOUR}">"#
+        );
+        for (k, d) in mat.degenerate.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                r#"<g class="degenerate" data-kind="{}">"#,
+                escape(&d.kind)
+            );
+            let _ = writeln!(
+                s,
+                "<title>degenerate {} {k} ({}): {} ball(s), r {}</title>",
+                escape(&d.kind),
+                escape(&d.segments.join(" ")),
+                d.balls.len(),
+                d.balls
+                    .first()
+                    .map(|b| mm(b[3]) + " mm")
+                    .unwrap_or_default()
+            );
+            let centres: Vec<DVec2> = d
+                .balls
+                .iter()
+                .map(|b| panel.page_point(DVec3::new(b[0], b[1], b[2])))
+                .collect();
+            if centres.len() >= 2 {
+                let _ = writeln!(
+                    s,
+                    r#"<polyline points="{}" stroke-width="1.8" stroke-dasharray="6 3"/>"#,
+                    points_attr(&thin(&centres, opts.px_tol))
+                );
+            }
+            for (b, q) in d.balls.iter().zip(&centres) {
+                let _ = writeln!(
+                    s,
+                    r#"<circle cx="{}" cy="{}" r="{}" stroke-width="0.6" stroke-dasharray="3 3" opacity="0.7"/>"#,
+                    num(q.x),
+                    num(q.y),
+                    num(b[3] * panel.scale)
+                );
+                let _ = writeln!(
+                    s,
+                    r#"<path d="M{} {}l4 4-4 4-4-4z" fill="{DEGENERATE_COLOUR}" stroke="none"/>"#,
+                    num(q.x),
+                    num(q.y - 4.0)
+                );
+            }
+            s.push_str("</g>\n");
+        }
+        s.push_str("</g>\n");
+    }
+
+    // Seams, far to near, in runs of equal colour.
+    if let Some(rs) = radius {
+        let mut order: Vec<(f64, usize)> = mat
+            .seams
+            .iter()
+            .enumerate()
+            .map(|(i, seam)| {
+                let d = seam
+                    .points
+                    .iter()
+                    .map(|p| panel.farness(DVec3::new(p.point[0], p.point[1], p.point[2])))
+                    .sum::<f64>()
+                    / seam.points.len().max(1) as f64;
+                (d, i)
+            })
+            .collect();
+        order.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        let _ = writeln!(
+            s,
+            r#"<g class="seams" fill="none" stroke-width="2.2" stroke-linecap="round" stroke-linejoin="round">"#
+        );
+        for (_, i) in order {
+            draw_seam(s, mat, i, panel, rs, opts);
+        }
+        s.push_str("</g>\n");
+
+        let _ = writeln!(
+            s,
+            r##"<g class="junctions" stroke="#000000" stroke-width="0.9">"##
+        );
+        // Smaller dots when there are many, so that they do not hide the seams.
+        let dot = if mat.junctions.len() > 40 {
+            "2.8"
+        } else {
+            "3.6"
+        };
+        for j in &mat.junctions {
+            let q = panel.page_point(DVec3::from_array(j.point));
+            let _ = writeln!(
+                s,
+                r#"<circle class="junction" cx="{}" cy="{}" r="{dot}" fill="{}"><title>junction {} · r {} mm</title></circle>"#,
+                num(q.x),
+                num(q.y),
+                colour(rs.t(j.radius)),
+                j.id,
+                mm(j.radius)
+            );
+        }
+        s.push_str("</g>\n");
+        if is_iso && !mat.junctions.is_empty() && mat.junctions.len() <= opts.max_junction_labels {
+            draw_junction_labels(s, mat, panel);
+        }
+    }
+    if is_iso {
+        draw_scale_bar(s, panel.scale, c.x + c.w - 20.0, c.y + c.h - 22.0, "", true);
+    }
+    draw_axes(s, panel);
+    s.push_str("</g>\n");
+}
+
+fn draw_seam(
+    s: &mut String,
+    mat: &Mat,
+    i: usize,
+    panel: &Panel,
+    rs: RadiusScale,
+    opts: &SvgOptions,
+) {
+    let seam = &mat.seams[i];
+    let (rlo, rhi) = seam
+        .points
+        .iter()
+        .map(|p| p.point[3])
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+            (a.min(r), b.max(r))
+        });
+    let _ = writeln!(
+        s,
+        r#"<g class="seam" data-seam="{}"><title>seam {} · r {}–{} mm · {} points</title>"#,
+        seam.id,
+        seam.id,
+        mm(rlo),
+        mm(rhi),
+        seam.points.len()
+    );
+    let px: Vec<DVec2> = seam
+        .points
+        .iter()
+        .map(|p| panel.page_point(DVec3::new(p.point[0], p.point[1], p.point[2])))
+        .collect();
+    if px.len() == 1 {
+        let _ = write!(
+            s,
+            r#"<circle cx="{}" cy="{}" r="1.5" fill="{}" stroke="none"/>"#,
+            num(px[0].x),
+            num(px[0].y),
+            colour(rs.t(seam.points[0].point[3]))
+        );
+    }
+    // Segment k joins points k and k + 1 and takes the level of its mean radius; a run of
+    // segments whose levels stay within one of its first is drawn in its middle level.
+    let level = |k: usize| rs.level(0.5 * (seam.points[k].point[3] + seam.points[k + 1].point[3]));
+    let mut start = 0;
+    while start + 1 < px.len() {
+        let first = level(start);
+        let (mut lo, mut hi) = (first, first);
+        let mut end = start + 1;
+        while end + 1 < px.len() && level(end).abs_diff(first) <= 1 {
+            lo = lo.min(level(end));
+            hi = hi.max(level(end));
+            end += 1;
+        }
+        let _ = write!(
+            s,
+            r#"<path class="c{}" d="{}"/>"#,
+            (lo + hi).div_ceil(2),
+            path_data(&thin(&px[start..=end], opts.px_tol))
+        );
+        start = end;
+    }
+    s.push_str("</g>\n");
+}
+
+/// Junction ids beside their dots, skipping a label that would overlap one already placed.
+fn draw_junction_labels(s: &mut String, mat: &Mat, panel: &Panel) {
+    let _ = writeln!(
+        s,
+        r##"<g class="junction-labels" font-size="10" fill="#303030">"##
+    );
+    let mut placed: Vec<DVec2> = vec![];
+    for j in &mat.junctions {
+        let q = panel.page_point(DVec3::from_array(j.point)) + DVec2::new(5.0, -5.0);
+        if placed
+            .iter()
+            .any(|p| (p.x - q.x).abs() < 22.0 && (p.y - q.y).abs() < 11.0)
+        {
+            continue;
+        }
+        placed.push(q);
+        let _ = writeln!(
+            s,
+            r#"<text x="{}" y="{}">J{}</text>"#,
+            num(q.x),
+            num(q.y),
+            j.id
+        );
+    }
+    s.push_str("</g>\n");
+}
+
+/// The model axes as seen in the panel, in the top right corner (inside the label band and
+/// the inset above the drawing, so it never covers the part).
+fn draw_axes(s: &mut String, panel: &Panel) {
+    let o = DVec2::new(panel.cell.x + panel.cell.w - 42.0, panel.cell.y + 28.0);
+    let _ = writeln!(
+        s,
+        r##"<g class="axes" stroke="#606060" stroke-width="1" fill="#606060" font-size="10">"##
+    );
+    for (name, axis) in [("x", DVec3::X), ("y", DVec3::Y), ("z", DVec3::Z)] {
+        let d = DVec2::new(axis.dot(panel.view.u), -axis.dot(panel.view.v));
+        if d.length() < 0.2 {
+            continue;
+        }
+        let e = o + d * 14.0;
+        let t = o + d * 21.0;
+        let _ = writeln!(
+            s,
+            r#"<line x1="{}" y1="{}" x2="{}" y2="{}"/><text x="{}" y="{}" stroke="none" text-anchor="middle" dominant-baseline="central">{name}</text>"#,
+            num(o.x),
+            num(o.y),
+            num(e.x),
+            num(e.y),
+            num(t.x),
+            num(t.y)
+        );
+    }
+    s.push_str("</g>\n");
+}
+
+/// A scale bar of a round length 50–130 px long, labelled above its middle; its left end at
+/// `x`, or its right end when `right` is set.
+fn draw_scale_bar(s: &mut String, scale: f64, x: f64, y: f64, caption: &str, right: bool) {
+    let len = nice_floor(130.0 / scale);
+    let w = len * scale;
+    let x = if right { x - w } else { x };
+    let _ = writeln!(
+        s,
+        r##"<g class="scale-bar" font-size="11" fill="#202020"><rect x="{}" y="{}" width="{}" height="5" fill="#202020"/><rect x="{}" y="{}" width="{}" height="5" fill="#ffffff" stroke="#202020" stroke-width="0.8"/><text x="{}" y="{}" text-anchor="middle">{} mm</text>{}</g>"##,
+        num(x),
+        num(y),
+        num(w / 2.0),
+        num(x + w / 2.0),
+        num(y),
+        num(w / 2.0),
+        num(x + w / 2.0),
+        num(y - 4.0),
+        mm(len),
+        if caption.is_empty() {
+            String::new()
+        } else {
+            format!(
+                r##"<text x="{}" y="{}" font-size="10" fill="#606060">{}</text>"##,
+                num(x),
+                num(y + 17.0),
+                escape(caption)
+            )
+        }
+    );
+}
+
+fn draw_legend(s: &mut String, mat: &Mat, radius: Option<RadiusScale>, lay: &Layout) {
+    let r = lay.legend;
+    let x = r.x + 14.0;
+    let _ = writeln!(s, r#"<g class="legend">"#);
+    let _ = writeln!(
+        s,
+        r##"<rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#c8c8c8"/>"##,
+        num(r.x + 3.0),
+        num(r.y + 3.0),
+        num(r.w - 6.0),
+        num(r.h - 6.0)
+    );
+    let _ = writeln!(
+        s,
+        r##"<text x="{}" y="{}" font-size="14" font-weight="bold" fill="#202020">MEDIAL AXIS</text>"##,
+        num(x),
+        num(r.y + 26.0)
+    );
+    let _ = writeln!(
+        s,
+        r##"<text x="{}" y="{}" font-size="12" fill="#202020">seam ball radius r (mm)</text>"##,
+        num(x),
+        num(r.y + 50.0)
+    );
+    // Colour bar: vertical, small radii at the bottom.
+    let (bx, by, bw, bh) = (x, r.y + 62.0, 20.0, 300.0);
+    match radius {
+        Some(rs) => {
+            let _ = writeln!(s, r#"<g class="colour-bar">"#);
+            for l in 0..COLOUR_LEVELS {
+                let h = bh / COLOUR_LEVELS as f64;
+                let _ = writeln!(
+                    s,
+                    r#"<rect x="{}" y="{}" width="{}" height="{}" fill="{}"/>"#,
+                    num(bx),
+                    num(by + bh - (l + 1) as f64 * h),
+                    num(bw),
+                    num(h + 0.4),
+                    RadiusScale::level_colour(l)
+                );
+            }
+            let _ = writeln!(
+                s,
+                r##"<rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#404040" stroke-width="0.8"/>"##,
+                num(bx),
+                num(by),
+                num(bw),
+                num(bh)
+            );
+            let y_of = |v: f64| by + bh - rs.t(v) * bh;
+            let mut marks = vec![(rs.lo, true), (rs.hi, true)];
+            for t in ticks(rs.lo, rs.hi, 5) {
+                // Skip round ticks crowding the range's ends.
+                if (y_of(t) - y_of(rs.lo)).abs() > 16.0 && (y_of(t) - y_of(rs.hi)).abs() > 16.0 {
+                    marks.push((t, false));
+                }
+            }
+            for (v, end) in marks {
+                let y = y_of(v);
+                let _ = writeln!(
+                    s,
+                    r##"<line x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="#404040" stroke-width="0.8"/><text x="{}" y="{}" font-size="11" fill="#202020"{}>{}</text>"##,
+                    num(bx + bw),
+                    num(bx + bw + 5.0),
+                    num(bx + bw + 8.0),
+                    num(y + 4.0),
+                    if end { r#" font-weight="bold""# } else { "" },
+                    mm(v),
+                    y = num(y)
+                );
+            }
+            s.push_str("</g>\n");
+        }
+        None => {
+            let _ = writeln!(
+                s,
+                r##"<text x="{}" y="{}" font-size="11" fill="#707070">no seams traced</text>"##,
+                num(bx),
+                num(by + 14.0)
+            );
+        }
+    }
+
+    // Symbols.
+    let mut y = by + bh + 40.0;
+    let item = |s: &mut String, y: f64, symbol: String, text: String| {
+        let _ = writeln!(
+            s,
+            r##"{symbol}<text x="{}" y="{}" font-size="11" fill="#202020">{}</text>"##,
+            num(x + 40.0),
+            num(y + 4.0),
+            escape(&text)
+        );
+    };
+    let line = |y: f64, stroke: &str, width: &str, dash: &str| {
+        format!(
+            r#"<line x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="{stroke}" stroke-width="{width}"{dash}/>"#,
+            num(x),
+            num(x + 30.0),
+            y = num(y)
+        )
+    };
+    let mid = colour(0.5);
+    item(
+        s,
+        y,
+        line(y, &mid, "2.2", ""),
+        format!("seam, coloured by r ({})", mat.seams.len()),
+    );
+    y += 20.0;
+    item(
+        s,
+        y,
+        format!(
+            r##"<circle cx="{}" cy="{}" r="3.6" fill="{}" stroke="#000000" stroke-width="0.9"/>"##,
+            num(x + 15.0),
+            num(y),
+            mid
+        ),
+        format!("junction ({})", mat.junctions.len()),
+    );
+    y += 20.0;
+    item(
+        s,
+        y,
+        format!(
+            r#"{}<path d="M{} {}l4 4-4 4-4-4z" fill="{DEGENERATE_COLOUR}"/>"#,
+            line(y, DEGENERATE_COLOUR, "1.8", r#" stroke-dasharray="6 3""#),
+            num(x + 15.0),
+            num(y - 4.0)
+        ),
+        format!(
+            "degenerate curve ({})",
+            mat.degenerate.iter().filter(|d| d.kind == "curve").count()
+        ),
+    );
+    y += 20.0;
+    item(
+        s,
+        y,
+        format!(
+            r#"<circle cx="{}" cy="{}" r="8" fill="none" stroke="{DEGENERATE_COLOUR}" stroke-width="0.6" stroke-dasharray="3 3"/><path d="M{} {}l4 4-4 4-4-4z" fill="{DEGENERATE_COLOUR}"/>"#,
+            num(x + 15.0),
+            num(y),
+            num(x + 15.0),
+            num(y - 4.0)
+        ),
+        format!(
+            "degenerate point ({})",
+            mat.degenerate.iter().filter(|d| d.kind != "curve").count()
+        ),
+    );
+    y += 16.0;
+    let _ = writeln!(
+        s,
+        r##"<text x="{}" y="{}" font-size="10" fill="#707070">dashed circle: its maximal ball</text>"##,
+        num(x + 40.0),
+        num(y + 4.0)
+    );
+    y += 26.0;
+    item(
+        s,
+        y,
+        line(y, EDGE_GREYS[0], "1.1", ""),
+        "part edge, near side".into(),
+    );
+    y += 20.0;
+    item(
+        s,
+        y,
+        line(y, EDGE_GREYS[3], "1.1", ""),
+        "part edge, far side".into(),
+    );
+    y += 20.0;
+    item(
+        s,
+        y,
+        line(y, EDGE_GREYS[0], "0.6", ""),
+        "tangent edge".into(),
+    );
+    y += 44.0;
+    draw_scale_bar(
+        s,
+        lay.panels[0].scale,
+        x,
+        y,
+        "front, top, right views",
+        false,
+    );
+    s.push_str("</g>\n");
+}
+
+fn draw_title_block(
+    s: &mut String,
+    model: &Model,
+    mat: &Mat,
+    title: &str,
+    opts: &SvgOptions,
+    lay: &Layout,
+) {
+    let r = lay.title;
+    let (lo, hi) = model.bbox;
+    let size = hi - lo;
+    let open = mat
+        .seams
+        .iter()
+        .filter(|s| {
+            s.ends
+                .iter()
+                .any(|e| matches!(e, crate::medial::SeamEnd::Open(_)))
+        })
+        .count();
+    let curves = mat.degenerate.iter().filter(|d| d.kind == "curve").count();
+    let cells: [(&str, f64, Vec<String>); 4] = [
+        (
+            "PART",
+            0.34,
+            vec![
+                title.to_owned(),
+                format!("{} × {} × {} mm", mm(size.x), mm(size.y), mm(size.z)),
+            ],
+        ),
+        (
+            "MODEL",
+            0.2,
+            vec![
+                format!(
+                    "{} · {}",
+                    plural(model.solids.len(), "solid"),
+                    plural(model.faces.len(), "face")
+                ),
+                format!(
+                    "{} · {}",
+                    plural(model.edges.len(), "edge"),
+                    plural(model.vertices.len(), "vertex")
+                ),
+            ],
+        ),
+        (
+            "MEDIAL AXIS",
+            0.24,
+            vec![
+                format!("{} seams ({open} open)", mat.seams.len()),
+                format!(
+                    "{} junctions · {} degenerate ({} curve, {} point)",
+                    mat.junctions.len(),
+                    mat.degenerate.len(),
+                    curves,
+                    mat.degenerate.len() - curves
+                ),
+            ],
+        ),
+        (
+            "ACCURACY",
+            0.22,
+            vec![
+                opts.accuracy
+                    .map(|a| format!("{a:.1e} mm"))
+                    .unwrap_or_else(|| "not given".into()),
+                format!("worst residual {:.1e} mm", mat.stats.worst_residual),
+            ],
+        ),
+    ];
+    let _ = writeln!(s, r##"<g class="title-block" fill="#202020">"##);
+    let _ = writeln!(
+        s,
+        r##"<rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#404040" stroke-width="1.2"/>"##,
+        num(r.x + 3.0),
+        num(r.y),
+        num(r.w - 6.0),
+        num(r.h - 26.0)
+    );
+    let mut cx = r.x + 3.0;
+    for (k, (caption, frac, lines)) in cells.iter().enumerate() {
+        let w = frac * (r.w - 6.0);
+        if k > 0 {
+            let _ = writeln!(
+                s,
+                r##"<line x1="{x}" y1="{}" x2="{x}" y2="{}" stroke="#404040" stroke-width="0.8"/>"##,
+                num(r.y),
+                num(r.y + r.h - 26.0),
+                x = num(cx)
+            );
+        }
+        let _ = writeln!(
+            s,
+            r##"<text x="{}" y="{}" font-size="9" fill="#707070" letter-spacing="0.5">{caption}</text>"##,
+            num(cx + 8.0),
+            num(r.y + 13.0)
+        );
+        for (i, line) in lines.iter().enumerate() {
+            let big = k == 0 && i == 0;
+            let _ = writeln!(
+                s,
+                r#"<text x="{}" y="{}" font-size="{}"{}>{}</text>"#,
+                num(cx + 8.0),
+                num(r.y + 32.0 + 19.0 * i as f64),
+                if big { 15 } else { 12 },
+                if big { r#" font-weight="bold""# } else { "" },
+                escape(line)
+            );
+        }
+        cx += w;
+    }
+    let _ = writeln!(
+        s,
+        r##"<text x="{}" y="{}" font-size="11" fill="#505050">Third-angle projection · dimensions in mm · wireframe, far edges lighter · matrace {}</text>"##,
+        num(r.x + 11.0),
+        num(r.y + r.h - 8.0),
+        env!("CARGO_PKG_VERSION")
+    );
+    s.push_str("</g>\n");
+}
+
+/// `n` and `noun`, in the plural unless `n` is 1 (`vertex` → `vertices`).
+fn plural(n: usize, noun: &str) -> String {
+    match (n, noun) {
+        (1, _) => format!("1 {noun}"),
+        (_, "vertex") => format!("{n} vertices"),
+        _ => format!("{n} {noun}s"),
+    }
+}
+
+/// Writes `svg` to `path` atomically: into a temporary file in the same folder, then renamed
+/// over `path`, so a reader never sees a half-written picture.
+pub fn write_svg(path: &Path, svg: &str) -> Result<()> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "out.svg".into());
+    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let result = std::fs::write(&tmp, svg).and_then(|()| std::fs::rename(&tmp, path));
+    result.map_err(|source| {
+        let _ = std::fs::remove_file(&tmp);
+        Error::Write {
+            path: path.to_owned(),
+            source,
+        }
+    })
+}
