@@ -30,7 +30,8 @@ enum Command {
         #[arg(long, default_value_t = matrace::classify::DEFAULT_ANGLE_TOL_DEG)]
         angle_tol: f64,
     },
-    /// Trace the medial seams and junctions and write DIR/<stem>.mat.json.
+    /// Trace the medial seams and junctions and write DIR/<stem>.mat.json and the picture
+    /// DIR/<stem>.mat.svg.
     Trace {
         /// STEP file (.step, .stp).
         part: PathBuf,
@@ -121,6 +122,16 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let path = out.join(format!("{stem}.mat.json"));
             std::fs::write(&path, serde_json::to_string_pretty(&report)?)
                 .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", path.display()))?;
+            let svg_opts = matrace::output::svg::SvgOptions {
+                title: part
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+                accuracy: Some(opts.accuracy),
+                ..Default::default()
+            };
+            let svg = matrace::output::svg::render_svg(&model, &class, &mat, &svg_opts);
+            matrace::output::svg::write_svg(&out.join(format!("{stem}.mat.svg")), &svg)?;
             let open = mat
                 .seams
                 .iter()
