@@ -1250,3 +1250,334 @@ pub fn write_svg(path: &Path, svg: &str) -> Result<()> {
         }
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::medial::{trace, SeamEnd, TraceOptions};
+
+    fn traced(name: &str) -> (Model, Classification, Mat) {
+        let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("samples")
+            .join(name);
+        let m = crate::read_model(&p).unwrap();
+        let c = crate::classify(&m, &Default::default());
+        let mat = trace(&m, &c, &TraceOptions::for_model(&m));
+        (m, c, mat)
+    }
+
+    fn picture(name: &str) -> String {
+        let (m, c, mat) = traced(name);
+        render_svg(&m, &c, &mat, &SvgOptions::default())
+    }
+
+    fn has_class(n: &roxmltree::Node, class: &str) -> bool {
+        n.attribute("class")
+            .is_some_and(|c| c.split_whitespace().any(|w| w == class))
+    }
+
+    fn count(n: roxmltree::Node, tag: &str, class: &str) -> usize {
+        n.descendants()
+            .filter(|d| d.has_tag_name(tag) && has_class(d, class))
+            .count()
+    }
+
+    fn views<'a>(doc: &'a roxmltree::Document) -> Vec<roxmltree::Node<'a, 'a>> {
+        doc.descendants()
+            .filter(|n| n.has_tag_name("g") && has_class(n, "view"))
+            .collect()
+    }
+
+    #[test]
+    fn box_picture_is_xml_with_every_seam_and_junction_in_every_view() {
+        let (m, c, mat) = traced("box.step");
+        assert_eq!((mat.seams.len(), mat.junctions.len()), (12, 4));
+        let svg = render_svg(&m, &c, &mat, &SvgOptions::default());
+        let doc = roxmltree::Document::parse(&svg).expect("the picture is well-formed XML");
+        let root = doc.root_element();
+        assert_eq!(root.tag_name().name(), "svg");
+        assert_eq!(root.attribute("viewBox"), Some("0 0 1400 1000"));
+        let vs = views(&doc);
+        let ids: Vec<_> = vs.iter().filter_map(|v| v.attribute("id")).collect();
+        assert_eq!(
+            ids,
+            ["view-front", "view-top", "view-right", "view-isometric"]
+        );
+        for v in &vs {
+            assert_eq!(count(*v, "g", "seam"), 12, "{:?}", v.attribute("id"));
+            assert_eq!(
+                count(*v, "circle", "junction"),
+                4,
+                "{:?}",
+                v.attribute("id")
+            );
+            // Every seam has at least one drawn piece, coloured by a level class.
+            for seam in v
+                .descendants()
+                .filter(|n| n.has_tag_name("g") && has_class(n, "seam"))
+            {
+                let pieces: Vec<_> = seam.children().filter(|n| n.has_tag_name("path")).collect();
+                assert!(!pieces.is_empty());
+                for p in pieces {
+                    let class = p.attribute("class").unwrap();
+                    let level: usize = class.strip_prefix('c').unwrap().parse().unwrap();
+                    assert!(level < COLOUR_LEVELS, "{class}");
+                }
+            }
+            // 12 part edges.
+            let edges = v
+                .descendants()
+                .filter(|n| n.has_tag_name("g") && has_class(n, "edges"))
+                .flat_map(|g| g.children().filter(|n| n.has_tag_name("path")))
+                .count();
+            assert_eq!(edges, 12);
+        }
+        // The colour bar: one swatch per level, labelled 0 and 10 mm (box 60 × 40 × 20:
+        // seams from the corners at r = 0 to the junctions at r = 10).
+        let bar = doc
+            .descendants()
+            .find(|n| has_class(n, "colour-bar"))
+            .expect("colour bar");
+        assert_eq!(
+            bar.children().filter(|n| n.has_tag_name("rect")).count(),
+            COLOUR_LEVELS + 1
+        );
+        let labels: Vec<_> = bar
+            .descendants()
+            .filter(|n| n.has_tag_name("text"))
+            .filter_map(|n| n.text())
+            .collect();
+        assert!(
+            labels.contains(&"0") && labels.contains(&"10"),
+            "{labels:?}"
+        );
+        let title = doc
+            .descendants()
+            .find(|n| has_class(n, "title-block"))
+            .unwrap();
+        let text: String = title
+            .descendants()
+            .filter_map(|n| n.text())
+            .collect::<Vec<_>>()
+            .join("|");
+        assert!(text.contains("box.step"), "{text}");
+        assert!(text.contains("12 seams (0 open)"), "{text}");
+        assert!(text.contains("4 junctions · 0 degenerate"), "{text}");
+        assert!(text.contains("6 faces"), "{text}");
+    }
+
+    #[test]
+    fn a_seam_from_a_corner_runs_from_the_darkest_to_the_lightest_colour() {
+        let (m, c, mat) = traced("box.step");
+        let svg = render_svg(&m, &c, &mat, &SvgOptions::default());
+        let doc = roxmltree::Document::parse(&svg).unwrap();
+        let seam = &mat.seams[0];
+        assert!(
+            matches!(seam.ends[0], SeamEnd::Vertex(_)),
+            "{:?}",
+            seam.ends
+        );
+        assert!(
+            matches!(seam.ends[1], SeamEnd::Junction(_)),
+            "{:?}",
+            seam.ends
+        );
+        let g = doc
+            .descendants()
+            .find(|n| has_class(n, "seam") && n.attribute("data-seam") == Some("0"))
+            .unwrap();
+        let levels: Vec<usize> = g
+            .children()
+            .filter(|n| n.has_tag_name("path"))
+            .map(|p| p.attribute("class").unwrap()[1..].parse().unwrap())
+            .collect();
+        assert!(levels.len() >= 3, "{levels:?}");
+        assert!(levels[0] <= 1, "{levels:?}");
+        assert!(*levels.last().unwrap() >= COLOUR_LEVELS - 2, "{levels:?}");
+        assert!(levels.windows(2).all(|w| w[0] <= w[1]), "{levels:?}");
+    }
+
+    #[test]
+    fn views_are_third_angle_aligned_with_model_up_pointing_up() {
+        let bbox = (DVec3::ZERO, DVec3::new(60.0, 40.0, 20.0));
+        let lay = layout(bbox);
+        let [front, top, right, iso] = lay.panels;
+        // Third angle: TOP above FRONT, RIGHT to the right of FRONT.
+        assert!(top.cell.y + top.cell.h <= front.cell.y + 1e-9);
+        assert!((top.cell.x - front.cell.x).abs() < 1e-9);
+        assert!(front.cell.x + front.cell.w <= right.cell.x + 1e-9);
+        assert!((right.cell.y - front.cell.y).abs() < 1e-9);
+        // One scale for the orthographic views.
+        assert_eq!(front.scale, top.scale);
+        assert_eq!(front.scale, right.scale);
+        let p = DVec3::new(10.0, 30.0, 5.0);
+        let q = DVec3::new(50.0, 5.0, 15.0);
+        let (fp, fq) = (front.page_point(p), front.page_point(q));
+        // FRONT: x to the right, z up (SVG y down), y is depth.
+        assert!((fq.x - fp.x - 40.0 * front.scale).abs() < 1e-9);
+        assert!((fp.y - fq.y - 10.0 * front.scale).abs() < 1e-9);
+        assert_eq!(
+            front.page_point(p),
+            front.page_point(p + DVec3::new(0.0, 17.0, 0.0))
+        );
+        // TOP: x to the right, y up; aligned with FRONT in x.
+        let (tp, tq) = (top.page_point(p), top.page_point(q));
+        assert!((tp.x - fp.x).abs() < 1e-9 && (tq.x - fq.x).abs() < 1e-9);
+        assert!((tq.y - tp.y - 25.0 * top.scale).abs() < 1e-9);
+        // RIGHT: y to the right, z up; aligned with FRONT in z.
+        let (rp, rq) = (right.page_point(p), right.page_point(q));
+        assert!((rp.y - fp.y).abs() < 1e-9 && (rq.y - fq.y).abs() < 1e-9);
+        assert!((rp.x - rq.x - 25.0 * right.scale).abs() < 1e-9);
+        // ISOMETRIC: x goes right and down, y right and up, z straight up.
+        let o = iso.page_point(DVec3::ZERO);
+        let dx = iso.page_point(DVec3::X) - o;
+        let dy = iso.page_point(DVec3::Y) - o;
+        let dz = iso.page_point(DVec3::Z) - o;
+        assert!(dx.x > 0.0 && dx.y > 0.0, "{dx}");
+        assert!(dy.x > 0.0 && dy.y < 0.0, "{dy}");
+        assert!(dz.x.abs() < 1e-9 && dz.y < 0.0, "{dz}");
+        assert!((dx.length() - dy.length()).abs() < 1e-9);
+        // The whole part lies in each panel's drawing area, below the label band.
+        for panel in lay.panels {
+            let c = panel.cell;
+            for k in corners(bbox) {
+                let q = panel.page_point(k);
+                assert!(q.x >= c.x + INSET - 1e-6 && q.x <= c.x + c.w - INSET + 1e-6);
+                assert!(q.y >= c.y + LABEL_BAND + INSET - 1e-6);
+                assert!(q.y <= c.y + c.h - INSET + 1e-6, "{} {q}", panel.view.name);
+            }
+        }
+    }
+
+    #[test]
+    fn the_picture_is_deterministic() {
+        let (m, c, mat) = traced("filleted_box.step");
+        let a = render_svg(&m, &c, &mat, &SvgOptions::default());
+        let b = render_svg(&m, &c, &mat.clone(), &SvgOptions::default());
+        assert_eq!(a, b);
+        let (m2, c2, mat2) = traced("filleted_box.step");
+        assert_eq!(a, render_svg(&m2, &c2, &mat2, &SvgOptions::default()));
+    }
+
+    #[test]
+    fn page_coordinates_have_at_most_one_decimal() {
+        let svg = picture("plate_with_holes.step");
+        let doc = roxmltree::Document::parse(&svg).unwrap();
+        let mut seen = 0;
+        for n in doc.descendants() {
+            for a in ["d", "points", "cx", "cy", "x", "y"] {
+                let Some(v) = n.attribute(a) else { continue };
+                for tok in v.split(|ch: char| !(ch.is_ascii_digit() || ch == '.' || ch == '-')) {
+                    if let Some((_, frac)) = tok.split_once('.') {
+                        assert!(frac.len() <= 1, "{a}=\"{v}\"");
+                    }
+                    seen += 1;
+                }
+            }
+        }
+        assert!(seen > 1000, "{seen}");
+        assert_eq!(num(-0.04), "0");
+        assert_eq!(num(12.0), "12");
+        assert_eq!(num(-3.26), "-3.3");
+    }
+
+    #[test]
+    fn circles_are_sampled_to_the_tolerance_and_lines_by_their_ends() {
+        let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/plate_with_holes.step");
+        let m = crate::read_model(&p).unwrap();
+        let tol = 0.01;
+        let (mut circles, mut lines) = (0, 0);
+        for e in &m.edges {
+            let pts = sample_curve(&e.curve, e.range, e.is_closed(), tol);
+            match e.curve {
+                Curve3D::Line(_) => {
+                    assert_eq!(pts.len(), 2);
+                    lines += 1;
+                }
+                _ => {
+                    circles += 1;
+                    assert!(pts.len() >= 17, "{}", pts.len());
+                    // Between consecutive samples the curve stays within tol of the chord.
+                    let n = pts.len() - 1;
+                    let (t0, t1) = e.range;
+                    for k in 0..4 * n {
+                        let t = t0 + (t1 - t0) * (k as f64 + 0.5) / (4 * n) as f64;
+                        let q = eval_curve(&e.curve, t).p;
+                        let d = pts
+                            .windows(2)
+                            .map(|w| distance_to_segment(q, w[0], w[1]))
+                            .fold(f64::INFINITY, f64::min);
+                        assert!(d <= tol * 1.01, "{d}");
+                    }
+                }
+            }
+        }
+        assert!(circles > 0 && lines > 0, "{circles} {lines}");
+    }
+
+    #[test]
+    fn thinning_keeps_the_ends_and_every_point_off_the_chord() {
+        let line: Vec<DVec2> = (0..100)
+            .map(|k| DVec2::new(k as f64, 2.0 * k as f64))
+            .collect();
+        assert_eq!(thin(&line, 0.25), vec![line[0], line[99]]);
+        let arc: Vec<DVec2> = (0..=200)
+            .map(|k| {
+                let a = std::f64::consts::PI * k as f64 / 200.0;
+                DVec2::new(100.0 * a.cos(), 100.0 * a.sin())
+            })
+            .collect();
+        let kept = thin(&arc, 0.25);
+        assert!(kept.len() > 10 && kept.len() < 60, "{}", kept.len());
+        assert_eq!((kept[0], *kept.last().unwrap()), (arc[0], arc[200]));
+        for p in &arc {
+            let d = kept
+                .windows(2)
+                .map(|w| distance_to_segment_2d(*p, w[0], w[1]))
+                .fold(f64::INFINITY, f64::min);
+            assert!(d <= 0.25 + 1e-12, "{d}");
+        }
+    }
+
+    #[test]
+    fn degenerate_pieces_are_drawn_and_a_part_without_seams_says_so() {
+        let (m, c, mat) = traced("cylinder.step");
+        assert!(mat.seams.is_empty() && !mat.degenerate.is_empty());
+        let svg = render_svg(&m, &c, &mat, &SvgOptions::default());
+        let doc = roxmltree::Document::parse(&svg).unwrap();
+        for v in views(&doc) {
+            assert_eq!(count(v, "g", "degenerate"), mat.degenerate.len());
+            assert_eq!(count(v, "g", "seam"), 0);
+        }
+        assert!(svg.contains("no seams traced"));
+        assert!(!svg.contains("colour-bar"));
+        assert!(svg.contains(&format!("degenerate curve ({})", mat.degenerate.len())));
+    }
+
+    #[test]
+    fn viridis_ends_and_radius_levels() {
+        assert_eq!(colour(0.0), "#440154");
+        assert_ne!(colour(1.0), "#fde725", "the faint yellow end is not used");
+        let rs = RadiusScale { lo: 2.0, hi: 8.0 };
+        assert_eq!(rs.level(2.0), 0);
+        assert_eq!(rs.level(8.0), COLOUR_LEVELS - 1);
+        assert_eq!(rs.level(5.0), COLOUR_LEVELS / 2);
+        assert_eq!(ticks(0.0, 10.0, 5), [0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
+        assert_eq!(nice_floor(140.0 / 7.3), 10.0);
+    }
+
+    #[test]
+    fn write_svg_replaces_the_file_and_names_it_on_failure() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.mat.svg");
+        write_svg(&path, "<svg/>").unwrap();
+        write_svg(&path, "<svg></svg>").unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "<svg></svg>");
+        let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+        assert_eq!(names.len(), 1, "no temporary file left behind");
+        let bad = dir.path().join("missing").join("b.mat.svg");
+        let e = write_svg(&bad, "<svg/>").unwrap_err();
+        assert!(e.to_string().contains("b.mat.svg"), "{e}");
+        assert_eq!(e.path(), bad);
+    }
+}
