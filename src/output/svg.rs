@@ -22,7 +22,10 @@
 //! The picture is a wireframe (the medial axis is inside the part, so hidden-line removal
 //! would hide exactly what the picture is for). As a depth cue each part edge is grey by its
 //! mean depth in the view — near edges dark, far edges light — and everything is drawn far
-//! to near. Tangent (smooth) edges are drawn thinner.
+//! to near. Tangent (smooth) edges are drawn thinner. Curved faces also get their outlines
+//! (silhouettes: where the normal is perpendicular to the view), found by marching squares on
+//! `n · toward` over a grid of each face and placed on the exact surface, so a cylinder,
+//! sphere or torus looks like one.
 //!
 //! Curves are sampled from the exact geometry: lines by their ends, polylines by their
 //! vertices, other curves by recursive midpoint subdivision until the curve is within a
@@ -37,7 +40,7 @@
 use crate::brep::Model;
 use crate::classify::{Classification, EdgeKind};
 use crate::error::{Error, Result};
-use crate::geom::eval_curve;
+use crate::geom::{eval_curve, eval_surface, surface_kind};
 use crate::medial::Mat;
 use glam::{DVec2, DVec3};
 use std::fmt::Write as _;
@@ -358,6 +361,161 @@ fn distance_to_segment_2d(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     (a + ab * s).distance(p)
 }
 
+/// Grid size (per parameter direction) of the silhouette search on a curved face.
+const SILHOUETTE_GRID: usize = 48;
+
+/// A curved face sampled on a grid over its UV domain, for silhouettes.
+struct FaceGrid {
+    face: usize,
+    u: (f64, f64),
+    v: (f64, f64),
+    /// Unit normals (orientation irrelevant) at the `(n + 1)²` nodes, row by row in v.
+    normals: Vec<DVec3>,
+}
+
+/// Grids of every non-planar face (a plane has no silhouette).
+fn face_grids(model: &Model) -> Vec<FaceGrid> {
+    let n = SILHOUETTE_GRID;
+    model
+        .faces
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| surface_kind(&f.surface) != "plane")
+        .map(|(i, f)| {
+            let (u, v) = (f.domain.u, f.domain.v);
+            let mut normals = Vec::with_capacity((n + 1) * (n + 1));
+            for j in 0..=n {
+                for k in 0..=n {
+                    let (a, b) = (grid_at(u, k, n), grid_at(v, j, n));
+                    let d = eval_surface(&f.surface, a, b);
+                    normals.push(d.su.cross(d.sv).normalize_or_zero());
+                }
+            }
+            FaceGrid {
+                face: i,
+                u,
+                v,
+                normals,
+            }
+        })
+        .collect()
+}
+
+/// `x` moved at most 1e-9 of the range into `range`.
+fn nudge_inside(x: f64, range: (f64, f64)) -> f64 {
+    let (lo, hi) = (range.0.min(range.1), range.0.max(range.1));
+    let e = 1e-9 * (hi - lo);
+    x.clamp(lo + e, hi - e)
+}
+
+fn grid_at(range: (f64, f64), k: usize, n: usize) -> f64 {
+    range.0 + (range.1 - range.0) * k as f64 / n as f64
+}
+
+/// The silhouettes (contour generators: where the surface normal is perpendicular to the
+/// view direction) of the curved faces in `view`, as 3D polylines on the exact surfaces.
+///
+/// Marching squares on `n · toward` over each face's grid: a crossing is placed on a grid
+/// edge by linear interpolation, evaluated on the surface, and kept when it lies in the
+/// trimmed face; crossings are chained through the cells into polylines. A face seen
+/// exactly edge-on (a cylinder along its axis) has `n · toward = 0` everywhere and no
+/// silhouette apart from its boundary edges.
+fn silhouettes(model: &Model, grids: &[FaceGrid], view: &View) -> Vec<Vec<DVec3>> {
+    let n = SILHOUETTE_GRID;
+    let node = |k: usize, j: usize| j * (n + 1) + k;
+    // The view direction tilted by ~1e-7 rad, so that no grid node lies exactly on a
+    // silhouette (where `n · toward = 0` the sign test cannot tell on which side of a node
+    // the silhouette passes: a sphere's meridian u = 0 in the front view was lost).
+    let toward = (view.toward + DVec3::new(3.1e-8, 7.3e-8, 5.9e-8)).normalize();
+    let mut out = vec![];
+    for grid in grids {
+        let face = &model.faces[grid.face];
+        let g: Vec<f64> = grid.normals.iter().map(|q| q.dot(toward)).collect();
+        if g.iter().all(|x| x.abs() < 1e-6) {
+            continue;
+        }
+        // Crossing on the grid edge `key`: 2·node for the edge to the next u, 2·node + 1
+        // for the edge to the next v.
+        let mut crossing: Vec<Option<DVec3>> = vec![None; 2 * (n + 1) * (n + 1)];
+        for j in 0..=n {
+            for k in 0..=n {
+                let a = node(k, j);
+                for (dir, (k2, j2)) in [(0, (k + 1, j)), (1, (k, j + 1))] {
+                    if k2 > n || j2 > n {
+                        continue;
+                    }
+                    let b = node(k2, j2);
+                    if (g[a] > 0.0) == (g[b] > 0.0) {
+                        continue;
+                    }
+                    let t = g[a] / (g[a] - g[b]);
+                    let uv = DVec2::new(
+                        grid_at(grid.u, k, n)
+                            + t * (grid_at(grid.u, k2, n) - grid_at(grid.u, k, n)),
+                        grid_at(grid.v, j, n)
+                            + t * (grid_at(grid.v, j2, n) - grid_at(grid.v, j, n)),
+                    );
+                    // A crossing on the domain's border (a sphere's meridian u = 0) is
+                    // tested a hair inside it: the trimming test may leave the border out.
+                    let inner = DVec2::new(nudge_inside(uv.x, grid.u), nudge_inside(uv.y, grid.v));
+                    if crate::geom::trim::contains(face, inner) {
+                        crossing[2 * a + dir] = Some(eval_surface(&face.surface, uv.x, uv.y).p);
+                    }
+                }
+            }
+        }
+        // Segments through the cells, as pairs of edge keys.
+        let mut links: Vec<Vec<usize>> = vec![vec![]; crossing.len()];
+        for j in 0..n {
+            for k in 0..n {
+                let sides = [
+                    2 * node(k, j),
+                    2 * node(k, j) + 1,
+                    2 * node(k, j + 1),
+                    2 * node(k + 1, j) + 1,
+                ];
+                let hit: Vec<usize> = sides
+                    .into_iter()
+                    .filter(|&e| crossing[e].is_some())
+                    .collect();
+                for pair in hit.chunks_exact(2) {
+                    links[pair[0]].push(pair[1]);
+                    links[pair[1]].push(pair[0]);
+                }
+            }
+        }
+        // Chains: from the ends first, then what is left (closed loops).
+        let mut used = vec![false; crossing.len()];
+        let starts = (0..links.len())
+            .filter(|&e| links[e].len() == 1)
+            .chain(0..links.len());
+        for start in starts {
+            if used[start] || links[start].is_empty() {
+                continue;
+            }
+            let mut chain = vec![];
+            let mut at = start;
+            loop {
+                used[at] = true;
+                chain.push(crossing[at].unwrap());
+                match links[at].iter().find(|&&e| !used[e]) {
+                    Some(&next) => at = next,
+                    None => {
+                        if links[at].contains(&start) && chain.len() > 2 {
+                            chain.push(crossing[start].unwrap());
+                        }
+                        break;
+                    }
+                }
+            }
+            if chain.len() >= 2 {
+                out.push(chain);
+            }
+        }
+    }
+    out
+}
+
 /// Douglas–Peucker thinning: the points of `pts` farther than `tol` from the chords of the
 /// kept points, with both ends always kept.
 fn thin(pts: &[DVec2], tol: f64) -> Vec<DVec2> {
@@ -550,6 +708,7 @@ pub fn render_svg(model: &Model, class: &Classification, mat: &Mat, opts: &SvgOp
         .iter()
         .map(|e| sample_curve(&e.curve, e.range, e.is_closed(), curve_tol))
         .collect();
+    let grids = face_grids(model);
 
     let mut s = String::new();
     let _ = writeln!(
@@ -575,7 +734,18 @@ pub fn render_svg(model: &Model, class: &Classification, mat: &Mat, opts: &SvgOp
     s.push_str("</style></defs>\n");
     let _ = writeln!(s, r##"<rect width="100%" height="100%" fill="#ffffff"/>"##);
     for (k, panel) in lay.panels.iter().enumerate() {
-        draw_panel(&mut s, class, mat, &edges, panel, radius, opts, k == 3);
+        let outlines = silhouettes(model, &grids, &panel.view);
+        draw_panel(
+            &mut s,
+            class,
+            mat,
+            &edges,
+            &outlines,
+            panel,
+            radius,
+            opts,
+            k == 3,
+        );
     }
     draw_legend(&mut s, mat, radius, &lay);
     draw_title_block(&mut s, model, mat, &title, opts, &lay);
@@ -589,6 +759,7 @@ fn draw_panel(
     class: &Classification,
     mat: &Mat,
     edges: &[Vec<DVec3>],
+    outlines: &[Vec<DVec3>],
     panel: &Panel,
     radius: Option<RadiusScale>,
     opts: &SvgOptions,
@@ -615,8 +786,10 @@ fn draw_panel(
     );
 
     // Part edges, grey by mean depth, in groups from far to near; tangent edges thinner.
+    // Silhouettes of curved faces are drawn as edges (after the edges, numbered on).
     let mut groups: Vec<Vec<usize>> = vec![vec![]; 2 * EDGE_GREYS.len()];
-    for (i, pts) in edges.iter().enumerate() {
+    let lines: Vec<&Vec<DVec3>> = edges.iter().chain(outlines).collect();
+    for (i, pts) in lines.iter().enumerate() {
         let far = pts.iter().map(|p| panel.farness(*p)).sum::<f64>() / pts.len().max(1) as f64;
         let level = ((far * EDGE_GREYS.len() as f64) as usize).min(EDGE_GREYS.len() - 1);
         let smooth = class
@@ -638,7 +811,7 @@ fn draw_panel(
             if smooth { "0.6" } else { "1.1" }
         );
         for &i in members {
-            let px: Vec<DVec2> = edges[i].iter().map(|p| panel.page_point(*p)).collect();
+            let px: Vec<DVec2> = lines[i].iter().map(|p| panel.page_point(*p)).collect();
             let _ = writeln!(s, r#"<path d="{}"/>"#, path_data(&thin(&px, opts.px_tol)));
         }
         s.push_str("</g>\n");
@@ -1074,14 +1247,14 @@ fn draw_legend(s: &mut String, mat: &Mat, radius: Option<RadiusScale>, lay: &Lay
         s,
         y,
         line(y, EDGE_GREYS[0], "1.1", ""),
-        "part edge, near side".into(),
+        "edge or outline, near side".into(),
     );
     y += 20.0;
     item(
         s,
         y,
         line(y, EDGE_GREYS[3], "1.1", ""),
-        "part edge, far side".into(),
+        "edge or outline, far side".into(),
     );
     y += 20.0;
     item(
@@ -1513,6 +1686,68 @@ mod tests {
             }
         }
         assert!(circles > 0 && lines > 0, "{circles} {lines}");
+    }
+
+    #[test]
+    fn a_cylinder_has_two_straight_outlines_from_the_side_and_none_along_its_axis() {
+        let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/cylinder.step");
+        let m = crate::read_model(&p).unwrap();
+        let (lo, hi) = m.bbox;
+        let r = 0.5 * (hi.x - lo.x);
+        let grids = face_grids(&m);
+        assert_eq!(grids.len(), 1, "one curved face");
+        // Seen along its axis (z) the side face is edge-on: no outline.
+        assert!(silhouettes(&m, &grids, &TOP).is_empty());
+        // From the front: the generators at x = ±r, y = 0, over the whole height.
+        let lines = silhouettes(&m, &grids, &FRONT);
+        assert_eq!(lines.len(), 2, "{lines:?}");
+        let mut xs = vec![];
+        for line in &lines {
+            for q in line {
+                assert!((q.x.abs() - r).abs() < 1e-3 * r, "{q}");
+                assert!(q.y.abs() < 1e-3 * r, "{q}");
+            }
+            let (zlo, zhi) = line
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), q| {
+                    (a.min(q.z), b.max(q.z))
+                });
+            assert!((zlo - lo.z).abs() < 1e-6 && (zhi - hi.z).abs() < 1e-6);
+            xs.push(line[0].x.signum());
+        }
+        xs.sort_by(f64::total_cmp);
+        assert_eq!(xs, [-1.0, 1.0]);
+    }
+
+    #[test]
+    fn a_sphere_has_a_closed_outline_in_every_view() {
+        let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/sphere.step");
+        let m = crate::read_model(&p).unwrap();
+        let (lo, hi) = m.bbox;
+        let (c, r) = (0.5 * (lo + hi), 0.5 * (hi.x - lo.x));
+        let grids = face_grids(&m);
+        for view in [FRONT, TOP, RIGHT, isometric()] {
+            let lines = silhouettes(&m, &grids, &view);
+            // The great circle perpendicular to the view, in one or two pieces (a meridian
+            // outline is cut at the poles), all on the sphere and in its plane.
+            let n: usize = lines.iter().map(|l| l.len()).sum();
+            assert!(n > SILHOUETTE_GRID, "{} {n}", view.name);
+            for q in lines.iter().flatten() {
+                assert!(((*q - c).length() - r).abs() < 1e-6 * r, "{q}");
+                assert!(
+                    (*q - c).dot(view.toward).abs() < 2e-3 * r,
+                    "{} {q}",
+                    view.name
+                );
+            }
+            // It goes all around: points in every quadrant of the view.
+            let quadrants: std::collections::BTreeSet<(bool, bool)> = lines
+                .iter()
+                .flatten()
+                .map(|q| ((*q - c).dot(view.u) > 0.0, (*q - c).dot(view.v) > 0.0))
+                .collect();
+            assert_eq!(quadrants.len(), 4, "{}", view.name);
+        }
     }
 
     #[test]
