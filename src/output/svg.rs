@@ -54,7 +54,7 @@ pub const PAGE_HEIGHT: f64 = 1000.0;
 /// Default thinning tolerance: points within this distance (px) of the drawn chord are dropped.
 pub const DEFAULT_PX_TOL: f64 = 0.25;
 /// Default largest number of junctions whose ids are written in the isometric view.
-pub const DEFAULT_MAX_JUNCTION_LABELS: usize = 60;
+pub const DEFAULT_MAX_JUNCTION_LABELS: usize = 30;
 /// Number of distinct seam colours (the radius range is quantised to this many levels).
 pub const COLOUR_LEVELS: usize = 24;
 /// Largest depth of the midpoint subdivision of a curved edge (2^12 pieces per interval at
@@ -706,7 +706,15 @@ pub fn render_svg(model: &Model, class: &Classification, mat: &Mat, opts: &SvgOp
     let edges: Vec<Vec<DVec3>> = model
         .edges
         .iter()
-        .map(|e| sample_curve(&e.curve, e.range, e.is_closed(), curve_tol))
+        .map(|e| {
+            // A seam edge (a cylinder's or sphere's parameter seam) is no edge of the part's
+            // shape; the outlines show the face instead.
+            if e.is_seam() {
+                vec![]
+            } else {
+                sample_curve(&e.curve, e.range, e.is_closed(), curve_tol)
+            }
+        })
         .collect();
     let grids = face_grids(model);
 
@@ -790,6 +798,9 @@ fn draw_panel(
     let mut groups: Vec<Vec<usize>> = vec![vec![]; 2 * EDGE_GREYS.len()];
     let lines: Vec<&Vec<DVec3>> = edges.iter().chain(outlines).collect();
     for (i, pts) in lines.iter().enumerate() {
+        if pts.len() < 2 {
+            continue;
+        }
         let far = pts.iter().map(|p| panel.farness(*p)).sum::<f64>() / pts.len().max(1) as f64;
         let level = ((far * EDGE_GREYS.len() as f64) as usize).min(EDGE_GREYS.len() - 1);
         let smooth = class
@@ -1785,6 +1796,21 @@ mod tests {
             assert_eq!(count(v, "g", "seam"), 0);
         }
         assert!(svg.contains("no seams traced"));
+        // Part lines: from the front the two circles (seen edge-on) and the two outlines; from
+        // the top the two circles. The seam edge of the side face is not drawn.
+        assert_eq!(m.edges.iter().filter(|e| e.is_seam()).count(), 1);
+        let lines = |id: &str| {
+            let v = views(&doc)
+                .into_iter()
+                .find(|v| v.attribute("id") == Some(id))
+                .unwrap();
+            v.descendants()
+                .filter(|n| n.has_tag_name("g") && has_class(n, "edges"))
+                .flat_map(|g| g.children().filter(|n| n.has_tag_name("path")))
+                .count()
+        };
+        assert_eq!(lines("view-front"), 4);
+        assert_eq!(lines("view-top"), 2);
         assert!(!svg.contains("colour-bar"));
         assert!(svg.contains(&format!("degenerate curve ({})", mat.degenerate.len())));
     }
