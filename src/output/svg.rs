@@ -1144,6 +1144,23 @@ fn draw_legend(s: &mut String, mat: &Mat, radius: Option<RadiusScale>, lay: &Lay
                 num(bh)
             );
             let y_of = |v: f64| by + bh - rs.t(v) * bh;
+            // Round ticks with as many decimals as their step needs; the range's ends with
+            // one more, so that a narrow range (4 to 4.004 mm) reads as such.
+            let step = nice_floor((rs.hi - rs.lo) / 5.0);
+            let decimals = (-step.log10()).ceil().clamp(0.0, 6.0) as usize;
+            let label = |v: f64, d: usize| {
+                let s = format!("{v:.d$}");
+                let s = if s.contains('.') {
+                    s.trim_end_matches('0').trim_end_matches('.')
+                } else {
+                    &s
+                };
+                if s == "-0" {
+                    "0".to_owned()
+                } else {
+                    s.to_owned()
+                }
+            };
             let mut marks = vec![(rs.lo, true), (rs.hi, true)];
             for t in ticks(rs.lo, rs.hi, 5) {
                 // Skip round ticks crowding the range's ends.
@@ -1161,7 +1178,7 @@ fn draw_legend(s: &mut String, mat: &Mat, radius: Option<RadiusScale>, lay: &Lay
                     num(bx + bw + 8.0),
                     num(y + 4.0),
                     if end { r#" font-weight="bold""# } else { "" },
-                    mm(v),
+                    label(v, decimals + usize::from(end)),
                     y = num(y)
                 );
             }
@@ -1579,6 +1596,26 @@ mod tests {
         assert!(levels[0] <= 1, "{levels:?}");
         assert!(*levels.last().unwrap() >= COLOUR_LEVELS - 2, "{levels:?}");
         assert!(levels.windows(2).all(|w| w[0] <= w[1]), "{levels:?}");
+    }
+
+    #[test]
+    fn colour_bar_labels_are_distinct_on_a_narrow_radius_range() {
+        // The revolved ring's two seams have r within 4…4.004 mm: four significant digits
+        // would label several ticks alike.
+        let svg = picture("scad_rotate_extrude.step");
+        let doc = roxmltree::Document::parse(&svg).unwrap();
+        let bar = doc
+            .descendants()
+            .find(|n| has_class(n, "colour-bar"))
+            .unwrap();
+        let labels: Vec<&str> = bar
+            .descendants()
+            .filter(|n| n.has_tag_name("text"))
+            .filter_map(|n| n.text())
+            .collect();
+        assert!(labels.len() >= 4, "{labels:?}");
+        let distinct: std::collections::BTreeSet<&str> = labels.iter().copied().collect();
+        assert_eq!(distinct.len(), labels.len(), "{labels:?}");
     }
 
     #[test]
