@@ -15,9 +15,11 @@
 //!   (−y), right (+x) and top (+z) faces of the part are the visible ones.
 //!
 //! Model `v` (z or y) points up in the picture: SVG's y axis is flipped. The three
-//! orthographic views share one scale and are centred in equal cells, so FRONT and TOP line up
-//! in x and FRONT and RIGHT in z, as a drawing must; the isometric view is fitted to its cell
-//! at its own scale and carries its own scale bar.
+//! orthographic views share one scale and are centred in their cells; the grid's columns and
+//! rows are sized to what the views need (at least [`MIN_SPLIT`] each), and the cells of a
+//! column share their x, those of a row their y, so FRONT and TOP line up in x and FRONT and
+//! RIGHT in z, as a drawing must. The isometric view is fitted to its cell at its own scale
+//! and carries its own scale bar.
 //!
 //! The picture is a wireframe (the medial axis is inside the part, so hidden-line removal
 //! would hide exactly what the picture is for). As a depth cue each part edge is grey by its
@@ -25,17 +27,21 @@
 //! to near. Tangent (smooth) edges are drawn thinner. Curved faces also get their outlines
 //! (silhouettes: where the normal is perpendicular to the view), found by marching squares on
 //! `n · toward` over a grid of each face and placed on the exact surface, so a cylinder,
-//! sphere or torus looks like one.
+//! sphere or torus looks like one. An outline point lies on the surface, but where along the
+//! surface it sits comes from linear interpolation on a [`SILHOUETTE_GRID`]² grid: close
+//! enough to see, not a tolerance, and an outline loop smaller than a grid cell may be missed.
+//! Seam edges of periodic faces (a cylinder's parameter seam) are not drawn.
 //!
 //! Curves are sampled from the exact geometry: lines by their ends, polylines by their
 //! vertices, other curves by recursive midpoint subdivision until the curve is within a
 //! fraction of a pixel of its chords; every polyline is then thinned per view by
 //! Douglas–Peucker to [`SvgOptions::px_tol`] (D. Douglas, T. Peucker, "Algorithms for the
 //! reduction of the number of points required to represent a digitized line or its
-//! caricature", *The Canadian Cartographer* 10(2), 1973). A seam is split into runs of equal
-//! colour (the radius quantised to [`COLOUR_LEVELS`] levels of viridis) before thinning, so
-//! thinning never moves a colour. Coordinates are written with one decimal (0.1 px): the
-//! output is deterministic, byte for byte, for the same input.
+//! caricature", *The Canadian Cartographer* 10(2), 1973). The seam radius is quantised to
+//! [`COLOUR_LEVELS`] levels of viridis; a seam is split into runs whose levels stay within one
+//! of each other, each drawn in its middle level and thinned on its own, so thinning never
+//! moves a colour by more than one level. Coordinates are written with one decimal (0.1 px):
+//! the output is deterministic, byte for byte, for the same input.
 
 use crate::brep::Model;
 use crate::classify::{Classification, EdgeKind};
@@ -66,7 +72,7 @@ const LEGEND_WIDTH: f64 = 230.0;
 const TITLE_HEIGHT: f64 = 92.0;
 const LABEL_BAND: f64 = 24.0;
 /// Smallest share of the grid's width or height a column or row of panels gets.
-const MIN_SPLIT: f64 = 0.4;
+pub const MIN_SPLIT: f64 = 0.4;
 const INSET: f64 = 16.0;
 const DEGENERATE_COLOUR: &str = "#d0109a";
 const FONT: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
@@ -362,7 +368,7 @@ fn distance_to_segment_2d(p: DVec2, a: DVec2, b: DVec2) -> f64 {
 }
 
 /// Grid size (per parameter direction) of the silhouette search on a curved face.
-const SILHOUETTE_GRID: usize = 48;
+pub const SILHOUETTE_GRID: usize = 48;
 
 /// A curved face sampled on a grid over its UV domain, for silhouettes.
 struct FaceGrid {
@@ -549,7 +555,8 @@ fn thin(pts: &[DVec2], tol: f64) -> Vec<DVec2> {
 /// A number with at most one decimal, without a trailing `.0` or a negative zero.
 fn num(x: f64) -> String {
     let r = (x * 10.0).round() / 10.0;
-    if r == 0.0 {
+    // A non-finite number (a NaN from bad geometry) would make the file invalid SVG.
+    if r == 0.0 || !r.is_finite() {
         return "0".into();
     }
     let s = format!("{r:.1}");
