@@ -30,7 +30,8 @@ enum Command {
         #[arg(long, default_value_t = matrace::classify::DEFAULT_ANGLE_TOL_DEG)]
         angle_tol: f64,
     },
-    /// Trace the medial seams and junctions and write DIR/<stem>.mat.json.
+    /// Trace the medial seams and junctions and write DIR/<stem>.mat.json and the picture
+    /// DIR/<stem>.mat.svg.
     Trace {
         /// STEP file (.step, .stp).
         part: PathBuf,
@@ -119,8 +120,10 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             })?;
             let stem = part.file_stem().and_then(|s| s.to_str()).unwrap_or("part");
             let path = out.join(format!("{stem}.mat.json"));
-            std::fs::write(&path, serde_json::to_string_pretty(&report)?)
-                .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", path.display()))?;
+            matrace::output::write_atomic(
+                &path,
+                serde_json::to_string_pretty(&report)?.as_bytes(),
+            )?;
             // The sheets' geometry, as a triangle mesh (OBJ), next to the report.
             let sheets = matrace::medial::sheets(&model, &class, &mat);
             let mesh = matrace::medial::sheet_mesh(
@@ -131,8 +134,20 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 &matrace::medial::MeshOptions::new(opts.accuracy),
             );
             let obj_path = out.join(format!("{stem}.sheets.obj"));
-            std::fs::write(&obj_path, mesh.to_obj(&part.display().to_string()))
-                .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", obj_path.display()))?;
+            matrace::output::write_atomic(
+                &obj_path,
+                mesh.to_obj(&part.display().to_string()).as_bytes(),
+            )?;
+            let svg_opts = matrace::output::svg::SvgOptions {
+                title: part
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+                accuracy: Some(opts.accuracy),
+                ..Default::default()
+            };
+            let svg = matrace::output::svg::render_svg(&model, &class, &mat, &svg_opts);
+            matrace::output::svg::write_svg(&out.join(format!("{stem}.mat.svg")), &svg)?;
             let open = mat
                 .seams
                 .iter()

@@ -598,6 +598,40 @@ fn pole_beyond(face: &Face, poly: &[DVec2], swap: bool) -> Option<f64> {
     None
 }
 
+/// True when the straight UV path from `a` to `b` leaves `face` and comes back: it crosses
+/// its trimming loops at least twice. A touch point that steps over a hole (or a notch of
+/// the outline) lands inside the face again, and [`contains`] alone would not see that it
+/// left. (One crossing is no exit: a path from a point on the boundary — after a hand-over —
+/// may cross the sampled loop polygon once where it cuts the exact curve's chord.) Periodic
+/// faces are not tested (their loops live in unwrapped coordinates), nor faces without loops.
+pub fn path_crosses_loops(face: &Face, a: DVec2, b: DVec2) -> bool {
+    if face.domain.u_period.is_some() || face.domain.v_period.is_some() || a == b {
+        return false;
+    }
+    let (lo, hi) = (a.min(b), a.max(b));
+    let crossings: usize = face
+        .loops
+        .iter()
+        .map(|l| {
+            let n = l.uv.len();
+            (0..n)
+                .filter(|&k| {
+                    let (p, q) = (l.uv[k], l.uv[(k + 1) % n]);
+                    // Quick reject on the boxes, then the orientation test.
+                    if p.max(q).cmplt(lo).any() || p.min(q).cmpgt(hi).any() {
+                        return false;
+                    }
+                    let cross = |o: DVec2, x: DVec2, y: DVec2| (x - o).perp_dot(y - o);
+                    let (d1, d2) = (cross(a, b, p), cross(a, b, q));
+                    let (d3, d4) = (cross(p, q, a), cross(p, q, b));
+                    d1 * d2 < 0.0 && d3 * d4 < 0.0
+                })
+                .count()
+        })
+        .sum();
+    crossings >= 2
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -666,6 +700,23 @@ mod tests {
         for (x, y) in [(-1.0, 25.0), (81.0, 25.0), (40.0, -0.1), (40.0, 50.1)] {
             assert!(!inside(x, y), "({x}, {y}) is beyond the plate");
         }
+    }
+
+    /// A path over a hole leaves the face and comes back (two crossings); a path inside the
+    /// plate, or one that only reaches into a hole, is not an exit-and-return.
+    #[test]
+    fn path_over_a_hole_crosses_the_loops() {
+        let m = sample("plate_with_holes.step");
+        let top = face_where(&m, |p| (p.z - 10.0).abs() < 1e-9);
+        let face = &m.faces[top];
+        let uv = |x: f64, y: f64| uv_of(face, DVec3::new(x, y, 10.0));
+        // Over the r = 5 hole at (15, 25), both ends on the plate.
+        assert!(contains(face, uv(8.0, 25.0)) && contains(face, uv(22.0, 25.0)));
+        assert!(path_crosses_loops(face, uv(8.0, 25.0), uv(22.0, 25.0)));
+        // Beside it, and from the plate into the hole (that one `contains` catches).
+        assert!(!path_crosses_loops(face, uv(8.0, 35.0), uv(22.0, 35.0)));
+        assert!(!path_crosses_loops(face, uv(8.0, 25.0), uv(15.0, 25.0)));
+        assert!(!path_crosses_loops(face, uv(8.0, 25.0), uv(8.0, 25.0)));
     }
 
     #[test]
@@ -1034,38 +1085,4 @@ mod tests {
         }
         assert!(checked > 100, "checked {checked} faces");
     }
-}
-
-/// True when the straight UV path from `a` to `b` leaves `face` and comes back: it crosses
-/// its trimming loops at least twice. A touch point that steps over a hole (or a notch of
-/// the outline) lands inside the face again, and [`contains`] alone would not see that it
-/// left. (One crossing is no exit: a path from a point on the boundary — after a hand-over —
-/// may cross the sampled loop polygon once where it cuts the exact curve's chord.) Periodic
-/// faces are not tested (their loops live in unwrapped coordinates), nor faces without loops.
-pub fn path_crosses_loops(face: &Face, a: DVec2, b: DVec2) -> bool {
-    if face.domain.u_period.is_some() || face.domain.v_period.is_some() || a == b {
-        return false;
-    }
-    let (lo, hi) = (a.min(b), a.max(b));
-    let crossings: usize = face
-        .loops
-        .iter()
-        .map(|l| {
-            let n = l.uv.len();
-            (0..n)
-                .filter(|&k| {
-                    let (p, q) = (l.uv[k], l.uv[(k + 1) % n]);
-                    // Quick reject on the boxes, then the orientation test.
-                    if p.max(q).cmplt(lo).any() || p.min(q).cmpgt(hi).any() {
-                        return false;
-                    }
-                    let cross = |o: DVec2, x: DVec2, y: DVec2| (x - o).perp_dot(y - o);
-                    let (d1, d2) = (cross(a, b, p), cross(a, b, q));
-                    let (d3, d4) = (cross(p, q, a), cross(p, q, b));
-                    d1 * d2 < 0.0 && d3 * d4 < 0.0
-                })
-                .count()
-        })
-        .sum();
-    crossings >= 2
 }

@@ -114,6 +114,10 @@ impl SheetMesh {
     }
 }
 
+/// The vertices (`[x, y, z, r]`) and triangles (tagged with their sheet's two groups) meshed
+/// from one face.
+type FacePiece = (Vec<[f64; 4]>, Vec<(usize, usize, [u32; 3])>);
+
 /// One sampled ball: centre, radius, and the group of what it touches second.
 #[derive(Clone, Copy, Debug)]
 struct Ball {
@@ -146,7 +150,7 @@ pub fn sheet_mesh(
         .collect();
     let total: f64 = extents.iter().map(|(a, b)| a * b).sum::<f64>();
     let h = (total / opts.samples as f64).sqrt().max(f64::MIN_POSITIVE);
-    let per_face: Vec<(Vec<[f64; 4]>, Vec<(usize, usize, [u32; 3])>)> = (0..model.faces.len())
+    let per_face: Vec<FacePiece> = (0..model.faces.len())
         .into_par_iter()
         .map(|f| {
             let side = |len: f64| ((len / h).round() as usize).clamp(opts.min_side, opts.max_side);
@@ -193,7 +197,7 @@ fn face_mesh(
     (nu, nv): (usize, usize),
     opts: &MeshOptions,
     group_of_face: &(dyn Fn(usize) -> usize + Sync),
-) -> (Vec<[f64; 4]>, Vec<(usize, usize, [u32; 3])>) {
+) -> FacePiece {
     let face = &model.faces[f];
     let (u0, u1) = face.domain.u;
     let (v0, v1) = face.domain.v;
@@ -305,7 +309,7 @@ fn maximal_ball(
             return None;
         }
         let next = d.length_squared() / (2.0 * along);
-        if !(next < r) {
+        if next.is_nan() || next >= r {
             return None;
         }
         r = next;
@@ -324,4 +328,87 @@ fn approx_extent(model: &Model, f: usize) -> (f64, f64) {
         .map_or((0.0, 0.0), |e| {
             (e.dp[0].length() * (u1 - u0), e.dp[1].length() * (v1 - v0))
         })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::medial::BoundaryRef;
+
+    fn meshed(name: &str) -> (Model, Sheets, SheetMesh) {
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("samples")
+            .join(name);
+        let m = crate::read_model(&p).unwrap();
+        let c = crate::classify(&m, &Default::default());
+        let opts = crate::medial::TraceOptions::for_model(&m);
+        let b = Boundary::new(&m);
+        let mat = crate::medial::trace_with_boundary(&m, &b, &c, &opts);
+        let s = crate::medial::sheets(&m, &c, &mat);
+        let mesh = sheet_mesh(&m, &b, &c, &s, &MeshOptions::new(opts.accuracy));
+        (m, s, mesh)
+    }
+
+    /// Box [0,60]×[0,40]×[0,20]: every one of its 13 sheets gets triangles; every vertex is
+    /// the centre of a ball whose nearest boundary point is at r (to the accuracy); the middle
+    /// sheet (no rim) lies in z = 10 with r = 10.
+    #[test]
+    fn box_sheets_are_meshed_with_medial_vertices() {
+        let (m, s, mesh) = meshed("box.step");
+        let acc = 1e-6 * m.diagonal();
+        let ids: Vec<Option<usize>> = mesh.parts.iter().map(|p| p.sheet).collect();
+        assert_eq!(ids, (0..13).map(Some).collect::<Vec<_>>());
+        assert!(mesh.parts.iter().all(|p| !p.triangles.is_empty()));
+        let b = Boundary::new(&m);
+        for v in &mesh.vertices {
+            let (_, hit) = b.nearest_face(&m, DVec3::new(v[0], v[1], v[2])).unwrap();
+            // The shrinking stops within the accuracy of the radius.
+            assert!(
+                (hit.distance - v[3]).abs() <= 2.0 * acc,
+                "{v:?}: {}",
+                hit.distance
+            );
+        }
+        let middle = s
+            .sheets
+            .iter()
+            .find(|sh| {
+                sh.boundary
+                    .iter()
+                    .all(|e| matches!(e, BoundaryRef::Seam(_)))
+            })
+            .unwrap()
+            .id;
+        let part = mesh.parts.iter().find(|p| p.sheet == Some(middle)).unwrap();
+        for t in &part.triangles {
+            for &k in t {
+                let v = mesh.vertices[k as usize];
+                assert!((v[2] - 10.0).abs() <= 2.0 * acc && (v[3] - 10.0).abs() <= 2.0 * acc);
+            }
+        }
+        // OBJ: every vertex and triangle, one group per sheet.
+        let obj = mesh.to_obj("box");
+        assert_eq!(
+            obj.lines().filter(|l| l.starts_with("v ")).count(),
+            mesh.vertices.len()
+        );
+        assert_eq!(
+            obj.lines().filter(|l| l.starts_with("f ")).count(),
+            mesh.triangles()
+        );
+        assert_eq!(
+            obj.lines().filter(|l| l.starts_with("g sheet_")).count(),
+            13
+        );
+    }
+
+    /// Plate with holes: all 19 sheets (annuli around the holes included) get triangles.
+    #[test]
+    fn plate_with_holes_every_sheet_is_meshed() {
+        let (_, s, mesh) = meshed("plate_with_holes.step");
+        assert_eq!(s.sheets.len(), 19);
+        let mut ids: Vec<usize> = mesh.parts.iter().filter_map(|p| p.sheet).collect();
+        ids.sort();
+        assert_eq!(ids, (0..19).collect::<Vec<_>>());
+    }
 }
