@@ -15,6 +15,7 @@ pub mod medial;
 pub mod output;
 pub mod panic_guard;
 pub mod report;
+pub mod run;
 
 pub use brep::{read_model, Model};
 pub use classify::{classify, Classification, ClassifyOptions, EdgeKind, VertexKind};

@@ -46,6 +46,12 @@ enum Command {
         /// accuracy.
         #[arg(long)]
         verify: bool,
+        /// Do not write the sheet mesh <stem>.sheets.obj.
+        #[arg(long)]
+        no_mesh: bool,
+        /// Do not write the picture <stem>.mat.svg.
+        #[arg(long)]
+        no_svg: bool,
     },
 }
 
@@ -86,9 +92,9 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let class = matrace::classify(&model, &opts);
             let report = matrace::report::Report::new(&model, &class);
             if json {
-                println!("{}", serde_json::to_string_pretty(&report)?);
+                emit(&format!("{}\n", serde_json::to_string_pretty(&report)?));
             } else {
-                print!("{}", matrace::report::render_table(&report));
+                emit(&matrace::report::render_table(&report));
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -97,121 +103,109 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             out,
             tol,
             verify,
+            no_mesh,
+            no_svg,
         } => {
-            let started = std::time::Instant::now();
-            let model = matrace::read_model(&part)?;
-            let class = matrace::classify(&model, &Default::default());
-            let mut opts = matrace::medial::TraceOptions::for_model(&model);
             if let Some(t) = tol {
                 if !(t.is_finite() && t > 0.0) {
                     anyhow::bail!("--tol must be a positive length in mm, got {t}");
                 }
-                opts.accuracy = t;
             }
-            let boundary = matrace::geom::Boundary::new(&model);
-            let mat = matrace::medial::trace_with_boundary(&model, &boundary, &class, &opts);
-            let seconds = started.elapsed().as_secs_f64();
-            let mut report =
-                matrace::report::TraceReport::new(&model, &class, &mat, opts.accuracy, seconds);
-            let verification = verify.then(|| matrace::medial::verify(&model, &boundary, &mat));
-            report.stats.verification = verification.clone();
-            std::fs::create_dir_all(&out).map_err(|e| {
-                anyhow::anyhow!("{}: cannot create output folder: {e}", out.display())
-            })?;
-            let stem = part.file_stem().and_then(|s| s.to_str()).unwrap_or("part");
-            let path = out.join(format!("{stem}.mat.json"));
-            matrace::output::write_atomic(
-                &path,
-                serde_json::to_string_pretty(&report)?.as_bytes(),
-            )?;
-            // The sheets' geometry, as a triangle mesh (OBJ), next to the report.
-            let sheets = matrace::medial::sheets(&model, &class, &mat);
-            let mesh = matrace::medial::sheet_mesh(
-                &model,
-                &boundary,
-                &class,
-                &sheets,
-                &matrace::medial::MeshOptions::new(opts.accuracy),
-            );
-            let obj_path = out.join(format!("{stem}.sheets.obj"));
-            matrace::output::write_atomic(
-                &obj_path,
-                mesh.to_obj(&part.display().to_string()).as_bytes(),
-            )?;
-            let svg_opts = matrace::output::svg::SvgOptions {
-                title: part
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_default(),
-                accuracy: Some(opts.accuracy),
-                ..Default::default()
+            let opts = matrace::run::RunOptions {
+                tol,
+                verify,
+                mesh_samples: if no_mesh {
+                    0
+                } else {
+                    matrace::medial::sheet_mesh::DEFAULT_SAMPLES
+                },
+                picture: !no_svg,
+                ..matrace::run::RunOptions::new(out)
             };
-            let svg = matrace::output::svg::render_svg(&model, &class, &mat, &svg_opts);
-            matrace::output::svg::write_svg(&out.join(format!("{stem}.mat.svg")), &svg)?;
-            let open = mat
-                .seams
-                .iter()
-                .filter(|s| {
-                    s.ends
-                        .iter()
-                        .any(|e| matches!(e, matrace::medial::SeamEnd::Open(_)))
-                })
-                .count();
-            println!(
-                "{}: {} seams ({} open), {} junctions, {} degenerate, {} points, {:.3} s, worst residual {:.2e} mm -> {}",
-                part.display(),
-                mat.seams.len(),
-                open,
-                mat.junctions.len(),
-                mat.degenerate.len(),
-                mat.stats.points,
-                seconds,
-                mat.stats.worst_residual,
-                path.display()
-            );
-            for e in &report.mat.topology.euler {
-                let sheets = report
-                    .mat
-                    .sheets
-                    .iter()
-                    .filter(|s| s.solid == e.solid)
-                    .count();
-                match (e.mat_euler, &e.unknown) {
-                    (Some(chi), _) => println!(
-                        "solid {}: {sheets} sheets; Euler characteristic {chi} (solid {})",
-                        e.solid, e.solid_euler
-                    ),
-                    (None, why) => println!(
-                        "solid {}: {sheets} sheets; Euler characteristic not counted: {} (solid {})",
-                        e.solid,
-                        why.as_deref().unwrap_or("unknown"),
-                        e.solid_euler
-                    ),
-                }
-            }
-            println!(
-                "sheet mesh: {} triangles on {} sheets -> {}",
-                mesh.triangles(),
-                mesh.parts.len(),
-                obj_path.display()
-            );
-            if let Some(v) = verification {
-                println!(
-                    "verified {} balls: worst error {:.2e} mm{} (distance {:.2e}, touch {:.2e}, touch off boundary {:.2e}; accuracy {:.2e})",
-                    v.balls,
+            let outcome = matrace::run::trace_part(&part, &opts)?;
+            emit(&summary(&part, &outcome));
+            if outcome.verification_failed() {
+                let v = outcome.report.stats.verification.as_ref().unwrap();
+                eprintln!(
+                    "matrace: verification failed: worst error {:.2e} mm exceeds the accuracy {:.2e} mm",
                     v.worst(),
-                    v.worst_at.as_deref().map(|a| format!(" at {a}")).unwrap_or_default(),
-                    v.worst_distance_error,
-                    v.worst_touch_error,
-                    v.worst_touch_off_boundary,
-                    opts.accuracy
+                    outcome.report.options.accuracy
                 );
-                if v.worst() > opts.accuracy {
-                    eprintln!("matrace: verification failed: worst error {:.2e} mm exceeds the accuracy {:.2e} mm", v.worst(), opts.accuracy);
-                    return Ok(ExitCode::from(1));
-                }
+                return Ok(ExitCode::from(1));
             }
             Ok(ExitCode::SUCCESS)
         }
     }
+}
+
+/// Writes to stdout; a closed pipe (`matrace … | head`) is not an error worth a panic.
+fn emit(text: &str) {
+    use std::io::Write;
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+}
+
+/// The human summary of a traced part (stdout).
+fn summary(part: &std::path::Path, outcome: &matrace::run::PartOutcome) -> String {
+    use std::fmt::Write;
+    let r = &outcome.report;
+    let st = &r.stats;
+    let t = &st.timings;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{}: {} seams ({} open), {} junctions, {} sheets, {} degenerate, {} points, {:.3} s, worst residual {:.2e} mm -> {}",
+        part.display(),
+        st.seams,
+        st.open_ends,
+        st.junctions,
+        st.sheets,
+        st.degenerate,
+        st.points,
+        st.seconds,
+        st.worst_residual,
+        outcome.report_path.display()
+    );
+    let _ = writeln!(
+        s,
+        "  time: read {:.3} s, classify {:.3}, trace {:.3}, sheets {:.3}, mesh {:.3}, picture {:.3}, verify {:.3}",
+        t.read, t.classify, t.trace, t.sheets, t.mesh, t.picture, t.verify
+    );
+    for e in &r.mat.topology.euler {
+        match (e.mat_euler, &e.unknown) {
+            (Some(chi), _) => {
+                let _ = writeln!(
+                    s,
+                    "  solid {}: Euler characteristic {chi} (solid {})",
+                    e.solid, e.solid_euler
+                );
+            }
+            (None, why) => {
+                let _ = writeln!(
+                    s,
+                    "  solid {}: Euler characteristic not counted: {} (solid {})",
+                    e.solid,
+                    why.as_deref().unwrap_or("unknown"),
+                    e.solid_euler
+                );
+            }
+        }
+    }
+    if st.mesh_triangles > 0 {
+        let _ = writeln!(s, "  sheet mesh: {} triangles", st.mesh_triangles);
+    }
+    let _ = writeln!(s, "  wrote {}", r.outputs.join(", "));
+    if let Some(v) = &st.verification {
+        let _ = writeln!(
+            s,
+            "verified {} balls: worst error {:.2e} mm{} (distance {:.2e}, touch {:.2e}, touch off boundary {:.2e}; accuracy {:.2e})",
+            v.balls,
+            v.worst(),
+            v.worst_at.as_deref().map(|a| format!(" at {a}")).unwrap_or_default(),
+            v.worst_distance_error,
+            v.worst_touch_error,
+            v.worst_touch_off_boundary,
+            r.options.accuracy
+        );
+    }
+    s
 }

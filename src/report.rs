@@ -20,14 +20,50 @@ pub struct Report {
     pub model: ModelReport,
 }
 
-/// A report with the traced medial axis: `input`, `model`, `mat`, `stats`.
+/// A report with the traced medial axis: `input`, `options`, `model`, `mat`, `stats`,
+/// `outputs`.
 #[derive(Clone, Debug, Serialize)]
 pub struct TraceReport {
     pub schema: &'static str,
     pub input: InputReport,
+    pub options: OptionsReport,
     pub model: ModelReport,
     pub mat: MatReport,
     pub stats: StatsReport,
+    /// The files written beside the report (names only, in the same folder).
+    pub outputs: Vec<String>,
+}
+
+/// The options and tolerances a trace ran with.
+#[derive(Clone, Debug, Serialize)]
+pub struct OptionsReport {
+    /// Output accuracy (mm): every ball is medial to within it.
+    pub accuracy: f64,
+    /// Where the accuracy came from: `"1e-6 x diagonal"` (the default) or `"--tol"`.
+    pub accuracy_from: String,
+    /// The part's bounding-box diagonal (mm), the scale of every default tolerance.
+    pub diagonal: f64,
+    /// Newton residual target (mm), 1e-3 × the accuracy.
+    pub solver_tolerance: f64,
+    /// Faces meeting at less than this angle (degrees) count as tangent.
+    pub angle_tol_deg: f64,
+    /// Grid points for the sheet mesh (0: no mesh written).
+    pub mesh_samples: usize,
+    /// Whether every ball was checked against the definition.
+    pub verify: bool,
+}
+
+/// Wall-clock seconds per stage.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Timings {
+    pub read: f64,
+    pub classify: f64,
+    pub trace: f64,
+    pub sheets: f64,
+    pub mesh: f64,
+    pub picture: f64,
+    pub verify: f64,
+    pub total: f64,
 }
 
 /// The `mat` object: seams, junctions, sheets (by their boundaries), degenerate pieces and
@@ -46,8 +82,6 @@ pub struct MatReport {
 /// solid).
 #[derive(Clone, Debug, Serialize)]
 pub struct TopologyReport {
-    /// `V − E + F` of the B-rep as read (counting the file's vertices, edges and faces).
-    pub solid_euler: i64,
     /// Junctions plus convex vertices where seams end.
     pub graph_nodes: usize,
     /// Seams (a closed seam counts as one edge with one node of its own).
@@ -97,9 +131,8 @@ impl TopologyReport {
                 inconsistencies.push(format!("junction {j} (4 segments) has {n} seam ends"));
             }
         }
+        let _ = model;
         TopologyReport {
-            solid_euler: model.vertices.len() as i64 - model.edges.len() as i64
-                + model.faces.len() as i64,
             graph_nodes: mat.junctions.len() + vertices.len() + closed / 2,
             graph_edges: mat.seams.len(),
             open_ends,
@@ -113,10 +146,17 @@ impl TopologyReport {
 /// The `stats` object.
 #[derive(Clone, Debug, Serialize)]
 pub struct StatsReport {
+    /// Total wall-clock seconds (read to last output), as `timings.total`.
     pub seconds: f64,
+    pub timings: Timings,
     pub seams: usize,
     pub junctions: usize,
+    pub sheets: usize,
+    pub degenerate: usize,
+    pub open_ends: usize,
     pub points: usize,
+    /// Triangles in `<stem>.sheets.obj`.
+    pub mesh_triangles: usize,
     /// Output accuracy used (mm).
     pub accuracy: f64,
     pub worst_residual: f64,
@@ -129,39 +169,47 @@ pub struct StatsReport {
 }
 
 impl TraceReport {
-    /// The full report for a traced model.
+    /// The full report for a traced model, with its sheets. Timings, verification, the mesh
+    /// size and the outputs are filled in by the caller as they happen.
     pub fn new(
         model: &Model,
         class: &Classification,
         mat: &crate::medial::Mat,
-        accuracy: f64,
-        seconds: f64,
+        sheets: &crate::medial::Sheets,
+        options: OptionsReport,
     ) -> TraceReport {
         let base = Report::new(model, class);
-        let sheets = crate::medial::sheets(model, class, mat);
+        let topology = TopologyReport::new(model, mat, sheets);
         TraceReport {
             schema: SCHEMA,
             input: base.input,
-            model: base.model,
-            mat: MatReport {
-                seams: mat.seams.clone(),
-                junctions: mat.junctions.clone(),
-                sheets: sheets.sheets.clone(),
-                degenerate: mat.degenerate.clone(),
-                topology: TopologyReport::new(model, mat, &sheets),
-            },
             stats: StatsReport {
-                seconds,
+                seconds: 0.0,
+                timings: Timings::default(),
                 seams: mat.seams.len(),
                 junctions: mat.junctions.len(),
+                sheets: sheets.sheets.len(),
+                degenerate: mat.degenerate.len(),
+                open_ends: topology.open_ends,
                 points: mat.stats.points,
-                accuracy,
+                mesh_triangles: 0,
+                accuracy: options.accuracy,
                 worst_residual: mat.stats.worst_residual,
                 newton_iterations: mat.stats.newton_iterations,
                 corrector_failures: mat.stats.corrector_failures,
                 skipped_vertices: mat.stats.skipped_vertices.clone(),
                 verification: None,
             },
+            options,
+            model: base.model,
+            mat: MatReport {
+                seams: mat.seams.clone(),
+                junctions: mat.junctions.clone(),
+                sheets: sheets.sheets.clone(),
+                degenerate: mat.degenerate.clone(),
+                topology,
+            },
+            outputs: vec![],
         }
     }
 }

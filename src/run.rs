@@ -1,0 +1,173 @@
+//! One part through the whole pipeline: read, classify, trace, sheets, sheet mesh, picture,
+//! verification, and the outputs written atomically beside each other. The `trace` command
+//! and the batch runner both call [`trace_part`]; neither prints from here.
+
+use crate::error::{Error, Result};
+use crate::report::{OptionsReport, Timings, TraceReport};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What to compute and write for a part.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Folder for the outputs (created if missing).
+    pub out_dir: PathBuf,
+    /// Output accuracy in mm; `None`: 1e-6 × the part's bounding-box diagonal.
+    pub tol: Option<f64>,
+    /// Check every ball against the definition.
+    pub verify: bool,
+    /// Grid points for the sheet mesh (0: no `<stem>.sheets.obj`).
+    pub mesh_samples: usize,
+    /// Write the picture `<stem>.mat.svg`.
+    pub picture: bool,
+}
+
+impl RunOptions {
+    /// Every output, default tolerances, into `out_dir`.
+    pub fn new(out_dir: impl Into<PathBuf>) -> RunOptions {
+        RunOptions {
+            out_dir: out_dir.into(),
+            tol: None,
+            verify: false,
+            mesh_samples: crate::medial::sheet_mesh::DEFAULT_SAMPLES,
+            picture: true,
+        }
+    }
+}
+
+/// The result of one part: the report (as written) and where the outputs went.
+#[derive(Clone, Debug)]
+pub struct PartOutcome {
+    pub report: TraceReport,
+    /// `<stem>.mat.json`.
+    pub report_path: PathBuf,
+    /// Every file written, the report last.
+    pub written: Vec<PathBuf>,
+}
+
+impl PartOutcome {
+    /// True when a verification ran and found an error above the accuracy.
+    pub fn verification_failed(&self) -> bool {
+        self.report
+            .stats
+            .verification
+            .as_ref()
+            .is_some_and(|v| v.worst() > self.report.options.accuracy)
+    }
+}
+
+/// The output file stem of `part` (its file name without the extension).
+pub fn stem(part: &Path) -> String {
+    part.file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("part")
+        .to_string()
+}
+
+/// Runs the pipeline on `part` and writes `<stem>.mat.json` (last, so a complete report
+/// means complete outputs), `<stem>.sheets.obj` and `<stem>.mat.svg` into `opts.out_dir`.
+pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
+    let started = Instant::now();
+    let mut t = Timings::default();
+    let lap = |since: &mut Instant| {
+        let s = since.elapsed().as_secs_f64();
+        *since = Instant::now();
+        s
+    };
+    let mut clock = Instant::now();
+    let model = crate::read_model(part)?;
+    t.read = lap(&mut clock);
+    let class = crate::classify(&model, &Default::default());
+    t.classify = lap(&mut clock);
+    let mut trace_opts = crate::medial::TraceOptions::for_model(&model);
+    let accuracy_from = match opts.tol {
+        Some(tol) if tol.is_finite() && tol > 0.0 => {
+            trace_opts.accuracy = tol;
+            "--tol"
+        }
+        Some(tol) => {
+            return Err(Error::Model {
+                path: part.into(),
+                reason: format!("the accuracy must be a positive length in mm, got {tol}"),
+            })
+        }
+        None => "1e-6 x diagonal",
+    };
+    let boundary = crate::geom::Boundary::new(&model);
+    let mat = crate::medial::trace_with_boundary(&model, &boundary, &class, &trace_opts);
+    t.trace = lap(&mut clock);
+    let sheets = crate::medial::sheets(&model, &class, &mat);
+    t.sheets = lap(&mut clock);
+    let options = OptionsReport {
+        accuracy: trace_opts.accuracy,
+        accuracy_from: accuracy_from.into(),
+        diagonal: model.diagonal(),
+        solver_tolerance: 1e-3 * trace_opts.accuracy,
+        angle_tol_deg: crate::classify::DEFAULT_ANGLE_TOL_DEG,
+        mesh_samples: opts.mesh_samples,
+        verify: opts.verify,
+    };
+    let mut report = TraceReport::new(&model, &class, &mat, &sheets, options);
+
+    std::fs::create_dir_all(&opts.out_dir).map_err(|source| Error::Write {
+        path: opts.out_dir.clone(),
+        source,
+    })?;
+    let stem = stem(part);
+    let mut written = vec![];
+    if opts.mesh_samples > 0 {
+        let mesh = crate::medial::sheet_mesh(
+            &model,
+            &boundary,
+            &class,
+            &sheets,
+            &crate::medial::MeshOptions {
+                samples: opts.mesh_samples,
+                ..crate::medial::MeshOptions::new(trace_opts.accuracy)
+            },
+        );
+        let path = opts.out_dir.join(format!("{stem}.sheets.obj"));
+        crate::output::write_atomic(&path, mesh.to_obj(&part.display().to_string()).as_bytes())?;
+        report.stats.mesh_triangles = mesh.triangles();
+        written.push(path);
+        t.mesh = lap(&mut clock);
+    }
+    if opts.picture {
+        let svg_opts = crate::output::svg::SvgOptions {
+            title: part
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            accuracy: Some(trace_opts.accuracy),
+            ..Default::default()
+        };
+        let svg = crate::output::svg::render_svg(&model, &class, &mat, &svg_opts);
+        let path = opts.out_dir.join(format!("{stem}.mat.svg"));
+        crate::output::svg::write_svg(&path, &svg)?;
+        written.push(path);
+        t.picture = lap(&mut clock);
+    }
+    if opts.verify {
+        report.stats.verification = Some(crate::medial::verify(&model, &boundary, &mat));
+        t.verify = lap(&mut clock);
+    }
+    let report_path = opts.out_dir.join(format!("{stem}.mat.json"));
+    written.push(report_path.clone());
+    report.outputs = written
+        .iter()
+        .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+        .collect();
+    t.total = started.elapsed().as_secs_f64();
+    report.stats.seconds = t.total;
+    report.stats.timings = t;
+    let json = serde_json::to_string_pretty(&report).map_err(|e| Error::Model {
+        path: part.into(),
+        reason: format!("report not serialisable: {e}"),
+    })?;
+    crate::output::write_atomic(&report_path, json.as_bytes())?;
+    Ok(PartOutcome {
+        report,
+        report_path,
+        written,
+    })
+}
