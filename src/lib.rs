@@ -12,6 +12,7 @@ pub mod classify;
 pub mod error;
 pub mod geom;
 pub mod medial;
+pub mod output;
 pub mod panic_guard;
 pub mod report;
 

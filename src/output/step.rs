@@ -1,0 +1,1 @@
+//! Writing the seams and junctions as a STEP AP214 wireframe.
