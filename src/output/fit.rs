@@ -9,7 +9,9 @@
 //!
 //! 1. Parameters `tᵢ` by chord length of the centres, so the curve is parametrised roughly
 //!    by arc length in millimetres (`t ∈ [0, L]`, `L` the polyline length).
-//! 2. Degree `p = min(3, n − 1)`; start with one Bézier span (`p + 1` control points).
+//! 2. A straight seam within `tol` of the line between its ends is that line (degree 1, two
+//!    control points). Otherwise degree `p = min(3, n − 1)`, starting with one Bézier span
+//!    (`p + 1` control points).
 //! 3. Solve `min Σ ‖C(tᵢ) − Qᵢ‖²` over the inner control points with the first and last
 //!    control points fixed at the first and last traced points (so both ends interpolate;
 //!    a closed seam, first point = last point, comes out as a clamped curve whose ends
@@ -274,6 +276,25 @@ pub fn fit_bspline(points: &[[f64; 4]], tol: f64) -> Option<SeamFit> {
     let p = MAX_DEGREE.min(n - 1);
     let (lo, hi) = (params[0], params[n - 1]);
     let mut knots: Vec<f64> = [vec![lo; p + 1], vec![hi; p + 1]].concat();
+    if p > 1 {
+        // A straight seam (a box's) is a line: degree 1, two control points, when that fits.
+        let line = [vec![lo; 2], vec![hi; 2]].concat();
+        let (ctrl, radii) = solve_least_squares(&q, &params, &params, &line, 1, 0.0);
+        let mut fit = SeamFit {
+            degree: 1,
+            knots: line,
+            control_points: ctrl,
+            radii,
+            max_error: 0.0,
+            max_radius_error: 0.0,
+        };
+        let (_, errors) = measure(&fit, &q, &params);
+        fit.max_error = errors.iter().map(|e| e.0).fold(0.0, f64::max);
+        fit.max_radius_error = errors.iter().map(|e| e.1).fold(0.0, f64::max);
+        if fit.max_error <= tol && fit.max_radius_error <= tol {
+            return Some(fit);
+        }
+    }
     let mut t = params.clone();
     let mut rounds = 0;
     // Knots are first redistributed by the error estimate (few rounds, near-minimal count);
@@ -991,7 +1012,7 @@ mod tests {
     }
 
     #[test]
-    fn points_on_a_line_give_a_minimal_cubic() {
+    fn points_on_a_line_give_a_line() {
         let pts: Vec<[f64; 4]> = (0..50)
             .map(|i| {
                 // Uneven spacing, as the tracer's steps are.
@@ -1000,12 +1021,28 @@ mod tests {
             })
             .collect();
         let fit = fit_bspline(&pts, 1e-9).unwrap();
-        assert_eq!(fit.degree, 3);
-        assert_eq!(fit.control_points.len(), 4);
+        assert_eq!(fit.degree, 1);
+        assert_eq!(fit.control_points.len(), 2);
         assert!(
             fit.max_error < 1e-9 && fit.max_radius_error < 1e-9,
             "{fit:?}"
         );
+    }
+
+    #[test]
+    fn points_nearly_on_a_line_give_a_line_within_the_tolerance_only() {
+        let pts: Vec<[f64; 4]> = (0..30)
+            .map(|i| {
+                let s = i as f64 / 29.0;
+                [10.0 * s, 1e-4 * (s * std::f64::consts::PI).sin(), 0.0, 1.0]
+            })
+            .collect();
+        let line = fit_bspline(&pts, 2e-4).unwrap();
+        assert_eq!((line.degree, line.control_points.len()), (1, 2));
+        assert!(line.max_error <= 2e-4 && line.max_error > 5e-5, "{line:?}");
+        let cubic = fit_bspline(&pts, 1e-6).unwrap();
+        assert_eq!(cubic.degree, 3);
+        assert!(cubic.max_error <= 1e-6, "{cubic:?}");
     }
 
     #[test]
