@@ -18,6 +18,13 @@ pub enum Error {
         #[source]
         source: std::io::Error,
     },
+    /// An output file could not be written.
+    #[error("{path}: cannot write file: {source}")]
+    Write {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
     /// The file is not a STEP exchange structure we can parse.
     #[error("{path}: not a readable STEP file: {reason}")]
     Syntax { path: PathBuf, reason: String },
@@ -39,6 +46,7 @@ impl Error {
     pub fn path(&self) -> &std::path::Path {
         match self {
             Error::Io { path, .. }
+            | Error::Write { path, .. }
             | Error::Syntax { path, .. }
             | Error::Model { path, .. }
             | Error::Entity { path, .. } => path,
