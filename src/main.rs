@@ -30,7 +30,8 @@ enum Command {
         #[arg(long, default_value_t = matrace::classify::DEFAULT_ANGLE_TOL_DEG)]
         angle_tol: f64,
     },
-    /// Trace the medial seams and junctions and write DIR/<stem>.mat.json.
+    /// Trace the medial seams and junctions and write DIR/<stem>.mat.json and
+    /// DIR/<stem>.mat.step (the seams as B-spline curves, the junctions as points).
     Trace {
         /// STEP file (.step, .stp).
         part: PathBuf,
@@ -45,6 +46,14 @@ enum Command {
         /// accuracy.
         #[arg(long)]
         verify: bool,
+        /// Largest distance in mm from a traced point to its seam's B-spline curve in the
+        /// .mat.step file, and largest radius error (default: 1e-4 × the part's diagonal;
+        /// never below the accuracy).
+        #[arg(long)]
+        fit_tol: Option<f64>,
+        /// Include the input part in the .mat.step file (one open shows part and MAT).
+        #[arg(long)]
+        with_solid: bool,
     },
 }
 
@@ -96,6 +105,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             out,
             tol,
             verify,
+            fit_tol,
+            with_solid,
         } => {
             let started = std::time::Instant::now();
             let model = matrace::read_model(&part)?;
@@ -114,6 +125,18 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 matrace::report::TraceReport::new(&model, &class, &mat, opts.accuracy, seconds);
             let verification = verify.then(|| matrace::medial::verify(&model, &boundary, &mat));
             report.stats.verification = verification.clone();
+            let fitted = std::time::Instant::now();
+            let mut fit_opts =
+                matrace::output::fit::FitOptions::for_model(model.diagonal(), opts.accuracy);
+            if let Some(t) = fit_tol {
+                if !(t.is_finite() && t > 0.0) {
+                    anyhow::bail!("--fit-tol must be a positive length in mm, got {t}");
+                }
+                fit_opts.tol = t.max(opts.accuracy);
+            }
+            let fits = matrace::output::fit::fit_mat(&mat, &fit_opts);
+            let fit_report = matrace::output::fit::FitReport::new(&mat, &fits, fit_opts.tol);
+            report.mat.fit = Some(fit_report.clone());
             std::fs::create_dir_all(&out).map_err(|e| {
                 anyhow::anyhow!("{}: cannot create output folder: {e}", out.display())
             })?;
@@ -121,6 +144,15 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let path = out.join(format!("{stem}.mat.json"));
             std::fs::write(&path, serde_json::to_string_pretty(&report)?)
                 .map_err(|e| anyhow::anyhow!("{}: cannot write: {e}", path.display()))?;
+            let step_path = out.join(format!("{stem}.mat.step"));
+            matrace::output::step::write_mat_step(
+                &step_path,
+                stem,
+                &mat,
+                &fits,
+                with_solid.then_some(part.as_path()),
+            )?;
+            let fit_seconds = fitted.elapsed().as_secs_f64();
             let open = mat
                 .seams
                 .iter()
@@ -141,6 +173,16 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 seconds,
                 mat.stats.worst_residual,
                 path.display()
+            );
+            println!(
+                "fitted {} seams with {} control points: worst error {:.2e} mm, radius {:.2e} mm (fit tolerance {:.2e}), {:.3} s -> {}",
+                fits.len(),
+                fit_report.control_points,
+                fit_report.worst_error,
+                fit_report.worst_radius_error,
+                fit_opts.tol,
+                fit_seconds,
+                step_path.display()
             );
             if let Some(v) = verification {
                 println!(

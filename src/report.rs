@@ -37,6 +37,9 @@ pub struct MatReport {
     pub junctions: Vec<crate::medial::Junction>,
     pub degenerate: Vec<crate::medial::Degenerate>,
     pub topology: TopologyReport,
+    /// The B-spline fits of the seams written to `<stem>.mat.step`, when made.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fit: Option<crate::output::fit::FitReport>,
 }
 
 /// Consistency of the seam–junction graph, next to the solid's Euler characteristic (the
@@ -134,6 +137,7 @@ impl TraceReport {
                 junctions: mat.junctions.clone(),
                 degenerate: mat.degenerate.clone(),
                 topology: TopologyReport::new(model, mat),
+                fit: None,
             },
             stats: StatsReport {
                 seconds,
