@@ -7,3 +7,4 @@ mod crosscheck;
 mod realworld;
 mod regenerate;
 mod samples;
+mod step_out;
