@@ -4,7 +4,7 @@
 //! with the FreeCAD modules, which CI installs), `--with-solid` adds the input part, and
 //! truck's STEP reader finds one B-spline curve per seam.
 
-use crate::common::{matrace, root, sample};
+use crate::common::{matrace, realworld_dir, root, sample};
 use std::path::{Path, PathBuf};
 use truck_geometry::prelude::{BSplineCurve, BoundedCurve, MetricSpace, ParametricCurve, Point3};
 use truck_stepio::r#in::ruststep::ast::Name;
@@ -106,17 +106,33 @@ fn freecad_sees_one_edge_per_seam_within_the_fit_tolerance_and_the_junctions() {
 }
 
 #[test]
+fn a_part_without_seams_gives_a_file_freecad_opens_empty() {
+    // A sphere's MAT is its centre (a degenerate point, not a seam or a junction).
+    let dir = tempfile::tempdir().unwrap();
+    let (report, step) = trace(&sample("sphere.step"), dir.path(), &[]);
+    assert!(report["mat"]["seams"].as_array().unwrap().is_empty());
+    let checked = freecad_check(&step, &report_path(&step), &[]).unwrap();
+    assert!(checked.contains("\"edges\": 0"), "{checked}");
+}
+
+#[test]
 fn with_solid_freecad_sees_the_part_and_the_seams() {
     let dir = tempfile::tempdir().unwrap();
     // An inch file and a moved part: the copied entities keep their own units and placement,
-    // and the check finds every junction inside the solid.
-    for name in ["plate_with_holes.step", "box_inch.step", "moved_part.step"] {
-        let part = sample(name);
+    // and the check finds every junction inside the solid. NIST CTC-01 (from the real-world
+    // corpus, where present as for the other corpus tests) adds free wireframe edges of its own.
+    let mut parts: Vec<PathBuf> = ["plate_with_holes.step", "box_inch.step", "moved_part.step"]
+        .iter()
+        .map(|n| sample(n))
+        .collect();
+    parts.extend(realworld_dir().map(|d| d.join("stepswift_nist_ctc_01_asme1_rd.stp")));
+    for part in parts {
+        let name = part.file_name().unwrap().to_str().unwrap();
         let (_, step) = trace(&part, dir.path(), &["--with-solid"]);
         let checked = freecad_check(
             &step,
             &report_path(&step),
-            &["--with-solid", part.to_str().unwrap()],
+            &["--with-solid", part.to_str().unwrap(), "--every", "3"],
         )
         .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(checked.contains("\"solids\": 1"), "{name}: {checked}");
