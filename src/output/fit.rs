@@ -18,13 +18,26 @@
 //!    coincide).
 //! 4. Measure every traced point's distance to the curve: evaluate at `tᵢ`, then project by
 //!    Newton's method on `(C(t) − Q)·C′(t) = 0`; the radius error is `|r(t) − rᵢ|` at the
-//!    projected parameter (the ball on the curve nearest the traced centre). The projected
-//!    parameters replace `tᵢ` for the next solve (parameter correction).
-//! 5. Stop when both errors are within `tol` at every traced point. Otherwise insert one knot
-//!    in each knot span whose worst error is at least half the overall worst, at the median
-//!    parameter of the points in that span, and go to 3. When the knots would outnumber the
-//!    points, or the round budget runs out, interpolate every traced point instead
-//!    (averaged knots, §9.2.1): no error at the points, many control points.
+//!    projected parameter (the ball on the curve nearest the traced centre). Once the worst
+//!    distance is within `CORRECTION_START` tolerances and the projected parameters are still
+//!    in order, they replace `tᵢ` for the next solve (parameter correction; on a poor curve
+//!    projections would scramble the parameters).
+//! 5. Stop when both errors are within `tol` at every traced point. Otherwise place new knots,
+//!    first by equidistributing the error (a degree-`p` span of length `h` has error ~`h^(p+1)`,
+//!    so a span with worst error `e` wants `(e/tol)^(1/(p+1))` spans: de Boor, *A Practical
+//!    Guide to Splines*, ch. XII), which reaches a near-minimal count in a few rounds; once a
+//!    redistribution makes the fit worse, go back to the last good knots and from then on
+//!    only insert one knot in each span over the tolerance, at the median parameter of its
+//!    points (nested spaces: the least-squares residual cannot grow). Knots that would leave
+//!    a span without points, or closer than `MIN_KNOT_GAP` of the range, are dropped.
+//! 6. When the knots would reach the number of points, or the round budget runs out,
+//!    interpolate every point instead (averaged knots, §9.2.1): no error at the points. An
+//!    interpolant clearly longer than the polyline swings between the points (very uneven
+//!    spacing); then the polyline itself (degree 1) is the answer.
+//!
+//! Measured: a 2 rad helical arc of radius 10 sampled at 400 points needs 6, 11, 27 and 78
+//! control points at 1e-2, 1e-4, 1e-6 and 1e-8 (chord-length parameters make the order h⁴),
+//! in about 2 ms each; straight seams are lines.
 //!
 //! The least-squares normal equations `NᵀN P = Nᵀ Q` are banded (half-bandwidth `p`), so they
 //! are solved by a banded Cholesky factorisation in `O(m p²)` instead of nalgebra's dense
