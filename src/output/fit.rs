@@ -332,13 +332,21 @@ pub fn fit_bspline(points: &[[f64; 4]], tol: f64) -> Option<SeamFit> {
         let (mut projected, mut errors) = measure(&fit, &q, &t);
         fit.max_error = errors.iter().map(|e| e.0).fold(0.0, f64::max);
         fit.max_radius_error = errors.iter().map(|e| e.1).fold(0.0, f64::max);
-        if interpolating && p > 1 && swings(&fit, &q) {
-            // Cubic interpolation of very unevenly spaced points can overshoot between them:
-            // take the polyline itself (degree 1), which cannot.
-            return fit_polyline(&q, &params);
-        }
         if (fit.max_error <= tol && fit.max_radius_error <= tol) || interpolating {
-            return Some(fit);
+            if !swings(&fit, &q) {
+                return Some(fit);
+            }
+            if interpolating {
+                // Cubic interpolation of very unevenly spaced points can overshoot between
+                // them: take the polyline itself (degree 1), which cannot.
+                return fit_polyline(&q, &params);
+            }
+            // Close to the points but swinging between them (as many knots as points, badly
+            // placed): interpolate instead.
+            knots = averaged_knots(&params, p);
+            t = params.clone();
+            interpolating = true;
+            continue;
         }
         rounds += 1;
         let worst = fit.max_error.max(fit.max_radius_error) / tol;
@@ -360,12 +368,16 @@ pub fn fit_bspline(points: &[[f64; 4]], tol: f64) -> Option<SeamFit> {
                 })
             }
         }
-        let new_knots = if equidistribute {
-            redistribute_knots(&knots, p, &t, &errors, tol)
-        } else {
-            insert_knots(&knots, p, &t, &errors, tol)
-        };
-        let new_knots = keep_points_in_every_span(new_knots, p, &params);
+        let mut new_knots = vec![];
+        if equidistribute {
+            new_knots =
+                keep_points_in_every_span(redistribute_knots(&knots, p, &t, &errors, tol), p, &t);
+        }
+        if new_knots.len() <= knots.len() {
+            // Redistribution off, or it could not add a span that holds points.
+            equidistribute = false;
+            new_knots = keep_points_in_every_span(insert_knots(&knots, p, &t, &errors, tol), p, &t);
+        }
         if rounds > MAX_ROUNDS || new_knots.len() <= knots.len() || new_knots.len() - p > n {
             // Interpolate every point, on the chord-length parameters.
             knots = averaged_knots(&params, p);
@@ -1118,6 +1130,81 @@ mod tests {
         );
         // Generous: ~50 ms on this machine in the dev profile; a sign of a quadratic blow-up.
         assert!(seconds < 5.0, "{seconds} s");
+    }
+
+    /// Regression: NIST CTC-01 seam 67 (24 points, between two junctions, two hand-overs) at
+    /// the part's default tolerance (1e-4 × its 930 mm diagonal). Knot redistribution could
+    /// not add a span holding points, which fell straight to interpolating all 24 points;
+    /// knot insertion from there needs 11 control points.
+    #[test]
+    fn stalled_redistribution_falls_back_to_insertion_not_interpolation() {
+        let points: &[[f64; 4]] = &[
+            [153.30127018922167, -100.0, -25.0, 25.0],
+            [154.23132395110858, -100.0, -25.0, 25.0],
+            [155.62640459393896, -100.0, -25.0, 25.0],
+            [157.7190255581845, -100.0, -25.0, 25.0],
+            [160.85795700455284, -100.0, -25.0, 25.0],
+            [165.56635417410536, -100.0, -25.0, 25.0],
+            [172.6289499284341, -100.0, -25.0, 25.0],
+            [183.22284355992724, -100.0, -25.0, 25.0],
+            [199.11368400716694, -100.0, -25.0, 25.0],
+            [217.71475924490522, -100.0, -25.0, 25.0],
+            [224.99996277677545, -100.0, -25.0, 25.0],
+            [229.65023085029173, -100.21671567359023, -25.0, 25.0],
+            [236.54992247557988, -101.35229408483792, -25.0, 25.0],
+            [241.5765856609392, -102.82779526222834, -25.0, 25.0],
+            [245.22722417423827, -104.27408373244003, -25.0, 25.0],
+            [250.46899764729048, -106.9729136607844, -25.0, 25.0],
+            [254.16808950144687, -109.38937838526928, -25.0, 25.0],
+            [259.2890175791166, -113.60957167799431, -25.0, 25.0],
+            [
+                260.7071358985698,
+                -114.99999362970169,
+                -24.999999999998494,
+                24.999999999998494,
+            ],
+            [
+                264.09529733093166,
+                -118.67561430307433,
+                -25.09650100232569,
+                25.09650100232569,
+            ],
+            [
+                268.77927644750326,
+                -124.53081936564368,
+                -25.648832251388214,
+                25.648832251388214,
+            ],
+            [
+                274.9607193451019,
+                -133.79476797479052,
+                -27.523166424786275,
+                27.523166424786275,
+            ],
+            [
+                278.98779426922954,
+                -140.82142325151003,
+                -29.762470676764423,
+                29.762470676764423,
+            ],
+            [
+                282.69702918395006,
+                -147.90737299690798,
+                -32.7349656828752,
+                32.7349656828752,
+            ],
+        ];
+        let tol = 0.09300537618869137;
+        let fit = fit_bspline(points, tol).unwrap();
+        assert!(
+            fit.max_error <= tol && fit.max_radius_error <= tol,
+            "{fit:?}"
+        );
+        assert!(
+            fit.control_points.len() <= 12,
+            "{}",
+            fit.control_points.len()
+        );
     }
 
     /// A smooth random space curve with a radius, sampled unevenly: the spacing grows along
