@@ -18,9 +18,6 @@ pub enum Error {
         #[source]
         source: std::io::Error,
     },
-    /// The file is not a STEP exchange structure we can parse.
-    #[error("{path}: not a readable STEP file: {reason}")]
-    Syntax { path: PathBuf, reason: String },
     /// An output file could not be written.
     #[error("{path}: cannot write file: {source}")]
     Write {
@@ -28,6 +25,9 @@ pub enum Error {
         #[source]
         source: std::io::Error,
     },
+    /// The file is not a STEP exchange structure we can parse.
+    #[error("{path}: not a readable STEP file: {reason}")]
+    Syntax { path: PathBuf, reason: String },
     /// The file parsed, but what it describes cannot be used (no solid, open shell, …).
     #[error("{path}: {reason}")]
     Model { path: PathBuf, reason: String },

@@ -30,8 +30,9 @@ enum Command {
         #[arg(long, default_value_t = matrace::classify::DEFAULT_ANGLE_TOL_DEG)]
         angle_tol: f64,
     },
-    /// Trace the medial seams and junctions and write DIR/<stem>.mat.json and the picture
-    /// DIR/<stem>.mat.svg.
+    /// Trace the medial axis; write DIR/<stem>.mat.json (report), <stem>.mat.step (the seams as
+    /// B-spline curves, the junctions as points), <stem>.sheets.obj (sheet mesh) and
+    /// <stem>.mat.svg (picture).
     Trace {
         /// STEP file (.step, .stp).
         part: PathBuf,
@@ -52,6 +53,14 @@ enum Command {
         /// Do not write the picture <stem>.mat.svg.
         #[arg(long)]
         no_svg: bool,
+        /// Largest distance in mm from a traced point to its seam's B-spline curve in the
+        /// .mat.step file, and largest radius error (default: 1e-4 × the part's diagonal;
+        /// never below the accuracy).
+        #[arg(long)]
+        fit_tol: Option<f64>,
+        /// Include the input part in the .mat.step file (one open shows part and MAT).
+        #[arg(long)]
+        with_solid: bool,
     },
 }
 
@@ -105,14 +114,23 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             verify,
             no_mesh,
             no_svg,
+            fit_tol,
+            with_solid,
         } => {
             if let Some(t) = tol {
                 if !(t.is_finite() && t > 0.0) {
                     anyhow::bail!("--tol must be a positive length in mm, got {t}");
                 }
             }
+            if let Some(t) = fit_tol {
+                if !(t.is_finite() && t > 0.0) {
+                    anyhow::bail!("--fit-tol must be a positive length in mm, got {t}");
+                }
+            }
             let opts = matrace::run::RunOptions {
                 tol,
+                fit_tol,
+                with_solid,
                 verify,
                 mesh_samples: if no_mesh {
                     0
@@ -167,8 +185,8 @@ fn summary(part: &std::path::Path, outcome: &matrace::run::PartOutcome) -> Strin
     );
     let _ = writeln!(
         s,
-        "  time: read {:.3} s, classify {:.3}, trace {:.3}, sheets {:.3}, mesh {:.3}, picture {:.3}, verify {:.3}",
-        t.read, t.classify, t.trace, t.sheets, t.mesh, t.picture, t.verify
+        "  time: read {:.3} s, classify {:.3}, trace {:.3}, sheets {:.3}, fit+step {:.3}, mesh {:.3}, picture {:.3}, verify {:.3}",
+        t.read, t.classify, t.trace, t.sheets, t.fit, t.mesh, t.picture, t.verify
     );
     for e in &r.mat.topology.euler {
         match (e.mat_euler, &e.unknown) {
@@ -189,6 +207,17 @@ fn summary(part: &std::path::Path, outcome: &matrace::run::PartOutcome) -> Strin
                 );
             }
         }
+    }
+    if let Some(f) = &r.mat.fit {
+        let _ = writeln!(
+            s,
+            "  fitted {} seams with {} control points: worst error {:.2e} mm, radius {:.2e} mm (fit tolerance {:.2e})",
+            r.mat.seams.len(),
+            f.control_points,
+            f.worst_error,
+            f.worst_radius_error,
+            f.tol
+        );
     }
     if st.mesh_triangles > 0 {
         let _ = writeln!(s, "  sheet mesh: {} triangles", st.mesh_triangles);

@@ -47,6 +47,8 @@ pub struct OptionsReport {
     pub solver_tolerance: f64,
     /// Faces meeting at less than this angle (degrees) count as tangent.
     pub angle_tol_deg: f64,
+    /// Largest distance (mm) from a traced point to its seam's B-spline in `<stem>.mat.step`.
+    pub fit_tolerance: f64,
     /// Grid points for the sheet mesh (0: no mesh written).
     pub mesh_samples: usize,
     /// Whether every ball was checked against the definition.
@@ -60,6 +62,8 @@ pub struct Timings {
     pub classify: f64,
     pub trace: f64,
     pub sheets: f64,
+    /// Fitting the seams and writing `<stem>.mat.step`.
+    pub fit: f64,
     pub mesh: f64,
     pub picture: f64,
     pub verify: f64,
@@ -75,6 +79,9 @@ pub struct MatReport {
     pub sheets: Vec<crate::medial::Sheet>,
     pub degenerate: Vec<crate::medial::Degenerate>,
     pub topology: TopologyReport,
+    /// The B-spline fits of the seams written to `<stem>.mat.step`, when made.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fit: Option<crate::output::fit::FitReport>,
 }
 
 /// Consistency of the seam–junction graph, and the Euler characteristic of each solid next to
@@ -208,6 +215,7 @@ impl TraceReport {
                 sheets: sheets.sheets.clone(),
                 degenerate: mat.degenerate.clone(),
                 topology,
+                fit: None,
             },
             outputs: vec![],
         }

@@ -14,6 +14,11 @@ pub struct RunOptions {
     pub out_dir: PathBuf,
     /// Output accuracy in mm; `None`: 1e-6 × the part's bounding-box diagonal.
     pub tol: Option<f64>,
+    /// Fit tolerance in mm for the seams' B-splines; `None`: 1e-4 × the diagonal (never
+    /// below the accuracy).
+    pub fit_tol: Option<f64>,
+    /// Copy the input part into `<stem>.mat.step`.
+    pub with_solid: bool,
     /// Check every ball against the definition.
     pub verify: bool,
     /// Grid points for the sheet mesh (0: no `<stem>.sheets.obj`).
@@ -28,6 +33,8 @@ impl RunOptions {
         RunOptions {
             out_dir: out_dir.into(),
             tol: None,
+            fit_tol: None,
+            with_solid: false,
             verify: false,
             mesh_samples: crate::medial::sheet_mesh::DEFAULT_SAMPLES,
             picture: true,
@@ -65,7 +72,8 @@ pub fn stem(part: &Path) -> String {
 }
 
 /// Runs the pipeline on `part` and writes `<stem>.mat.json` (last, so a complete report
-/// means complete outputs), `<stem>.sheets.obj` and `<stem>.mat.svg` into `opts.out_dir`.
+/// means complete outputs), `<stem>.mat.step`, `<stem>.sheets.obj` and `<stem>.mat.svg` into
+/// `opts.out_dir`.
 pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
     let started = Instant::now();
     let mut t = Timings::default();
@@ -98,12 +106,18 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
     t.trace = lap(&mut clock);
     let sheets = crate::medial::sheets(&model, &class, &mat);
     t.sheets = lap(&mut clock);
+    let mut fit_opts =
+        crate::output::fit::FitOptions::for_model(model.diagonal(), trace_opts.accuracy);
+    if let Some(tol) = opts.fit_tol {
+        fit_opts.tol = tol.max(trace_opts.accuracy);
+    }
     let options = OptionsReport {
         accuracy: trace_opts.accuracy,
         accuracy_from: accuracy_from.into(),
         diagonal: model.diagonal(),
         solver_tolerance: 1e-3 * trace_opts.accuracy,
         angle_tol_deg: crate::classify::DEFAULT_ANGLE_TOL_DEG,
+        fit_tolerance: fit_opts.tol,
         mesh_samples: opts.mesh_samples,
         verify: opts.verify,
     };
@@ -115,6 +129,23 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
     })?;
     let stem = stem(part);
     let mut written = vec![];
+    // The seams as B-splines in STEP, beside the part (optionally with it).
+    let fits = crate::output::fit::fit_mat(&mat, &fit_opts);
+    report.mat.fit = Some(crate::output::fit::FitReport::new(
+        &mat,
+        &fits,
+        fit_opts.tol,
+    ));
+    let path = opts.out_dir.join(format!("{stem}.mat.step"));
+    crate::output::step::write_mat_step(
+        &path,
+        &stem,
+        &mat,
+        &fits,
+        opts.with_solid.then_some(part),
+    )?;
+    written.push(path);
+    t.fit = lap(&mut clock);
     if opts.mesh_samples > 0 {
         let mesh = crate::medial::sheet_mesh(
             &model,

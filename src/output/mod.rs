@@ -1,5 +1,8 @@
-//! Writers of the outputs besides the JSON report (DESIGN.md, "Outputs").
+//! Writers of the outputs besides the JSON report (DESIGN.md, "Outputs"): B-spline fits of
+//! the seams ([`fit`]), the STEP wireframe file ([`step`]), the picture ([`svg`]).
 
+pub mod fit;
+pub mod step;
 pub mod svg;
 
 use crate::error::{Error, Result};

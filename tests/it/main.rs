@@ -7,4 +7,5 @@ mod crosscheck;
 mod realworld;
 mod regenerate;
 mod samples;
+mod step_out;
 mod svg;
