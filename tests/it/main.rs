@@ -4,6 +4,7 @@ mod bad_input;
 mod cli;
 mod common;
 mod crosscheck;
+mod iges;
 mod realworld;
 mod regenerate;
 mod samples;

@@ -127,7 +127,7 @@ pub fn finish(ctx: &Ctx, model: &mut Model) -> Result<()> {
     }
     orient_consistently(ctx, model, &uses)?;
     compute_domains(ctx, model)?;
-    orient_outward(model);
+    orient_outward(ctx, model)?;
     model.bbox = crate::geom::model_bounding_box(model);
     Ok(())
 }
@@ -352,8 +352,11 @@ fn compute_domains(ctx: &Ctx, model: &mut Model) -> Result<()> {
     Ok(())
 }
 
-/// Step 3 of the module docs.
-fn orient_outward(model: &mut Model) {
+/// Step 3 of the module docs. Where the loops turn the other way (the face on their left
+/// seen from inside the material), they are reversed, so that every face follows the STEP
+/// convention the rest of the crate expects: loops have the face on their left seen from
+/// outside, i.e. `sign` equals the `same_sense` orientation.
+fn orient_outward(ctx: &Ctx, model: &mut Model) -> Result<()> {
     let centre = {
         let (lo, hi) = crate::geom::model_bounding_box(model);
         (lo + hi) * 0.5
@@ -365,6 +368,12 @@ fn orient_outward(model: &mut Model) {
             let orient = if face.same_sense { 1.0 } else { -1.0 };
             volume += orient * flux(face, centre) / 3.0;
         }
+        if volume == 0.0 || !volume.is_finite() {
+            return Err(ctx.err(
+                model.shells[s].step_id as usize,
+                "the shell encloses no volume: cannot tell inside from outside",
+            ));
+        }
         let outward = if model.shells[s].is_void {
             volume < 0.0
         } else {
@@ -372,11 +381,21 @@ fn orient_outward(model: &mut Model) {
         };
         let faces = model.shells[s].faces.clone();
         for f in faces {
+            if !outward {
+                for l in &mut model.faces[f].loops {
+                    l.edges.reverse();
+                    for oe in &mut l.edges {
+                        oe.forward = !oe.forward;
+                    }
+                    l.uv.reverse();
+                }
+                model.faces[f].same_sense = !model.faces[f].same_sense;
+            }
             let face = &mut model.faces[f];
-            let orient = if face.same_sense { 1.0 } else { -1.0 };
-            face.sign = if outward { orient } else { -orient };
+            face.sign = if face.same_sense { 1.0 } else { -1.0 };
         }
     }
+    Ok(())
 }
 
 /// `∫∫ (S − c)·(Su × Sv) du dv` over the face's trimmed domain (midpoint rule).
