@@ -2,7 +2,7 @@
 
 Run with Debian's python (see scripts/README.md):
 
-    /usr/bin/python3 scripts/freecad/make_iges.py [OUTDIR] [--only a,b]
+    /usr/bin/python3 scripts/freecad/make_iges.py [OUTDIR] [--from STEPDIR] [--only a,b]
 
 FreeCAD 0.20 writes a trimmed-surface "soup": one 144 trimmed surface per face, bounded by
 142 curves on surface (3D curves, mostly 102 composites of 110 / 100 / 126), on 128 / 108 /
@@ -23,18 +23,21 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 
 SAMPLES = ["box", "l_bracket", "cylinder", "plate_with_holes", "filleted_box", "box_nurbs",
-           "tetrahedron", "sphere"]
+           "tetrahedron", "sphere", "torus", "elliptic_cylinder", "box_with_void", "moved_part",
+           "scad_difference", "scad_union", "l_bracket_concave_fillet"]
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("outdir", nargs="?", default=os.path.join(ROOT, "samples", "iges"))
-    ap.add_argument("--only", default="")
+    ap.add_argument("--only", default="", help="comma-separated sample names")
+    ap.add_argument("--from", dest="src", default=os.path.join(ROOT, "samples"),
+                    help="folder of the STEP samples (default: samples/)")
     a = ap.parse_args()
     os.makedirs(a.outdir, exist_ok=True)
     names = a.only.split(",") if a.only else SAMPLES
     for name in names:
-        shape = Part.read(os.path.join(ROOT, "samples", name + ".step"))
+        shape = Part.read(os.path.join(a.src, name + ".step"))
         if not shape.isValid():
             sys.exit(f"{name}: STEP sample is not a valid shape")
         out = os.path.join(a.outdir, name + ".soup.igs")
@@ -42,12 +45,11 @@ def main():
         back = Part.read(out)
         if len(back.Faces) != len(shape.Faces):
             sys.exit(f"{name}: {len(back.Faces)} faces after IGES, {len(shape.Faces)} before")
-        d = max(abs(x - y) for x, y in zip(
-            (back.BoundBox.XMin, back.BoundBox.YMin, back.BoundBox.ZMin,
-             back.BoundBox.XMax, back.BoundBox.YMax, back.BoundBox.ZMax),
-            (shape.BoundBox.XMin, shape.BoundBox.YMin, shape.BoundBox.ZMin,
-             shape.BoundBox.XMax, shape.BoundBox.YMax, shape.BoundBox.ZMax)))
-        if d > 1e-6:
+        box = lambda s: s.optimalBoundingBox()  # noqa: E731 (exact, not FreeCAD's BoundBox)
+        b0, b1 = box(shape), box(back)
+        d = max(abs(getattr(b1, k) - getattr(b0, k))
+                for k in ("XMin", "YMin", "ZMin", "XMax", "YMax", "ZMax"))
+        if d > 1e-3 * b0.DiagonalLength:
             sys.exit(f"{name}: bbox moved by {d} mm")
         print(f"{out}: {len(shape.Faces)} faces")
 
