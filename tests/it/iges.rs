@@ -9,8 +9,9 @@ use matrace::report::Report;
 use matrace::Model;
 use std::path::{Path, PathBuf};
 
-/// The samples converted to IGES, by both writers.
-const SAMPLES: [&str; 8] = [
+/// The samples converted to IGES, by both writers (planes, analytic and B-spline surfaces,
+/// holes, fillets, a void, a placed part, OpenSCAD booleans, a full sphere and torus).
+const SAMPLES: [&str; 15] = [
     "box",
     "l_bracket",
     "cylinder",
@@ -19,6 +20,13 @@ const SAMPLES: [&str; 8] = [
     "box_nurbs",
     "tetrahedron",
     "sphere",
+    "torus",
+    "elliptic_cylinder",
+    "box_with_void",
+    "moved_part",
+    "scad_difference",
+    "scad_union",
+    "l_bracket_concave_fillet",
 ];
 
 const ROUTES: [&str; 2] = ["brep", "soup"];

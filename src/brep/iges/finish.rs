@@ -110,7 +110,9 @@ pub fn nearest_param(seg: &Segment, p: DVec3) -> (f64, f64) {
     best
 }
 
-pub fn finish(ctx: &Ctx, model: &mut Model) -> Result<()> {
+/// `nest_shells`: the shells were found as connected components of a soup, each its own
+/// solid so far; a shell inside another is then made a void of it (see [`nest_voids`]).
+pub fn finish(ctx: &Ctx, model: &mut Model, nest_shells: bool) -> Result<()> {
     close_full_surfaces(model);
     compact(model);
     let uses = edge_uses(model);
@@ -127,6 +129,9 @@ pub fn finish(ctx: &Ctx, model: &mut Model) -> Result<()> {
     }
     orient_consistently(ctx, model, &uses)?;
     compute_domains(ctx, model)?;
+    if nest_shells && model.shells.len() > 1 {
+        nest_voids(model);
+    }
     orient_outward(ctx, model)?;
     model.bbox = crate::geom::model_bounding_box(model);
     Ok(())
@@ -315,13 +320,19 @@ fn face_loops(ctx: &Ctx, model: &mut Model, f: usize, same_sense: bool) -> Resul
     Ok(outer.map(|o| signed_area(&model.faces[f].loops[o].uv)))
 }
 
+/// True when the face's loops span at most one period in each periodic direction, as any
+/// face of a periodic surface does: a seam placed on the wrong side of the period by a wrong
+/// `same_sense` makes the loop run on into the next period copy. (A jump between consecutive
+/// UV samples is no criterion: at a pole `u` legitimately jumps.)
+fn within_one_period(face: &Face) -> bool {
+    let d = face.domain;
+    let fits = |r: (f64, f64), p: Option<f64>| p.is_none_or(|p| r.1 - r.0 <= p * (1.0 + 1e-9));
+    fits(d.u, d.u_period) && fits(d.v, d.v_period)
+}
+
 /// Step 2 of the module docs.
 fn compute_domains(ctx: &Ctx, model: &mut Model) -> Result<()> {
     for f in 0..model.faces.len() {
-        let area = face_loops(ctx, model, f, true)?;
-        if matches!(area, Some(a) if a > 0.0) {
-            continue;
-        }
         let has_seam = model.faces[f]
             .loops
             .iter()
@@ -334,20 +345,24 @@ fn compute_domains(ctx: &Ctx, model: &mut Model) -> Result<()> {
                     .count()
                     >= 2
             });
+        let area = face_loops(ctx, model, f, true)?;
         if !has_seam {
             // The UV polygons do not depend on `same_sense`: a clockwise outer loop says it.
             // (No outer loop — only wrapping or vertex loops — leaves nothing to tell by.)
-            if area.is_some() {
-                model.faces[f].same_sense = false;
-            }
+            model.faces[f].same_sense = area.is_none_or(|a| a > 0.0);
             continue;
         }
-        // Seam edges are placed by `same_sense`: the right value gives a closed outer loop
-        // turning the matching way.
-        let other = face_loops(ctx, model, f, false)?;
-        if !matches!(other, Some(a) if a < 0.0) {
-            face_loops(ctx, model, f, true)?;
+        // Seam edges are placed by `same_sense`: the right value gives loops within one
+        // period whose outer one turns the matching way.
+        if within_one_period(&model.faces[f]) && area.is_some_and(|a| a > 0.0) {
+            continue;
         }
+        let other = face_loops(ctx, model, f, false)?;
+        if within_one_period(&model.faces[f]) && other.is_some_and(|a| a < 0.0) {
+            continue;
+        }
+        // Neither fits (a face whose loops only wrap around a period): keep the default.
+        face_loops(ctx, model, f, true)?;
     }
     Ok(())
 }
@@ -398,8 +413,107 @@ fn orient_outward(ctx: &Ctx, model: &mut Model) -> Result<()> {
     Ok(())
 }
 
+/// Makes every shell that lies inside another (by the winding number of the other's
+/// surface around a point of it: `w = (1/4π) ∮ (S − p)·n / ‖S − p‖³ dA`, 1 inside, 0
+/// outside) a void of the innermost shell containing it, when that one is at even depth (an
+/// outer boundary); shells at even depth stay solids of their own.
+fn nest_voids(model: &mut Model) {
+    let ns = model.shells.len();
+    // A point on each shell: the centre of its first face's domain if it is in the face,
+    // else a vertex.
+    let probe: Vec<DVec3> = (0..ns)
+        .map(|s| {
+            let f = model.shells[s].faces[0];
+            let face = &model.faces[f];
+            let d = face.domain;
+            let (u, v) = (0.5 * (d.u.0 + d.u.1), 0.5 * (d.v.0 + d.v.1));
+            if crate::geom::trim::contains(face, glam::DVec2::new(u, v)) {
+                crate::geom::eval_surface(&face.surface, u, v).p
+            } else {
+                face.loops
+                    .iter()
+                    .find_map(|l| {
+                        l.edges
+                            .first()
+                            .map(|oe| model.edges[oe.edge].vertices[0])
+                            .or(l.vertex)
+                    })
+                    .map_or(DVec3::ZERO, |v| model.vertices[v].point)
+            }
+        })
+        .collect();
+    let inside = |a: usize, b: usize| -> bool {
+        let w: f64 = model.shells[b]
+            .faces
+            .iter()
+            .map(|&f| {
+                let face = &model.faces[f];
+                let orient = if face.same_sense { 1.0 } else { -1.0 };
+                orient * solid_angle(face, probe[a])
+            })
+            .sum::<f64>()
+            / (4.0 * std::f64::consts::PI);
+        w.abs() > 0.5
+    };
+    let contains: Vec<Vec<usize>> = (0..ns)
+        .map(|a| (0..ns).filter(|&b| b != a && inside(a, b)).collect())
+        .collect();
+    let depth: Vec<usize> = contains.iter().map(|c| c.len()).collect();
+    let mut solids: Vec<Solid> = Vec::new();
+    let mut solid_of = vec![usize::MAX; ns];
+    for s in 0..ns {
+        if depth[s].is_multiple_of(2) {
+            solid_of[s] = solids.len();
+            solids.push(Solid {
+                step_id: model.shells[s].step_id,
+                name: String::new(),
+                shells: vec![s],
+            });
+            model.shells[s].is_void = false;
+        }
+    }
+    for s in 0..ns {
+        if depth[s] % 2 == 1 {
+            // The innermost container: the one of greatest depth.
+            let parent = contains[s]
+                .iter()
+                .copied()
+                .max_by_key(|&b| depth[b])
+                .expect("odd depth has a container");
+            let solid = solid_of[parent];
+            solids[solid].shells.push(s);
+            solid_of[s] = solid;
+            model.shells[s].is_void = true;
+        }
+    }
+    for (shell, &solid) in model.shells.iter_mut().zip(&solid_of) {
+        shell.solid = solid;
+    }
+    model.solids = solids;
+}
+
+/// `∫∫ (S − p)·(Su × Sv) / ‖S − p‖³ du dv` over the face's trimmed domain (midpoint rule): the
+/// solid angle the face subtends at `p`, signed by `Su × Sv`.
+fn solid_angle(face: &Face, p: DVec3) -> f64 {
+    integrate(face, |s| {
+        let r = s.p - p;
+        let l = r.length();
+        if l == 0.0 {
+            0.0
+        } else {
+            r.dot(s.su.cross(s.sv)) / (l * l * l)
+        }
+    })
+}
+
 /// `∫∫ (S − c)·(Su × Sv) du dv` over the face's trimmed domain (midpoint rule).
 fn flux(face: &Face, c: DVec3) -> f64 {
+    integrate(face, |s| (s.p - c).dot(s.su.cross(s.sv)))
+}
+
+/// `∫∫ g(S(u, v)) du dv` over the face's trimmed domain, midpoint rule on a
+/// `VOLUME_GRID × VOLUME_GRID` grid of the domain.
+fn integrate(face: &Face, g: impl Fn(&crate::geom::SurfaceDerivs) -> f64) -> f64 {
     let d = face.domain;
     let (du, dv) = (
         (d.u.1 - d.u.0) / VOLUME_GRID as f64,
@@ -418,7 +532,7 @@ fn flux(face: &Face, c: DVec3) -> f64 {
                 continue;
             }
             let s = crate::geom::eval_surface(&face.surface, u, v);
-            sum += (s.p - c).dot(s.su.cross(s.sv)) * du * dv;
+            sum += g(&s) * du * dv;
         }
     }
     sum

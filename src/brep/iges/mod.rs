@@ -149,6 +149,7 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
         .filter(|e| e.entity_type == 144)
         .map(|e| e.de)
         .collect();
+    let from_soup = solids.is_empty();
     if !solids.is_empty() {
         for de in solids {
             brep::build_solid(&ctx, &mut model, de)?;
@@ -170,7 +171,7 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
         };
         return Err(model_err(path, what));
     }
-    finish::finish(&ctx, &mut model)?;
+    finish::finish(&ctx, &mut model, from_soup)?;
     Ok(model)
 }
 

@@ -16,7 +16,7 @@
 //! told apart from separate solids).
 //!
 //! Tolerances: merge `tol` = max(10 × the Global section's minimum resolution, 1e-7 × the
-//! diagonal of the pieces' end points), at most 1e-4 × that diagonal; match tolerance 10 ×
+//! diagonal of the pieces (sampled at quarters)), at most 1e-4 × that diagonal; match tolerance 10 ×
 //! `tol`. The soups written by FreeCAD carry 10 significant digits, so coincident ends differ
 //! by about 1e-9 of the coordinates: far inside these.
 
@@ -70,7 +70,7 @@ pub fn build_soup(ctx: &Ctx, model: &mut Model, soup: &[usize]) -> Result<()> {
     for f in &faces {
         for l in &f.loops {
             for p in &l.pieces {
-                for q in [p.0.start(), p.0.end()] {
+                for q in [0.0, 0.25, 0.5, 0.75, 1.0].map(|t| p.0.at_fraction(t)) {
                     lo = lo.min(q);
                     hi = hi.max(q);
                 }
