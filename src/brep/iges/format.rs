@@ -580,10 +580,15 @@ pub fn parse(text: &str) -> Result<IgesFile, String> {
                 ));
             }
             let mut tokens = tokens.into_iter();
-            let head = tokens.next().and_then(|t| t.int());
-            if head != Some(entity_type) {
+            let head = tokens.next();
+            if head.as_ref().and_then(|t| t.int()) != Some(entity_type) {
+                let what = match head {
+                    Some(Token::Num(x)) => x,
+                    Some(Token::Str(x)) => format!("the string {x:?}"),
+                    _ => "nothing".into(),
+                };
                 return Err(format!(
-                    "DE {de}: parameter data starts with {head:?}, not the entity type {entity_type}"
+                    "DE {de}: parameter data starts with {what}, not the entity type {entity_type}"
                 ));
             }
             params = tokens.collect();

@@ -332,16 +332,31 @@ impl Ctx<'_> {
     /// A curve split into its pieces: a 102 composite gives its members (recursively, in
     /// order), anything else itself.
     pub fn segments(&self, de: usize, from: usize, outer: &Mat4) -> Result<Vec<Segment>> {
+        self.segments_at_depth(de, from, outer, 0)
+    }
+
+    fn segments_at_depth(
+        &self,
+        de: usize,
+        from: usize,
+        outer: &Mat4,
+        depth: usize,
+    ) -> Result<Vec<Segment>> {
+        /// Composites nested deeper than this are taken for a cycle.
+        const MAX_NESTING: usize = 16;
         let e = self.entry(de, from)?;
         if e.entity_type != 102 {
             return Ok(vec![self.curve(de, from, outer)?]);
+        }
+        if depth > MAX_NESTING {
+            return Err(self.err(de, "composite curves nested too deep (a cycle?)"));
         }
         let n = self.count(e, 0, "number of curves")?;
         let m = mat_mul(outer, &self.transform_chain(e)?);
         let mut out = Vec::new();
         for k in 0..n {
             let c = self.ptr(e, 1 + k, "member curve")?;
-            out.extend(self.segments(c, de, &m)?);
+            out.extend(self.segments_at_depth(c, de, &m, depth + 1)?);
         }
         Ok(out)
     }

@@ -25,6 +25,8 @@ mod finish;
 pub mod format;
 mod geometry;
 mod sew;
+#[cfg(test)]
+mod tests;
 
 use super::model::*;
 use crate::error::{Error, Result};
@@ -118,11 +120,18 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
     let file = format::parse(text)
         .map_err(|reason| model_err(path, format!("not a readable IGES file: {reason}")))?;
     let (mm, unit) = file.global.unit().map_err(|r| model_err(path, r))?;
-    let ctx = Ctx {
-        file: &file,
-        path,
-        mm,
-    };
+    // truck can panic on geometry no check here foresaw; that is an error, not a crash.
+    crate::panic_guard::catch(|| build(path, &file, mm, unit)).unwrap_or_else(|p| {
+        Err(model_err(
+            path,
+            format!("IGES reader panicked (please report): {p}"),
+        ))
+    })
+}
+
+/// The model from a parsed file (see the module docs).
+fn build(path: &Path, file: &IgesFile, mm: f64, unit: String) -> Result<Model> {
+    let ctx = Ctx { file, path, mm };
     let mut model = Model {
         source: SourceInfo {
             path: path.display().to_string(),
