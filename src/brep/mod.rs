@@ -15,7 +15,7 @@ use crate::error::Result;
 use std::path::Path;
 
 /// True when `path` names an IGES file (`.igs` / `.iges`, any case).
-fn is_iges_path(path: &Path) -> bool {
+pub fn is_iges_path(path: &Path) -> bool {
     path.extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("igs") || e.eq_ignore_ascii_case("iges"))
