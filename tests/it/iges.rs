@@ -462,3 +462,33 @@ fn regenerated_iges_samples_read_the_same() {
     }
     assert!(bad.is_empty(), "{}", bad.join("\n"));
 }
+
+/// Dispatch: `.IGES` in capitals is IGES; IGES text under another extension is recognised by
+/// its `S` in column 73 when read from memory; shells (514) with no 186 are solids.
+#[test]
+fn dispatch_and_shell_without_solid() {
+    let dir = tempfile::tempdir().unwrap();
+    let t = text("l_bracket", "brep");
+    let upper = dir.path().join("PART.IGES");
+    std::fs::write(&upper, &t).unwrap();
+    assert_eq!(read(&upper).source.format, "iges");
+    let m = matrace::brep::read_model_from_bytes(Path::new("part.dat"), t.as_bytes()).unwrap();
+    assert_eq!((m.source.format.as_str(), m.faces.len()), ("iges", 8));
+    // Null the 186 (entity type 0 on both its DE records): the 514 alone is the solid.
+    let lines: Vec<String> = t
+        .lines()
+        .map(|l| {
+            if l.ends_with("D0000001") || l.ends_with("D0000002") {
+                assert!(l.starts_with("     186"), "{l}");
+                format!("       0{}", &l[8..])
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    let p = dir.path().join("shell.igs");
+    std::fs::write(&p, lines.join("\n")).unwrap();
+    let m = read(&p);
+    assert_eq!((m.solids.len(), m.shells.len(), m.faces.len()), (1, 1, 8));
+    assert_eq!(summary(&m), summary(&read(&iges("l_bracket", "brep"))));
+}

@@ -46,6 +46,20 @@ pub fn build_solid(ctx: &Ctx, model: &mut Model, de: usize) -> Result<()> {
     Ok(())
 }
 
+/// Builds a solid from a shell (514) that no 186 refers to (some writers stop at shells).
+pub fn build_shell_solid(ctx: &Ctx, model: &mut Model, de: usize) -> Result<()> {
+    let solid = model.solids.len();
+    model.solids.push(Solid {
+        step_id: de as u64,
+        name: String::new(),
+        shells: vec![],
+    });
+    let mut maps = Maps::default();
+    let idx = build_shell(ctx, model, &mut maps, de, de, solid, false)?;
+    model.solids[solid].shells.push(idx);
+    Ok(())
+}
+
 fn build_shell(
     ctx: &Ctx,
     model: &mut Model,

@@ -7,7 +7,8 @@
 //!   190–198) into truck geometry, with 124 transformations and the unit scale to mm;
 //! - topology, two routes into the same [`Model`] the STEP reader builds:
 //!   [`brep`] for manifold solid B-rep objects (186 → 514 shell → 510 face → 508 loop →
-//!   504 edge list / 502 vertex list, as OpenCASCADE writes in B-rep mode), and [`sew`] for
+//!   504 edge list / 502 vertex list, as OpenCASCADE writes in B-rep mode; 514 shells that no
+//!   186 uses are solids of their own), and [`sew`] for
 //!   a "soup" of trimmed surfaces (144 with 142 boundaries, as FreeCAD writes), which are
 //!   sewn into closed shells by matching their boundary curves.
 //!
@@ -158,24 +159,34 @@ fn build(path: &Path, file: &IgesFile, mm: f64, unit: String) -> Result<Model> {
         .filter(|e| e.entity_type == 144)
         .map(|e| e.de)
         .collect();
-    let from_soup = solids.is_empty();
+    let shells: Vec<usize> = file
+        .entries
+        .iter()
+        .filter(|e| e.entity_type == 514)
+        .map(|e| e.de)
+        .collect();
+    let from_soup = solids.is_empty() && shells.is_empty();
     if !solids.is_empty() {
         for de in solids {
             brep::build_solid(&ctx, &mut model, de)?;
         }
+    } else if !shells.is_empty() {
+        // Shells without a 186: each closed shell is a solid.
+        for de in shells {
+            brep::build_shell_solid(&ctx, &mut model, de)?;
+        }
     } else if !soup.is_empty() {
         sew::build_soup(&ctx, &mut model, &soup)?;
     } else {
-        let shells = file.entries.iter().filter(|e| e.entity_type == 514).count();
         let faces = file
             .entries
             .iter()
-            .filter(|e| matches!(e.entity_type, 143 | 144 | 510))
+            .filter(|e| matches!(e.entity_type, 143 | 510))
             .count();
-        let what = if shells + faces > 0 {
-            format!("no solid (186) and no trimmed surface (144); {shells} shell(s) and {faces} face(s) not part of a solid")
+        let what = if faces > 0 {
+            format!("no solid (186), shell (514) or trimmed surface (144); {faces} face(s) (143 / 510) not part of a shell")
         } else {
-            "no solid (186) and no trimmed surfaces (144): nothing to build a closed shell from"
+            "no solid (186), shell (514) or trimmed surface (144): nothing to build a closed shell from"
                 .to_string()
         };
         return Err(model_err(path, what));
