@@ -139,7 +139,7 @@ fn build_loop(
     for _ in 0..n {
         let kind = ctx.int(e, k, "edge or vertex type")?;
         let list = ctx.ptr(e, k + 1, "edge list")?;
-        let index = ctx.count(e, k + 2, "index in the list")?;
+        let index = ctx.index(e, k + 2, "index in the list")?;
         let along = ctx.int(e, k + 3, "orientation flag")? != 0;
         let pcurves = ctx.count(e, k + 4, "number of parameter-space curves")?;
         k += 5 + 2 * pcurves;
@@ -241,9 +241,9 @@ fn edge(
     let k = 1 + 5 * (index - 1);
     let curve = ctx.ptr(e, k, "model-space curve")?;
     let svp = ctx.ptr(e, k + 1, "start vertex list")?;
-    let sv = ctx.count(e, k + 2, "start vertex index")?;
+    let sv = ctx.index(e, k + 2, "start vertex index")?;
     let tvp = ctx.ptr(e, k + 3, "end vertex list")?;
-    let tv = ctx.count(e, k + 4, "end vertex index")?;
+    let tv = ctx.index(e, k + 4, "end vertex index")?;
     let a = vertex(ctx, model, maps, svp, sv, list)?;
     let b = vertex(ctx, model, maps, tvp, tv, list)?;
     let seg = ctx.curve(curve, list, &ctx.transform_chain(e)?)?;

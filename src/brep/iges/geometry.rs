@@ -257,45 +257,11 @@ impl Ctx<'_> {
             }
             104 => {
                 let r = self.reals(e, 0, 11, "coefficients, ZT, start and end")?;
-                let (a, b, c, d, ee, f, zt) = (r[0], r[1], r[2], r[3], r[4], r[5], r[6]);
-                if e.form != 1 {
-                    return Err(self.err(
-                        de,
-                        format!(
-                            "conic form {} (only ellipses, form 1, are supported)",
-                            e.form
-                        ),
-                    ));
-                }
-                let big = a.abs().max(c.abs()).max(f.abs());
-                if b.abs() > 1e-9 * big || d.abs() > 1e-9 * big || ee.abs() > 1e-9 * big {
-                    return Err(
-                        self.err(de, "ellipse not in standard position (B, D, E must be 0)")
-                    );
-                }
-                if !(a * f < 0.0 && c * f < 0.0) {
-                    return Err(self.err(de, "coefficients do not describe a real ellipse"));
-                }
-                let (sa, sb) = ((-f / a).sqrt(), (-f / c).sqrt());
-                let t0 = (r[8] / sb).atan2(r[7] / sa);
-                let t1 = (r[10] / sb).atan2(r[9] / sa);
-                let mut sweep = (t1 - t0).rem_euclid(2.0 * PI);
-                if !(1e-9..=2.0 * PI - 1e-9).contains(&sweep) {
-                    sweep = 2.0 * PI;
-                }
-                let local = mat_mul(
-                    &[
-                        [sa, 0.0, 0.0, 0.0],
-                        [0.0, sb, 0.0, 0.0],
-                        [0.0, 0.0, sa.min(sb), zt],
-                        [0.0, 0.0, 0.0, 1.0],
-                    ],
-                    &rot_z(t0),
-                );
+                let (curve, range) = conic(&r, e.form).map_err(|why| self.err(de, why))?;
                 Ok(Segment {
                     de,
-                    curve: unit_circle(&mat_mul(&m, &local)),
-                    range: (0.0, sweep),
+                    curve: placed(curve, &m),
+                    range,
                 })
             }
             126 => {
@@ -688,6 +654,123 @@ fn check_knots(k: &[f64]) -> std::result::Result<(), String> {
         return Err("knot vector has zero length".into());
     }
     Ok(())
+}
+
+/// A 104 conic arc in standard position (`A x² + C y² + F = 0`, or `A x² + E y = 0` /
+/// `C y² + D x = 0` for a parabola) at height ZT, from its start to its end point, as a
+/// truck curve in its definition space with its parameter interval (increasing). Ellipses run
+/// counter-clockwise from start to end (a full ellipse when they coincide); hyperbola and
+/// parabola arcs run from start to end along the branch.
+fn conic(r: &[f64], form: i64) -> std::result::Result<(Curve3D, (f64, f64)), String> {
+    let (a, b, c, d, e, f, zt) = (r[0], r[1], r[2], r[3], r[4], r[5], r[6]);
+    let (x1, y1, x2, y2) = (r[7], r[8], r[9], r[10]);
+    let big = [a, b, c, d, e, f]
+        .iter()
+        .fold(0.0_f64, |m, x| m.max(x.abs()));
+    let zero = |x: f64| x.abs() <= 1e-9 * big;
+    if big == 0.0 || !zero(b) {
+        return Err("conic not in standard position (B must be 0)".into());
+    }
+    // Local 2D matrix applied to truck's unit curve, then the curve's parameters at the ends.
+    let frame2 = |l: [[f64; 2]; 2]| -> Mat4 {
+        [
+            [l[0][0], l[0][1], 0.0, 0.0],
+            [l[1][0], l[1][1], 0.0, 0.0],
+            [0.0, 0.0, 1.0, zt],
+            [0.0, 0.0, 0.0, 1.0],
+        ]
+    };
+    // Reversed parameter for the odd unit coordinate: negate the second column, t → −t.
+    let increasing = |mut l: [[f64; 2]; 2], t0: f64, t1: f64| {
+        if t1 >= t0 {
+            (l, (t0, t1))
+        } else {
+            l[0][1] = -l[0][1];
+            l[1][1] = -l[1][1];
+            (l, (-t0, -t1))
+        }
+    };
+    match form {
+        1 => {
+            if !(zero(d) && zero(e)) {
+                return Err("ellipse not in standard position (B, D, E must be 0)".into());
+            }
+            if !(a * f < 0.0 && c * f < 0.0) {
+                return Err("coefficients do not describe a real ellipse".into());
+            }
+            let (sa, sb) = ((-f / a).sqrt(), (-f / c).sqrt());
+            let t0 = (y1 / sb).atan2(x1 / sa);
+            let t1 = (y2 / sb).atan2(x2 / sa);
+            let mut sweep = (t1 - t0).rem_euclid(2.0 * PI);
+            if !(1e-9..=2.0 * PI - 1e-9).contains(&sweep) {
+                sweep = 2.0 * PI;
+            }
+            let local = mat_mul(
+                &scaled(&frame2([[1.0, 0.0], [0.0, 1.0]]), sa, sb, sa.min(sb)),
+                &rot_z(t0),
+            );
+            Ok((unit_circle(&local), (0.0, sweep)))
+        }
+        2 => {
+            if !(zero(d) && zero(e)) || zero(a) || zero(c) || zero(f) || a * c >= 0.0 {
+                return Err("hyperbola not in standard position (A x² + C y² + F = 0)".into());
+            }
+            let (l, t0, t1) = if a * f < 0.0 {
+                // Transverse axis x: (±p cosh t, q sinh t).
+                let (p, q) = ((-f / a).sqrt(), (f / c).sqrt());
+                let sx = if x1 < 0.0 { -1.0 } else { 1.0 };
+                (
+                    [[sx * p, 0.0], [0.0, q]],
+                    (y1 / q).asinh(),
+                    (y2 / q).asinh(),
+                )
+            } else {
+                // Transverse axis y: (p sinh t, ±q cosh t).
+                let (p, q) = ((f / a).sqrt(), (-f / c).sqrt());
+                let sy = if y1 < 0.0 { -1.0 } else { 1.0 };
+                (
+                    [[0.0, p], [sy * q, 0.0]],
+                    (x1 / p).asinh(),
+                    (x2 / p).asinh(),
+                )
+            };
+            let (l, range) = increasing(l, t0, t1);
+            let h: truck_stepio::r#in::alias::Hyperbola<Point3, Matrix4> = Processor::new(
+                TrimmedCurve::new(truck_geometry::prelude::UnitHyperbola::new(), range),
+            );
+            Ok((
+                Curve3D::Conic(Conic3D::Hyperbola(placed(h, &frame2(l)))),
+                range,
+            ))
+        }
+        3 => {
+            // Unit parabola (t², 2t).
+            let (l, t0, t1) = if zero(c) && zero(d) && zero(f) && !zero(a) && !zero(e) {
+                // y = k x²: (2t, 4k t²), t = x / 2.
+                let k = -a / e;
+                ([[0.0, 1.0], [4.0 * k, 0.0]], x1 / 2.0, x2 / 2.0)
+            } else if zero(a) && zero(e) && zero(f) && !zero(c) && !zero(d) {
+                // x = k y²: (4k t², 2t), t = y / 2.
+                let k = -c / d;
+                ([[4.0 * k, 0.0], [0.0, 1.0]], y1 / 2.0, y2 / 2.0)
+            } else {
+                return Err(
+                    "parabola not in standard position (A x² + E y = 0 or C y² + D x = 0)".into(),
+                );
+            };
+            let (l, range) = increasing(l, t0, t1);
+            let q: truck_stepio::r#in::alias::Parabola<Point3, Matrix4> = Processor::new(
+                TrimmedCurve::new(truck_geometry::prelude::UnitParabola::new(), range),
+            );
+            Ok((
+                Curve3D::Conic(Conic3D::Parabola(placed(q, &frame2(l)))),
+                range,
+            ))
+        }
+        f => Err(format!(
+            "conic form {f} (1 ellipse, 2 hyperbola, 3 parabola)"
+        )),
+    }
 }
 
 fn rot_z(a: f64) -> Mat4 {

@@ -323,6 +323,18 @@ impl Ctx<'_> {
         Ok(n as usize)
     }
 
+    /// An index into another entity's list (1-based; checked against that list by the caller).
+    pub fn index(&self, e: &DirEntry, k: usize, what: &str) -> Result<usize> {
+        let n = self.int(e, k, what)?;
+        if n < 1 {
+            return Err(self.err(
+                e.de,
+                format!("parameter {} ({what}) = {n}, not an index (from 1)", k + 1),
+            ));
+        }
+        usize::try_from(n).map_err(|_| self.err(e.de, format!("{what} {n} too large")))
+    }
+
     /// A pointer to another entity (checked to exist).
     pub fn ptr(&self, e: &DirEntry, k: usize, what: &str) -> Result<usize> {
         let p = self.int(e, k, what)?;

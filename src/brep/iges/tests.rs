@@ -139,7 +139,7 @@ fn arc_with_chained_transforms() {
 }
 
 #[test]
-fn ellipse_conic() {
+fn conic_arcs() {
     // x²/16 + y²/4 − 1 = 0 at ZT = 1, from (4, 0) counter-clockwise to (0, 2).
     let e = [(104, 1, 0, "0.0625,0.,0.25,0.,0.,-1.,1.,4.,0.,0.,2.")];
     with_ctx(&e, 2, |ctx| {
@@ -152,12 +152,59 @@ fn ellipse_conic() {
             assert!(g.abs() < TOL && (p.z - 1.0).abs() < TOL && p.x >= -TOL && p.y >= -TOL);
         }
     });
-    // A hyperbola is refused with a message naming the entity.
-    let e = [(104, 2, 0, "1.,0.,-1.,0.,0.,-1.,0.,1.,0.,2.,1.732")];
+    // Hyperbola x² − y² = 1 (A = 1, C = −1, F = −1) from (cosh 0.5, −sinh 0.5) to
+    // (cosh 1, sinh 1); and the left branch run downwards.
+    let (c05, s05, c1, s1) = (0.5f64.cosh(), 0.5f64.sinh(), 1f64.cosh(), 1f64.sinh());
+    for (x1, y1, x2, y2) in [(c05, -s05, c1, s1), (-c1, s1, -c05, -s05)] {
+        let params = format!("1.,0.,-1.,0.,0.,-1.,0.,{x1},{y1},{x2},{y2}");
+        let e = [(104, 2, 0, params.as_str())];
+        with_ctx(&e, 2, |ctx| {
+            let s = ctx.curve(1, 1, &IDENTITY).unwrap();
+            assert!(
+                s.start().distance(DVec3::new(x1, y1, 0.0)) < TOL,
+                "{}",
+                s.start()
+            );
+            assert!(
+                s.end().distance(DVec3::new(x2, y2, 0.0)) < TOL,
+                "{}",
+                s.end()
+            );
+            for k in 0..=8 {
+                let p = s.at_fraction(k as f64 / 8.0);
+                assert!(
+                    (p.x * p.x - p.y * p.y - 1.0).abs() < TOL && p.x * x1 > 0.0,
+                    "{p}"
+                );
+            }
+        });
+    }
+    // Parabola y = x²/4 (A = 1, E = −4) from x = 2 to x = −1 at ZT = 3.
+    let e = [(104, 3, 0, "1.,0.,0.,0.,-4.,0.,3.,2.,1.,-1.,0.25")];
+    with_ctx(&e, 2, |ctx| {
+        let s = ctx.curve(1, 1, &IDENTITY).unwrap();
+        assert!(
+            s.start().distance(DVec3::new(2.0, 1.0, 3.0)) < TOL,
+            "{}",
+            s.start()
+        );
+        assert!(
+            s.end().distance(DVec3::new(-1.0, 0.25, 3.0)) < TOL,
+            "{}",
+            s.end()
+        );
+        let p = s.at_fraction(0.5);
+        assert!(
+            (p.y - p.x * p.x / 4.0).abs() < TOL && (p.z - 3.0).abs() < TOL,
+            "{p}"
+        );
+    });
+    // Out of standard position: refused with a message naming the entity.
+    let e = [(104, 2, 0, "1.,0.5,-1.,0.,0.,-1.,0.,1.,0.,2.,1.732")];
     with_ctx(&e, 2, |ctx| {
         let msg = ctx.curve(1, 1, &IDENTITY).unwrap_err().to_string();
         assert!(msg.contains("DE 1 (entity 104, conic arc)"), "{msg}");
-        assert!(msg.contains("only ellipses"), "{msg}");
+        assert!(msg.contains("standard position"), "{msg}");
     });
 }
 
