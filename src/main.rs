@@ -21,7 +21,7 @@ struct Cli {
 enum Command {
     /// Read a part and print its topology and edge/vertex classification.
     Inspect {
-        /// STEP file (.step, .stp).
+        /// STEP (.step, .stp) or IGES (.igs, .iges) file.
         part: PathBuf,
         /// Print the report's `input` and `model` objects as JSON instead of a table.
         #[arg(long)]
@@ -34,7 +34,7 @@ enum Command {
     /// B-spline curves, the junctions as points), <stem>.sheets.obj (sheet mesh) and
     /// <stem>.mat.svg (picture).
     Trace {
-        /// STEP file (.step, .stp).
+        /// STEP (.step, .stp) or IGES (.igs, .iges) file.
         part: PathBuf,
         /// Output folder (created if missing).
         #[arg(short = 'o', long = "out", default_value = ".")]

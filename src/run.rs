@@ -75,6 +75,14 @@ pub fn stem(part: &Path) -> String {
 /// means complete outputs), `<stem>.mat.step`, `<stem>.sheets.obj` and `<stem>.mat.svg` into
 /// `opts.out_dir`.
 pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
+    if opts.with_solid && crate::brep::is_iges_path(part) {
+        return Err(Error::Model {
+            path: part.into(),
+            reason: "--with-solid copies a STEP input into the .mat.step file; an IGES part \
+                     cannot be copied (open the part beside the .mat.step file instead)"
+                .into(),
+        });
+    }
     let started = Instant::now();
     let mut t = Timings::default();
     let lap = |since: &mut Instant| {

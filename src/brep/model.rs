@@ -21,7 +21,7 @@ pub use truck_stepio::r#in::alias::{Curve3D, Surface};
 pub struct SourceInfo {
     /// The file, as given.
     pub path: String,
-    /// `"step"` (later `"iges"`).
+    /// `"step"` or `"iges"`.
     pub format: String,
     /// The length unit the file declares, as named there (`"mm"`, `"cm"`, `"m"`, `"inch"`, …).
     pub file_unit: String,

@@ -195,6 +195,11 @@ pub fn range_is_extent(surface: &Surface) -> bool {
 /// Only B-spline/NURBS patches and spheres are trusted: truck reports [0, 1] for a plane,
 /// which is not a bound at all.
 pub fn clamp_ranges(surface: &Surface) -> ((f64, f64), (f64, f64)) {
+    if let Some(u) = extruded_spline_range(surface) {
+        // The directrix of an extrusion ends where its knots end: beyond, truck extrapolates
+        // the polynomial (an IGES tabulated cylinder over a closed 126 B-spline).
+        return (u, (f64::NEG_INFINITY, f64::INFINITY));
+    }
     if !range_is_extent(surface) {
         return (
             (f64::NEG_INFINITY, f64::INFINITY),
@@ -214,6 +219,24 @@ pub fn clamp_ranges(surface: &Surface) -> ((f64, f64), (f64, f64)) {
         finite(ur, surface.u_period().is_some()),
         finite(vr, surface.v_period().is_some()),
     )
+}
+
+/// The valid knot range of an extrusion's directrix when it is a B-spline or NURBS curve.
+fn extruded_spline_range(surface: &Surface) -> Option<(f64, f64)> {
+    use truck_stepio::r#in::alias::{Curve3D, SweptCurve};
+    let Surface::SweptCurve(s) = surface else {
+        return None;
+    };
+    let SweptCurve::ExtrudedCurve(e) = s.as_ref() else {
+        return None;
+    };
+    let (k, p) = match e.entity_curve() {
+        Curve3D::BSplineCurve(c) => (c.knot_vec(), c.degree()),
+        Curve3D::NurbsCurve(c) => (c.knot_vec(), c.degree()),
+        _ => return None,
+    };
+    let m = k.len();
+    (m > 2 * p + 1).then(|| (k[p], k[m - p - 1]))
 }
 
 /// Levenberg–Marquardt on `½‖S(u,v) − p‖²` from `start`.

@@ -5,6 +5,7 @@ mod cli;
 mod common;
 mod crosscheck;
 mod golden;
+mod iges;
 mod realworld;
 mod regenerate;
 mod samples;
