@@ -903,8 +903,16 @@ impl Tracer<'_> {
         );
         let x = sol.x;
         let r = x[3];
+        // A ball that osculates one of its faces (a fillet's axis: radius = the fillet's,
+        // touching it along a whole arc) is a degenerate piece, not a seam point, although
+        // the three-segment system is solvable there.
+        let osculates = (0..3).any(|i| {
+            matches!(seed.triplet[i], Segment::Face(_))
+                && !curvature_allows(self.model, seed.triplet[i], slot(&x, i), r * (1.0 + 1e-6))
+        });
         let valid = sol.status == SolveStatus::Converged
             && r > self.opts.accuracy
+            && !osculates
             && self.is_medial(&seed.triplet, &x)
             && !self.on_traced_seam(&seed.triplet, &x);
         let dir = valid.then(|| self.null_direction(&sys, &x)).flatten();
