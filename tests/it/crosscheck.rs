@@ -12,22 +12,27 @@
 use crate::common::{matrace, realworld_dir, root};
 use std::path::PathBuf;
 
-const OPEN_AT_VERTICES: &str = "seams end open where a touch point, near a vertex or a \
-    convex edge, cannot be handed over: the three-segment system on the next segment is \
-    singular or converges to another ball (the event there is a junction with the vertex or \
-    edge, not located yet)";
+const OPEN_AT_HANDOVERS: &str = "a few seams end open (CTC 01: 15 of 198 ends, FTC 06: 9 of \
+    210, FTC 09: 6 of 156) where a touch point is handed to the next segment near a vertex and \
+    the system there is singular or converges to another ball, or the step size underflows \
+    beside such a point: the event is a junction with the vertex or edge, not located yet";
 
 /// Parts known not to pass, and why.
 const EXPECTED_FAILURES: &[(&str, &str)] = &[
     (
         "b3d_M6-1x12-countersunk-screw.step",
         "verification fails: touch points up to 0.09 mm off the degree-13 B-spline thread \
-         faces; seams end open as on the NIST parts",
+         faces (their trim is a 32-point polygon per edge); seams end open at hand-overs",
     ),
-    ("stepswift_nist_ctc_01_asme1_rd.stp", OPEN_AT_VERTICES),
-    ("stepswift_nist_ftc_06_asme1_rd.stp", OPEN_AT_VERTICES),
-    ("stepswift_nist_ftc_09_asme1_rd.stp", OPEN_AT_VERTICES),
-    ("trimesh_featuretype.STEP", OPEN_AT_VERTICES),
+    ("stepswift_nist_ctc_01_asme1_rd.stp", OPEN_AT_HANDOVERS),
+    ("stepswift_nist_ftc_06_asme1_rd.stp", OPEN_AT_HANDOVERS),
+    ("stepswift_nist_ftc_09_asme1_rd.stp", OPEN_AT_HANDOVERS),
+    (
+        "trimesh_featuretype.STEP",
+        "22 of 268 seam ends open: 20 where a ball fits a 12.7 mm channel exactly (r = 6.35) \
+         just as its touch point reaches a counterbore's bottom edge, so a junction and a \
+         hand-over coincide and the touch point is handed back and forth",
+    ),
 ];
 
 /// Every STEP file of the samples and of the corpus.
