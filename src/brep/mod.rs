@@ -24,19 +24,61 @@ pub fn is_iges_path(path: &Path) -> bool {
 /// Reads a STEP or IGES file into a [`Model`]: IGES for the `.igs` / `.iges` extensions,
 /// STEP otherwise.
 pub fn read_model(path: &Path) -> Result<Model> {
-    if is_iges_path(path) {
+    let model = if is_iges_path(path) {
         iges::read_model(path)
     } else {
         step::read_model(path)
+    }?;
+    check_finite(path, model)
+}
+
+/// Refuses a model with a non-finite coordinate (a real like `1.E400` overflows to infinity):
+/// every vertex, and the bounding box, which samples every edge and face.
+fn check_finite(path: &Path, model: Model) -> Result<Model> {
+    let bad = model
+        .vertices
+        .iter()
+        .position(|v| !v.point.is_finite())
+        .map(|v| format!("vertex {} (#{})", v, model.vertices[v].step_id))
+        .or_else(|| {
+            model.edges.iter().enumerate().find_map(|(e, edge)| {
+                let t = 0.5 * (edge.range.0 + edge.range.1);
+                let c = crate::geom::eval_curve(&edge.curve, t);
+                (!(t.is_finite() && c.p.is_finite() && c.d1.is_finite()))
+                    .then(|| format!("edge {e} (#{})", edge.step_id))
+            })
+        })
+        .or_else(|| {
+            model.faces.iter().enumerate().find_map(|(f, face)| {
+                let (u, v) = (
+                    0.5 * (face.domain.u.0 + face.domain.u.1),
+                    0.5 * (face.domain.v.0 + face.domain.v.1),
+                );
+                let d = crate::geom::eval_surface(&face.surface, u, v);
+                (!(u.is_finite() && v.is_finite() && d.p.is_finite() && d.su.is_finite()))
+                    .then(|| format!("face {f} (#{})", face.step_id))
+            })
+        })
+        .or_else(|| {
+            (!(model.bbox.0.is_finite() && model.bbox.1.is_finite()))
+                .then(|| "the bounding box".to_string())
+        });
+    match bad {
+        Some(what) => Err(crate::error::Error::Model {
+            path: path.into(),
+            reason: format!("non-finite coordinate in {what}: a number overflows"),
+        }),
+        None => Ok(model),
     }
 }
 
 /// Reads STEP or IGES text already in memory: IGES when `path` has an IGES extension or the
 /// text has IGES's `S` in column 73 of its first record, STEP otherwise.
 pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
-    if is_iges_path(path) || iges::looks_like_iges(bytes) {
+    let model = if is_iges_path(path) || iges::looks_like_iges(bytes) {
         iges::read_model_from_bytes(path, bytes)
     } else {
         step::read_model_from_bytes(path, bytes)
-    }
+    }?;
+    check_finite(path, model)
 }

@@ -76,6 +76,16 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
             reason: "no END-ISO-10303-21; (file truncated?)".into(),
         });
     }
+    // The parser recurses once per nested list: a hostile file of deeply nested parentheses
+    // would overflow the stack (an abort no handler can catch).
+    if let Some(line) = too_deep(text, MAX_NESTING) {
+        return Err(Error::Syntax {
+            path: path.into(),
+            reason: format!(
+                "lists nested more than {MAX_NESTING} deep (line {line}); no STEP schema needs that"
+            ),
+        });
+    }
     let mut exchange = guarded(|| ruststep::parser::parse(text))
         .map_err(|p| Error::Syntax {
             path: path.into(),
@@ -136,6 +146,57 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
         vertex_map: HashMap::new(),
     }
     .run()
+}
+
+/// Deepest list nesting accepted. AP203/AP214 need at most 4 or 5 (a rational B-spline
+/// surface's weights: a list of lists inside a complex instance).
+pub const MAX_NESTING: usize = 64;
+
+/// The line where parentheses (outside strings and comments) first nest deeper than `max`.
+fn too_deep(text: &str, max: usize) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let (mut depth, mut line, mut i) = (0usize, 1usize, 0usize);
+    while i < bytes.len() {
+        match bytes[i] {
+            b'\n' => line += 1,
+            b'\'' => {
+                // A string: '' is an escaped quote.
+                i += 1;
+                while i < bytes.len() {
+                    if bytes[i] == b'\'' {
+                        if bytes.get(i + 1) == Some(&b'\'') {
+                            i += 1;
+                        } else {
+                            break;
+                        }
+                    } else if bytes[i] == b'\n' {
+                        line += 1;
+                    }
+                    i += 1;
+                }
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'*') => {
+                i += 2;
+                while i + 1 < bytes.len() && !(bytes[i] == b'*' && bytes[i + 1] == b'/') {
+                    if bytes[i] == b'\n' {
+                        line += 1;
+                    }
+                    i += 1;
+                }
+                i += 1;
+            }
+            b'(' => {
+                depth += 1;
+                if depth > max {
+                    return Some(line);
+                }
+            }
+            b')' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+        i += 1;
+    }
+    None
 }
 
 /// Runs `f`, turning a panic into an error message (truck panics on some bad data).

@@ -218,3 +218,42 @@ fn first_instance_of<'a>(text: &'a str, name_paren: &str) -> (u64, &'a str) {
     let end = body_start + text[body_start..].find(';').unwrap();
     (id, &text[body_start..end])
 }
+
+/// Parentheses nested 100 000 deep would overflow the parser's stack (an abort, not even a
+/// panic): refused before parsing, naming the line.
+#[test]
+fn deeply_nested_lists() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = box_text();
+    let deep = format!("{}1.{}", "(".repeat(100_000), ")".repeat(100_000));
+    let text = text.replacen(
+        "CARTESIAN_POINT('',(0.,0.,0.))",
+        &format!("CARTESIAN_POINT('',{deep})"),
+        1,
+    );
+    rejects(
+        &write(dir.path(), "deep.step", text.as_bytes()),
+        "nested more than 64 deep",
+    );
+}
+
+/// A coordinate that overflows to infinity (`1.E400`) on a vertex is refused.
+#[test]
+fn infinite_coordinate() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = box_text();
+    // The first vertex's point.
+    let v = text.find("VERTEX_POINT('',#").unwrap() + "VERTEX_POINT('',#".len();
+    let id: String = text[v..]
+        .chars()
+        .take_while(|c| c.is_ascii_digit())
+        .collect();
+    let start = text.find(&format!("#{id} = CARTESIAN_POINT(")).unwrap();
+    let end = start + text[start..].find(';').unwrap();
+    let text = format!(
+        "{}#{id} = CARTESIAN_POINT('',(1.E400,0.,0.)){}",
+        &text[..start],
+        &text[end..]
+    );
+    rejects(&write(dir.path(), "inf.step", text.as_bytes()), "finite");
+}
