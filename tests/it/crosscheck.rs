@@ -21,7 +21,7 @@ const OPEN_AT_HANDOVERS: &str = "a few seams end open (CTC 01: 15 of 198 ends, F
 const EXPECTED_FAILURES: &[(&str, &str)] = &[
     (
         "b3d_M6-1x12-countersunk-screw.step",
-        "verification fails: touch points up to 0.09 mm off the degree-13 B-spline thread \
+        "verification fails: touch points up to 0.16 mm off the degree-13 B-spline thread \
          faces (their trim is a 32-point polygon per edge); seams end open at hand-overs",
     ),
     ("stepswift_nist_ctc_01_asme1_rd.stp", OPEN_AT_HANDOVERS),
