@@ -11,7 +11,7 @@ pub use model::{
 };
 pub use step::MAX_FILE_BYTES;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use std::path::Path;
 
 /// True when `path` names an IGES file (`.igs` / `.iges`, any case).
@@ -23,13 +23,40 @@ pub fn is_iges_path(path: &Path) -> bool {
 
 /// Reads a STEP or IGES file into a [`Model`]: IGES for the `.igs` / `.iges` extensions,
 /// STEP otherwise.
+///
+/// Errors name the file and, where one is to blame, the entity. Nothing the file defines as
+/// part of a solid is dropped: a face, edge or vertex that cannot be converted is an error.
 pub fn read_model(path: &Path) -> Result<Model> {
-    let model = if is_iges_path(path) {
-        iges::read_model(path)
+    let meta = std::fs::metadata(path).map_err(|source| Error::Io {
+        path: path.into(),
+        source,
+    })?;
+    let what = if is_iges_path(path) {
+        "an IGES"
     } else {
-        step::read_model(path)
-    }?;
-    check_finite(path, model)
+        "a STEP"
+    };
+    if meta.is_dir() {
+        return Err(Error::Model {
+            path: path.into(),
+            reason: format!("is a directory, not {what} file"),
+        });
+    }
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(Error::Model {
+            path: path.into(),
+            reason: format!(
+                "file is {} MB, more than the {} MB limit",
+                meta.len() / (1 << 20),
+                MAX_FILE_BYTES / (1 << 20)
+            ),
+        });
+    }
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.into(),
+        source,
+    })?;
+    read_model_from_bytes(path, &bytes)
 }
 
 /// Refuses a model with a non-finite coordinate (a real like `1.E400` overflows to infinity):
@@ -64,7 +91,7 @@ fn check_finite(path: &Path, model: Model) -> Result<Model> {
                 .then(|| "the bounding box".to_string())
         });
     match bad {
-        Some(what) => Err(crate::error::Error::Model {
+        Some(what) => Err(Error::Model {
             path: path.into(),
             reason: format!("non-finite coordinate in {what}: a number overflows"),
         }),

@@ -25,35 +25,6 @@ use truck_stepio::r#in::{ruststep, EdgeCurveHolder, SurfaceAnyHolder, Table};
 /// memory, several times the file size).
 pub const MAX_FILE_BYTES: u64 = 512 * 1024 * 1024;
 
-/// Reads a STEP file into a [`Model`].
-///
-/// Errors name the file and, where one is to blame, the STEP entity. Nothing the file defines
-/// as part of a solid is dropped: a face, edge or vertex that cannot be converted is an error.
-pub fn read_model(path: &Path) -> Result<Model> {
-    let meta = std::fs::metadata(path).map_err(|source| Error::Io {
-        path: path.into(),
-        source,
-    })?;
-    if meta.is_dir() {
-        return Err(model_err(path, "is a directory, not a STEP file"));
-    }
-    if meta.len() > MAX_FILE_BYTES {
-        return Err(model_err(
-            path,
-            format!(
-                "file is {} MB, more than the {} MB limit",
-                meta.len() / (1 << 20),
-                MAX_FILE_BYTES / (1 << 20)
-            ),
-        ));
-    }
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.into(),
-        source,
-    })?;
-    read_model_from_bytes(path, &bytes)
-}
-
 /// Reads STEP text already in memory; `path` is used in messages and the report.
 pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
     if bytes.iter().all(|b| b.is_ascii_whitespace()) {

@@ -339,12 +339,19 @@ fn string(s: &str) -> String {
     out
 }
 
-/// The current UTC time as ISO 8601 (`2026-11-22T05:29:08`).
+/// The UTC write time as ISO 8601 (`2026-11-22T05:29:08`): now, or `SOURCE_DATE_EPOCH`
+/// (seconds) when set, the reproducible-builds convention, so that a batch can produce files
+/// identical byte for byte.
 fn timestamp() -> String {
-    let secs = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.as_secs() as i64)
-        .unwrap_or(0);
+    let secs = std::env::var("SOURCE_DATE_EPOCH")
+        .ok()
+        .and_then(|s| s.trim().parse::<i64>().ok())
+        .unwrap_or_else(|| {
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map(|d| d.as_secs() as i64)
+                .unwrap_or(0)
+        });
     let (days, rem) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
     // Civil date from days since 1970-01-01 (H. Hinnant, "chrono-Compatible Low-Level Date
     // Algorithms", days_from_civil's inverse).

@@ -72,32 +72,6 @@ fn entity_name(t: i64) -> &'static str {
     }
 }
 
-/// Reads an IGES file into a [`Model`].
-pub fn read_model(path: &Path) -> Result<Model> {
-    let meta = std::fs::metadata(path).map_err(|source| Error::Io {
-        path: path.into(),
-        source,
-    })?;
-    if meta.is_dir() {
-        return Err(model_err(path, "is a directory, not an IGES file"));
-    }
-    if meta.len() > super::MAX_FILE_BYTES {
-        return Err(model_err(
-            path,
-            format!(
-                "file is {} MB, more than the {} MB limit",
-                meta.len() / (1 << 20),
-                super::MAX_FILE_BYTES / (1 << 20)
-            ),
-        ));
-    }
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.into(),
-        source,
-    })?;
-    read_model_from_bytes(path, &bytes)
-}
-
 /// True when `bytes` look like fixed-format IGES: the first record has `S` in column 73.
 pub fn looks_like_iges(bytes: &[u8]) -> bool {
     let first = bytes.split(|b| *b == b'\n').next().unwrap_or(&[]);
