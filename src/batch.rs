@@ -92,6 +92,8 @@ pub enum BatchError {
     NoInputs(String),
     #[error("bad shard {0:?}: expected K/N with 1 <= K <= N, e.g. 3/8")]
     Shard(String),
+    #[error("cannot start {jobs} worker threads: {reason}")]
+    Threads { jobs: usize, reason: String },
     #[error(transparent)]
     Output(#[from] Error),
 }
@@ -427,9 +429,9 @@ pub fn run_batch(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
         .build()
-        .map_err(|e| Error::Write {
-            path: opts.out_dir.clone(),
-            source: std::io::Error::other(format!("cannot start {jobs} threads: {e}")),
+        .map_err(|e| BatchError::Threads {
+            jobs,
+            reason: e.to_string(),
         })?;
     progress(Progress::Started {
         total: inputs.len(),

@@ -490,6 +490,7 @@ fn parts_with_the_same_name_do_not_overwrite_each_other() {
 fn unusable_batch_arguments_exit_2() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir(dir.path().join("empty")).unwrap();
+    std::fs::write(dir.path().join("a_file"), b"").unwrap();
     let box_step = sample("box.step");
     let b = box_step.to_str().unwrap();
     for args in [
@@ -501,6 +502,7 @@ fn unusable_batch_arguments_exit_2() {
         vec!["batch", b, "-o", "out", "-j", "0"],
         vec!["batch", b, "-o", "out", "--timeout", "-1"],
         vec!["batch", b, "-o", "out", "--tol", "0"],
+        vec!["batch", b, "-o", "a_file/out"],
     ] {
         let out = matrace(&args, dir.path());
         assert_eq!(out.status.code(), Some(2), "{args:?}");
