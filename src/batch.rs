@@ -108,13 +108,16 @@ pub fn is_part_file(path: &Path) -> bool {
 /// The inputs named by `args` (files, or folders searched recursively), deduplicated (by
 /// canonical path) and sorted by output location, then path. A file argument is taken
 /// whatever its extension; an argument that does not exist is an error, as is finding nothing.
-pub fn collect_inputs(args: &[PathBuf]) -> Result<Vec<Input>, BatchError> {
+/// The folder `out_dir` is not searched (an output folder inside an input folder holds
+/// `.mat.step` files, which are not parts).
+pub fn collect_inputs(args: &[PathBuf], out_dir: &Path) -> Result<Vec<Input>, BatchError> {
+    let skip = std::fs::canonicalize(out_dir).ok();
     let mut found: Vec<(PathBuf, PathBuf)> = vec![]; // (path, out_rel before disambiguation)
     for arg in args {
         let meta = std::fs::metadata(arg).map_err(|_| BatchError::Missing(arg.clone()))?;
         if meta.is_dir() {
             let mut files = vec![];
-            walk(arg, &mut files)?;
+            walk(arg, skip.as_deref(), &mut files)?;
             for f in files {
                 let rel = f.strip_prefix(arg).unwrap_or(&f).with_extension("");
                 found.push((f, rel));
@@ -164,8 +167,12 @@ fn fnv1a(bytes: &[u8]) -> u64 {
     })
 }
 
-/// Appends the part files below `dir` (recursively, symlinked folders not followed).
-fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), BatchError> {
+/// Appends the part files below `dir` (recursively, symlinked folders not followed, the
+/// folder `skip` (canonical) left out).
+fn walk(dir: &Path, skip: Option<&Path>, out: &mut Vec<PathBuf>) -> Result<(), BatchError> {
+    if skip.is_some_and(|s| std::fs::canonicalize(dir).is_ok_and(|d| d == s)) {
+        return Ok(());
+    }
     let entries = std::fs::read_dir(dir).map_err(|source| BatchError::ReadDir {
         path: dir.into(),
         source,
@@ -176,7 +183,7 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), BatchError> {
         let path = e.path();
         let Ok(kind) = e.file_type() else { continue };
         if kind.is_dir() {
-            walk(&path, out)?;
+            walk(&path, skip, out)?;
         } else if is_part_file(&path) && std::fs::metadata(&path).is_ok_and(|m| m.is_file()) {
             out.push(path);
         }
@@ -351,7 +358,8 @@ pub struct Counts {
     pub ok: usize,
     pub failed: usize,
     pub timeout: usize,
-    /// Of the `ok` ones, how many were skipped by `--resume`.
+    /// Parts skipped by `--resume` (counted in `ok`, or in `failed` when their report shows a
+    /// verification above the accuracy).
     pub resumed: usize,
 }
 
@@ -961,7 +969,8 @@ mod tests {
             std::fs::write(p, "x").unwrap();
         }
         let extra = d.join("b/part.step");
-        let inputs = collect_inputs(&[d.to_path_buf(), extra]).unwrap();
+        let none = d.join("no-output-folder");
+        let inputs = collect_inputs(&[d.to_path_buf(), extra], &none).unwrap();
         let rels: Vec<String> = inputs
             .iter()
             .map(|i| i.out_rel.display().to_string())
@@ -972,14 +981,18 @@ mod tests {
         assert!(rels[0].starts_with("a/part-") && rels[1].starts_with("a/part-"));
         assert_ne!(rels[0], rels[1]);
         assert_eq!(&rels[2..], ["b/part", "z"]);
-        assert_eq!(inputs, collect_inputs(&[d.to_path_buf()]).unwrap());
+        assert_eq!(inputs, collect_inputs(&[d.to_path_buf()], &none).unwrap());
+        // An output folder inside the input folder is not searched.
+        let with_b: Vec<Input> = collect_inputs(&[d.to_path_buf()], &d.join("b/.")).unwrap();
+        assert_eq!(with_b.len(), 3);
+        assert!(with_b.iter().all(|i| !i.out_rel.starts_with("b")));
         assert!(matches!(
-            collect_inputs(&[d.join("a/notes.txt").with_extension("none")]),
+            collect_inputs(&[d.join("a/notes.txt").with_extension("none")], &none),
             Err(BatchError::Missing(_))
         ));
         let empty = tempfile::tempdir().unwrap();
         assert!(matches!(
-            collect_inputs(&[empty.path().to_path_buf()]),
+            collect_inputs(&[empty.path().to_path_buf()], &none),
             Err(BatchError::NoInputs(_))
         ));
     }

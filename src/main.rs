@@ -239,7 +239,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             opts.mesh = !no_mesh;
             opts.picture = !no_svg;
             opts.with_solid = with_solid;
-            let found = matrace::batch::collect_inputs(&inputs)?;
+            let found = matrace::batch::collect_inputs(&inputs, &opts.out_dir)?;
             let n_found = found.len();
             let parts = match shard {
                 Some(s) => s.select(found),

@@ -451,6 +451,19 @@ fn parts_with_the_same_name_do_not_overwrite_each_other() {
     assert_eq!(read_json(&o.join("a/part.mat.json"))["stats"]["seams"], 12);
     assert_eq!(read_json(&o.join("b/part.mat.json"))["stats"]["seams"], 7);
     assert!(o.join("a/part.sheets.obj").is_file() && o.join("b/part.mat.step").is_file());
+    // An output folder inside the input folder is not taken for input.
+    for _ in 0..2 {
+        let out = matrace(&["batch", "lib", "-o", "lib/mat", "--no-svg"], dir.path());
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let s = read_json(&dir.path().join("lib/mat/summary.json"));
+        assert_eq!(s["inputs"], 2);
+    }
+    std::fs::remove_dir_all(dir.path().join("lib/mat")).unwrap();
     // As files: the names get a hash of the path.
     let out = matrace(
         &[
