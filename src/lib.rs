@@ -7,6 +7,7 @@
 //! The library never prints; the `matrace` binary is thin glue around it.
 #![forbid(unsafe_code)]
 
+pub mod batch;
 pub mod brep;
 pub mod classify;
 pub mod error;

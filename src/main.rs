@@ -1,6 +1,6 @@
 //! `matrace` command line: thin glue around the library (argument parsing, printing, exit
-//! codes). Exit status: 0 success, 1 `trace --verify` found an error above the accuracy,
-//! 2 unusable input or arguments.
+//! codes). Exit status: 0 success, 1 `trace --verify` found an error above the accuracy or
+//! `batch` finished with some parts failed, 2 unusable input or arguments.
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -61,6 +61,58 @@ enum Command {
         /// Include the input part in the .mat.step file (one open shows part and MAT).
         #[arg(long)]
         with_solid: bool,
+        /// Output file stem (default: the part's file name without extension). Used by
+        /// `batch` to keep parts with the same name apart.
+        #[arg(long, hide = true)]
+        stem: Option<String>,
+    },
+    /// Trace many parts, each in a process of its own, into OUTDIR (the outputs of
+    /// DIR/sub/part.step go to OUTDIR/sub/part.*), with OUTDIR/summary.json and summary.csv.
+    /// Exit status 1 when some part failed or timed out.
+    Batch {
+        /// Folders (searched recursively for .step/.stp/.igs/.iges) and files.
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        /// Output folder (created if missing).
+        #[arg(short = 'o', long = "out")]
+        out: PathBuf,
+        /// Parts traced at once (default: the number of cores).
+        #[arg(short = 'j', long)]
+        jobs: Option<usize>,
+        /// Per-part time limit in seconds (fractions allowed; 0: none); a part over it is
+        /// killed and recorded as `timeout`.
+        #[arg(long, default_value_t = matrace::batch::DEFAULT_TIMEOUT_SECS)]
+        timeout: f64,
+        /// Per-part memory (address-space) limit in MiB, through `prlimit` when installed
+        /// (default: physical memory / jobs; 0: none).
+        #[arg(long)]
+        max_memory: Option<u64>,
+        /// Skip parts whose outputs are complete and made with the same options; failed
+        /// parts are tried again.
+        #[arg(long)]
+        resume: bool,
+        /// Trace only the K-th of N slices of the sorted inputs (K from 1): inputs number
+        /// K, K+N, K+2N, … The summary is then OUTDIR/summary.K-of-N.json/.csv.
+        #[arg(long, value_name = "K/N")]
+        shard: Option<matrace::batch::Shard>,
+        /// Accuracy in mm (default: 1e-6 × each part's bounding-box diagonal).
+        #[arg(long)]
+        tol: Option<f64>,
+        /// Verify every part; a part whose worst error exceeds the accuracy counts as failed.
+        #[arg(long)]
+        verify: bool,
+        /// Do not write the sheet meshes.
+        #[arg(long)]
+        no_mesh: bool,
+        /// Do not write the pictures.
+        #[arg(long)]
+        no_svg: bool,
+        /// Fit tolerance in mm (as for `trace`).
+        #[arg(long)]
+        fit_tol: Option<f64>,
+        /// Include each input part in its .mat.step file.
+        #[arg(long)]
+        with_solid: bool,
     },
 }
 
@@ -116,17 +168,9 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             no_svg,
             fit_tol,
             with_solid,
+            stem,
         } => {
-            if let Some(t) = tol {
-                if !(t.is_finite() && t > 0.0) {
-                    anyhow::bail!("--tol must be a positive length in mm, got {t}");
-                }
-            }
-            if let Some(t) = fit_tol {
-                if !(t.is_finite() && t > 0.0) {
-                    anyhow::bail!("--fit-tol must be a positive length in mm, got {t}");
-                }
-            }
+            check_lengths(tol, fit_tol)?;
             let opts = matrace::run::RunOptions {
                 tol,
                 fit_tol,
@@ -138,6 +182,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     matrace::medial::sheet_mesh::DEFAULT_SAMPLES
                 },
                 picture: !no_svg,
+                stem,
                 ..matrace::run::RunOptions::new(out)
             };
             let outcome = matrace::run::trace_part(&part, &opts)?;
@@ -152,6 +197,160 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 return Ok(ExitCode::from(1));
             }
             Ok(ExitCode::SUCCESS)
+        }
+        Command::Batch {
+            inputs,
+            out,
+            jobs,
+            timeout,
+            max_memory,
+            resume,
+            shard,
+            tol,
+            verify,
+            no_mesh,
+            no_svg,
+            fit_tol,
+            with_solid,
+        } => {
+            check_lengths(tol, fit_tol)?;
+            if !(timeout.is_finite() && timeout >= 0.0) {
+                anyhow::bail!("--timeout must be a number of seconds >= 0, got {timeout}");
+            }
+            if jobs == Some(0) {
+                anyhow::bail!("-j must be at least 1");
+            }
+            let worker = std::env::current_exe()?;
+            let mut opts = matrace::batch::BatchOptions::new(out, worker);
+            opts.jobs = jobs.unwrap_or(opts.jobs);
+            opts.timeout = (timeout > 0.0).then(|| std::time::Duration::from_secs_f64(timeout));
+            opts.memory_limit = match max_memory {
+                Some(0) => None,
+                Some(mib) => Some(mib.saturating_mul(1 << 20)),
+                None => {
+                    matrace::batch::physical_memory().map(|m| (m / opts.jobs as u64).max(1 << 30))
+                }
+            };
+            opts.shard = shard;
+            opts.resume = resume;
+            opts.tol = tol;
+            opts.fit_tol = fit_tol;
+            opts.verify = verify;
+            opts.mesh = !no_mesh;
+            opts.picture = !no_svg;
+            opts.with_solid = with_solid;
+            let found = matrace::batch::collect_inputs(&inputs, &opts.out_dir)?;
+            let n_found = found.len();
+            let parts = match shard {
+                Some(s) => s.select(found),
+                None => found,
+            };
+            let progress = progress::Progress::new();
+            let summary =
+                matrace::batch::run_batch(&parts, n_found, &opts, &|e| progress.show(&e))?;
+            progress.finish();
+            let path = matrace::batch::write_summary(&summary, &opts.out_dir, shard)?;
+            let c = &summary.counts;
+            emit(&format!(
+                "{} parts: {} ok ({} resumed), {} failed, {} timed out, {:.1} s -> {}\n",
+                summary.parts.len(),
+                c.ok,
+                c.resumed,
+                c.failed,
+                c.timeout,
+                summary.seconds,
+                path.display()
+            ));
+            Ok(if summary.all_ok() {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::from(1)
+            })
+        }
+    }
+}
+
+/// Checks `--tol` and `--fit-tol`.
+fn check_lengths(tol: Option<f64>, fit_tol: Option<f64>) -> anyhow::Result<()> {
+    for (name, t) in [("--tol", tol), ("--fit-tol", fit_tol)] {
+        if let Some(t) = t {
+            if !(t.is_finite() && t > 0.0) {
+                anyhow::bail!("{name} must be a positive length in mm, got {t}");
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Batch progress on stderr: a bar on a terminal, else one line per finished part.
+mod progress {
+    use indicatif::{ProgressBar, ProgressStyle};
+    use matrace::batch::{PartRecord, PartStatus, Progress as Event};
+    use std::io::IsTerminal;
+    use std::sync::OnceLock;
+
+    pub struct Progress {
+        terminal: bool,
+        bar: OnceLock<ProgressBar>,
+    }
+
+    impl Progress {
+        pub fn new() -> Progress {
+            Progress {
+                terminal: std::io::stderr().is_terminal(),
+                bar: OnceLock::new(),
+            }
+        }
+
+        pub fn show(&self, event: &Event) {
+            match event {
+                Event::Started { total } if self.terminal => {
+                    let bar = ProgressBar::new(*total as u64);
+                    if let Ok(style) = ProgressStyle::with_template(
+                        "{elapsed_precise} [{bar:30}] {pos}/{len} (eta {eta}) {wide_msg}",
+                    ) {
+                        bar.set_style(style.progress_chars("=> "));
+                    }
+                    let _ = self.bar.set(bar);
+                }
+                Event::Started { .. } => {}
+                Event::Finished {
+                    done,
+                    total,
+                    record,
+                } => match self.bar.get() {
+                    Some(bar) => {
+                        bar.inc(1);
+                        bar.set_message(record.part.clone());
+                        if record.status != PartStatus::Ok {
+                            bar.println(line(*done, *total, record));
+                        }
+                    }
+                    None => eprintln!("{}", line(*done, *total, record)),
+                },
+            }
+        }
+
+        pub fn finish(&self) {
+            if let Some(bar) = self.bar.get() {
+                bar.finish_and_clear();
+            }
+        }
+    }
+
+    fn line(done: usize, total: usize, r: &PartRecord) -> String {
+        let status = r.status.as_str();
+        match &r.error {
+            // The message names the file.
+            Some(e) => format!("[{done}/{total}] {status:<7} {e}"),
+            None => format!(
+                "[{done}/{total}] {status:<7} {}: {} seams, {} junctions, {:.2} s{}",
+                r.part,
+                r.seams.unwrap_or(0),
+                r.junctions.unwrap_or(0),
+                r.seconds,
+                if r.resumed { " (resumed)" } else { "" }
+            ),
         }
     }
 }

@@ -25,6 +25,9 @@ pub struct RunOptions {
     pub mesh_samples: usize,
     /// Write the picture `<stem>.mat.svg`.
     pub picture: bool,
+    /// File stem of the outputs; `None`: the part's file name without its extension
+    /// ([`stem`]). The batch runner sets it when two inputs would share one.
+    pub stem: Option<String>,
 }
 
 impl RunOptions {
@@ -38,6 +41,7 @@ impl RunOptions {
             verify: false,
             mesh_samples: crate::medial::sheet_mesh::DEFAULT_SAMPLES,
             picture: true,
+            stem: None,
         }
     }
 }
@@ -135,7 +139,7 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
         path: opts.out_dir.clone(),
         source,
     })?;
-    let stem = stem(part);
+    let stem = opts.stem.clone().unwrap_or_else(|| stem(part));
     let mut written = vec![];
     // The seams as B-splines in STEP, beside the part (optionally with it).
     let fits = crate::output::fit::fit_mat(&mat, &fit_opts);

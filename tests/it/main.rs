@@ -1,6 +1,7 @@
 //! Integration tests (one binary, see HOUSE-STYLE.md).
 
 mod bad_input;
+mod batch;
 mod cli;
 mod common;
 mod crosscheck;
