@@ -213,7 +213,7 @@ fn face_mesh(
                 u0 + (u1 - u0) * (i as f64 + 0.5 * k as f64) / lu as f64,
                 v0 + (v1 - v0) * (j as f64 + 0.5 * k as f64) / lv as f64,
             );
-            if crate::geom::trim::contains(face, uv) {
+            if boundary.contains_uv(face, f, uv) {
                 maximal_ball(model, boundary, f, solid, uv, opts.accuracy, group_of_face)
             } else {
                 None

@@ -272,6 +272,11 @@ pub fn trace_with_seeds(
             ve
         },
         groups: crate::medial::sheets::SegmentGroups::new(model, class),
+        loop_chunks: model
+            .faces
+            .iter()
+            .map(crate::geom::trim::LoopChunks::new)
+            .collect(),
         junctions: vec![],
         degenerate: vec![],
         touched: vec![false; model.faces.len()],
@@ -376,6 +381,8 @@ struct Tracer<'a> {
     vertex_edges: Vec<Vec<(usize, bool)>>,
     /// Faces joined by smooth and reflex edges (with those edges and reflex vertices).
     groups: crate::medial::sheets::SegmentGroups,
+    /// Each face's loops in runs with bounding boxes, for [`Tracer::stays_on`].
+    loop_chunks: Vec<crate::geom::trim::LoopChunks>,
     junctions: Vec<Junction>,
     degenerate: Vec<Degenerate>,
     /// Faces some output seam point touches.
@@ -481,6 +488,7 @@ impl Tracer<'_> {
             && match seg {
                 Segment::Face(f) => !crate::geom::trim::path_crosses_loops(
                     &self.model.faces[f],
+                    &self.loop_chunks[f],
                     glam::DVec2::from(from),
                     glam::DVec2::from(to),
                 ),
@@ -493,7 +501,8 @@ impl Tracer<'_> {
     fn on_segment(&self, seg: Segment, s: [f64; 2]) -> bool {
         match seg {
             Segment::Face(f) => {
-                crate::geom::trim::contains(&self.model.faces[f], glam::DVec2::new(s[0], s[1]))
+                self.boundary
+                    .contains_uv(&self.model.faces[f], f, glam::DVec2::new(s[0], s[1]))
             }
             Segment::Edge(e) => {
                 let (in_range, in_arc) = self.edge_status(e, s);
