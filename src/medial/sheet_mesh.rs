@@ -61,7 +61,7 @@ impl MeshOptions {
 pub struct SheetMesh {
     pub vertices: Vec<[f64; 4]>,
     /// Per sheet: its id in [`Sheets::sheets`] (None where the sheet's boundary did not close,
-    /// so it has no entry), its two segment groups' names, and its triangles.
+    /// so it has no entry) and its triangles.
     pub parts: Vec<MeshPart>,
 }
 
@@ -69,8 +69,8 @@ pub struct SheetMesh {
 #[derive(Clone, Debug)]
 pub struct MeshPart {
     pub sheet: Option<usize>,
-    /// The faces whose foot points the part's vertices come from, and the segment the balls
-    /// touch second, as a readable name (`F3|F7`).
+    /// The sheet's two segment groups (faces joined by smooth and reflex edges, numbered
+    /// internally), as a name for parts that have no sheet entry (`G3|G7`).
     pub name: String,
     pub triangles: Vec<[u32; 3]>,
 }

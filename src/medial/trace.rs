@@ -1126,10 +1126,11 @@ impl Tracer<'_> {
                             }
                         }
                     }
-                    Ok((to, xc, xnew)) => {
-                        let xc_old = xc.clone();
+                    Ok((to, crossing, xnew)) => {
                         // The crossing point must itself be medial: a junction may come first.
-                        if let Some((e, jx)) = self.junction_between(&triplet, solid, &x, &xc, &t) {
+                        if let Some((e, jx)) =
+                            self.junction_between(&triplet, solid, &x, &crossing, &t)
+                        {
                             if let Some(jx) = jx {
                                 points.push(self.seam_point(&sys, &jx.rows(0, 10).into_owned()));
                             }
@@ -1151,7 +1152,7 @@ impl Tracer<'_> {
                             });
                             end = match merged {
                                 Some(_) => {
-                                    points.push(self.seam_point(&sys, &xc_old));
+                                    points.push(self.seam_point(&sys, &crossing));
                                     SeamEnd::CurvatureLimit { segment: to.id() }
                                 }
                                 None => SeamEnd::Open(format!(
@@ -1430,17 +1431,21 @@ impl Tracer<'_> {
                 // travel, so the touch point may stop short of the end by more than a
                 // relative 1e-6: an end within 10× the accuracy, or a normal well inside
                 // the arc, means the end.
-                let near_end = self.model.vertices[edge.vertices[0]]
-                    .point
-                    .distance(ev.p)
-                    .min(self.model.vertices[edge.vertices[1]].point.distance(ev.p))
-                    <= 10.0 * acc;
-                let inside_arc = self.edge_fan(e, te).is_some_and(|fan| {
-                    ev.n.angle_between(fan[0]).min(ev.n.angle_between(fan[1])) > 1e-4
-                });
                 let at_end = match exit {
                     Some((in_range, in_arc)) => !in_range && in_arc,
-                    None => (te - lo).min(hi - te) <= 1e-6 * (hi - lo) || (near_end && inside_arc),
+                    None => {
+                        let near_end = self.model.vertices[edge.vertices[0]]
+                            .point
+                            .distance(ev.p)
+                            .min(self.model.vertices[edge.vertices[1]].point.distance(ev.p))
+                            <= 10.0 * acc;
+                        (te - lo).min(hi - te) <= 1e-6 * (hi - lo)
+                            || (near_end
+                                && self.edge_fan(e, te).is_some_and(|fan| {
+                                    ev.n.angle_between(fan[0]).min(ev.n.angle_between(fan[1]))
+                                        > 1e-4
+                                }))
+                    }
                 };
                 if at_end {
                     // On to the vertex at that end, with the same normal.
