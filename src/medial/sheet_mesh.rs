@@ -285,12 +285,34 @@ fn maximal_ball(
 ) -> Option<Ball> {
     let ev = Segment::Face(f).eval(model, [uv.x, uv.y])?;
     let (p, m) = (ev.p, -ev.n);
+    // Start from the largest ball tangent at p that fits in the part's bounding box (a
+    // maximal ball is inside the solid, so inside its box): a far tighter first guess than
+    // the diagonal, and a first nearest-point query from inside the part.
+    let (lo, hi) = model.bbox;
     let mut r = model.diagonal();
+    for k in 0..3 {
+        let slack = 1e-9 * model.diagonal();
+        if m[k] < 1.0 {
+            r = r.min((p[k] - lo[k] + slack).max(0.0) / (1.0 - m[k]));
+        }
+        if m[k] > -1.0 {
+            r = r.min((hi[k] - p[k] + slack).max(0.0) / (1.0 + m[k]));
+        }
+    }
+    r *= 1.01;
+    // The box of a curved part is a close inner estimate (`Model::bounding_box`), so a
+    // ball that is empty at the first guess is grown until a query shrinks it: only a
+    // shrunk ball is known to be maximal.
+    let mut shrunk = false;
     let nearest =
         |c: DVec3| boundary.nearest_face_where(model, c, |g| model.solid_of_face(g) == solid);
     for _ in 0..64 {
         let c = p + m * r;
         let (g, hit) = nearest(c)?;
+        if hit.distance >= r - acc && !shrunk && r < model.diagonal() {
+            r = (2.0 * r).min(model.diagonal());
+            continue;
+        }
         if hit.distance >= r - acc {
             // Settled: the ball's second touch is the nearest point just beyond it.
             if r <= 100.0 * acc {
@@ -313,6 +335,7 @@ fn maximal_ball(
             return None;
         }
         r = next;
+        shrunk = true;
     }
     None
 }
