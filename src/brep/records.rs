@@ -390,6 +390,123 @@ pub fn check_knots(records: &Records) -> Option<(u64, String, String)> {
     None
 }
 
+/// Highest B-spline degree accepted (OpenCASCADE's limit is 25).
+pub const MAX_BSPLINE_DEGREE: i64 = 25;
+
+/// Finds a B-spline curve or surface whose declared degree is absurd or does not match its
+/// control points and knot multiplicities (`Σ multiplicities = control points + degree + 1`
+/// in each direction). truck derives the degree from the knots and would silently use another
+/// curve than the file states. Simple and complex (rational) instances. Returns
+/// `(id, entity, reason)`.
+pub fn check_bspline_degrees(records: &Records) -> Option<(u64, String, String)> {
+    let int = |p: &Parameter| match p {
+        Parameter::Integer(i) => Some(*i),
+        _ => None,
+    };
+    let list_len = |p: &Parameter| match p {
+        Parameter::List(l) => Some(l.len()),
+        _ => None,
+    };
+    let inner_len = |p: &Parameter| match p {
+        Parameter::List(l) => l.first().and_then(list_len),
+        _ => None,
+    };
+    let sum = |p: &Parameter| match p {
+        Parameter::List(l) => l.iter().map(int).sum::<Option<i64>>(),
+        _ => None,
+    };
+    for id in records.ids_in_order() {
+        let inst = records.get(id)?;
+        // (name, parameters without the label) of each part.
+        let parts: Vec<(&str, &[Parameter])> = match inst {
+            EntityInstance::Simple { record, .. } => {
+                let ps = params(record);
+                vec![(record.name.as_str(), ps.get(1..).unwrap_or(&[]))]
+            }
+            EntityInstance::Complex { subsuper, .. } => subsuper
+                .0
+                .iter()
+                .map(|r| (r.name.as_str(), params(r)))
+                .collect(),
+        };
+        let find = |n: &str| parts.iter().find(|(name, _)| *name == n).map(|(_, p)| *p);
+        // Degrees and control-point counts, then multiplicities, per direction.
+        let (name, degrees, counts, mults): (
+            &str,
+            Vec<Option<i64>>,
+            Vec<Option<usize>>,
+            Vec<Option<i64>>,
+        ) = if let Some(p) = find("B_SPLINE_CURVE_WITH_KNOTS").filter(|p| p.len() >= 7) {
+            // Simple: degree, points, form, closed, self-intersect, mults, knots, spec.
+            (
+                "B_SPLINE_CURVE_WITH_KNOTS",
+                vec![int(&p[0])],
+                vec![list_len(&p[1])],
+                vec![sum(&p[5])],
+            )
+        } else if let (Some(c), Some(k)) =
+            (find("B_SPLINE_CURVE"), find("B_SPLINE_CURVE_WITH_KNOTS"))
+        {
+            if c.len() < 2 || k.is_empty() {
+                continue;
+            }
+            (
+                "B_SPLINE_CURVE",
+                vec![int(&c[0])],
+                vec![list_len(&c[1])],
+                vec![sum(&k[0])],
+            )
+        } else if let Some(p) = find("B_SPLINE_SURFACE_WITH_KNOTS").filter(|p| p.len() >= 10) {
+            // Simple: u and v degree, points, form, u/v closed, self-intersect, u and v
+            // mults, u and v knots, spec.
+            (
+                "B_SPLINE_SURFACE_WITH_KNOTS",
+                vec![int(&p[0]), int(&p[1])],
+                vec![list_len(&p[2]), inner_len(&p[2])],
+                vec![sum(&p[7]), sum(&p[8])],
+            )
+        } else if let (Some(c), Some(k)) = (
+            find("B_SPLINE_SURFACE"),
+            find("B_SPLINE_SURFACE_WITH_KNOTS"),
+        ) {
+            if c.len() < 3 || k.len() < 2 {
+                continue;
+            }
+            (
+                "B_SPLINE_SURFACE",
+                vec![int(&c[0]), int(&c[1])],
+                vec![list_len(&c[2]), inner_len(&c[2])],
+                vec![sum(&k[0]), sum(&k[1])],
+            )
+        } else {
+            continue;
+        };
+        for k in 0..degrees.len() {
+            let (Some(d), Some(n), Some(m)) = (degrees[k], counts[k], mults[k]) else {
+                continue;
+            };
+            if !(1..=MAX_BSPLINE_DEGREE).contains(&d) {
+                return Some((
+                    id,
+                    name.into(),
+                    format!("degree {d} (1 to {MAX_BSPLINE_DEGREE} supported)"),
+                ));
+            }
+            if m != n as i64 + d + 1 {
+                return Some((
+                    id,
+                    name.into(),
+                    format!(
+                        "degree {d} with {n} control points needs knot multiplicities summing to {}, not {m}",
+                        n as i64 + d + 1
+                    ),
+                ));
+            }
+        }
+    }
+    None
+}
+
 /// Finds a reference to an id that does not exist, or a reference cycle. Returns
 /// `(id, entity, reason)`.
 pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {

@@ -77,6 +77,9 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
     if let Some((id, entity, reason)) = records::check_acyclic(&recs) {
         return Err(entity_err(path, id, entity, reason));
     }
+    if let Some((id, entity, reason)) = records::check_bspline_degrees(&recs) {
+        return Err(entity_err(path, id, entity, reason));
+    }
     if let Some((id, entity, reason)) = records::check_knots(&recs) {
         return Err(entity_err(path, id, entity, reason));
     }

@@ -363,3 +363,29 @@ fn damaged_step_never_panics() {
         }
     }
 }
+
+/// A B-spline surface declared with degree 1000, and one whose degree does not match its
+/// knots and control points: truck would derive another degree from the knots and silently
+/// use a different surface; both are refused, naming the entity.
+#[test]
+fn absurd_or_inconsistent_bspline_degree() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(sample("box_bspline_top.step")).unwrap();
+    let at = text.find("B_SPLINE_SURFACE_WITH_KNOTS('',3,3,").unwrap();
+    let head = "B_SPLINE_SURFACE_WITH_KNOTS('',";
+    let with = |degrees: &str| {
+        format!(
+            "{}{head}{degrees},{}",
+            &text[..at],
+            &text[at + head.len() + "3,3,".len()..]
+        )
+    };
+    rejects(
+        &write(dir.path(), "degree1000.step", with("1000,1000").as_bytes()),
+        "degree 1000 (1 to 25 supported)",
+    );
+    rejects(
+        &write(dir.path(), "degree2.step", with("2,3").as_bytes()),
+        "needs knot multiplicities summing to",
+    );
+}
