@@ -393,6 +393,10 @@ pub fn check_knots(records: &Records) -> Option<(u64, String, String)> {
 /// Highest B-spline degree accepted (OpenCASCADE's limit is 25).
 pub const MAX_BSPLINE_DEGREE: i64 = 25;
 
+/// One parametric direction of a B-spline: declared degree, number of control points, sum of
+/// the knot multiplicities (each `None` where the record does not say).
+type BsplineDirection = (Option<i64>, Option<usize>, Option<i64>);
+
 /// Finds a B-spline curve or surface whose declared degree is absurd or does not match its
 /// control points and knot multiplicities (`Σ multiplicities = control points + degree + 1`
 /// in each direction). truck derives the degree from the knots and would silently use another
@@ -430,59 +434,53 @@ pub fn check_bspline_degrees(records: &Records) -> Option<(u64, String, String)>
                 .collect(),
         };
         let find = |n: &str| parts.iter().find(|(name, _)| *name == n).map(|(_, p)| *p);
-        // Degrees and control-point counts, then multiplicities, per direction.
-        let (name, degrees, counts, mults): (
-            &str,
-            Vec<Option<i64>>,
-            Vec<Option<usize>>,
-            Vec<Option<i64>>,
-        ) = if let Some(p) = find("B_SPLINE_CURVE_WITH_KNOTS").filter(|p| p.len() >= 7) {
-            // Simple: degree, points, form, closed, self-intersect, mults, knots, spec.
-            (
-                "B_SPLINE_CURVE_WITH_KNOTS",
-                vec![int(&p[0])],
-                vec![list_len(&p[1])],
-                vec![sum(&p[5])],
-            )
-        } else if let (Some(c), Some(k)) =
-            (find("B_SPLINE_CURVE"), find("B_SPLINE_CURVE_WITH_KNOTS"))
-        {
-            if c.len() < 2 || k.is_empty() {
+        // Per direction: (degree, control points, sum of knot multiplicities).
+        let (name, dirs): (&str, Vec<BsplineDirection>) =
+            if let Some(p) = find("B_SPLINE_CURVE_WITH_KNOTS").filter(|p| p.len() >= 7) {
+                // Simple: degree, points, form, closed, self-intersect, mults, knots, spec.
+                (
+                    "B_SPLINE_CURVE_WITH_KNOTS",
+                    vec![(int(&p[0]), list_len(&p[1]), sum(&p[5]))],
+                )
+            } else if let (Some(c), Some(k)) =
+                (find("B_SPLINE_CURVE"), find("B_SPLINE_CURVE_WITH_KNOTS"))
+            {
+                if c.len() < 2 || k.is_empty() {
+                    continue;
+                }
+                (
+                    "B_SPLINE_CURVE",
+                    vec![(int(&c[0]), list_len(&c[1]), sum(&k[0]))],
+                )
+            } else if let Some(p) = find("B_SPLINE_SURFACE_WITH_KNOTS").filter(|p| p.len() >= 10) {
+                // Simple: u and v degree, points, form, u/v closed, self-intersect, u and v
+                // mults, u and v knots, spec.
+                (
+                    "B_SPLINE_SURFACE_WITH_KNOTS",
+                    vec![
+                        (int(&p[0]), list_len(&p[2]), sum(&p[7])),
+                        (int(&p[1]), inner_len(&p[2]), sum(&p[8])),
+                    ],
+                )
+            } else if let (Some(c), Some(k)) = (
+                find("B_SPLINE_SURFACE"),
+                find("B_SPLINE_SURFACE_WITH_KNOTS"),
+            ) {
+                if c.len() < 3 || k.len() < 2 {
+                    continue;
+                }
+                (
+                    "B_SPLINE_SURFACE",
+                    vec![
+                        (int(&c[0]), list_len(&c[2]), sum(&k[0])),
+                        (int(&c[1]), inner_len(&c[2]), sum(&k[1])),
+                    ],
+                )
+            } else {
                 continue;
-            }
-            (
-                "B_SPLINE_CURVE",
-                vec![int(&c[0])],
-                vec![list_len(&c[1])],
-                vec![sum(&k[0])],
-            )
-        } else if let Some(p) = find("B_SPLINE_SURFACE_WITH_KNOTS").filter(|p| p.len() >= 10) {
-            // Simple: u and v degree, points, form, u/v closed, self-intersect, u and v
-            // mults, u and v knots, spec.
-            (
-                "B_SPLINE_SURFACE_WITH_KNOTS",
-                vec![int(&p[0]), int(&p[1])],
-                vec![list_len(&p[2]), inner_len(&p[2])],
-                vec![sum(&p[7]), sum(&p[8])],
-            )
-        } else if let (Some(c), Some(k)) = (
-            find("B_SPLINE_SURFACE"),
-            find("B_SPLINE_SURFACE_WITH_KNOTS"),
-        ) {
-            if c.len() < 3 || k.len() < 2 {
-                continue;
-            }
-            (
-                "B_SPLINE_SURFACE",
-                vec![int(&c[0]), int(&c[1])],
-                vec![list_len(&c[2]), inner_len(&c[2])],
-                vec![sum(&k[0]), sum(&k[1])],
-            )
-        } else {
-            continue;
-        };
-        for k in 0..degrees.len() {
-            let (Some(d), Some(n), Some(m)) = (degrees[k], counts[k], mults[k]) else {
+            };
+        for dir in dirs {
+            let (Some(d), Some(n), Some(m)) = dir else {
                 continue;
             };
             if !(1..=MAX_BSPLINE_DEGREE).contains(&d) {
