@@ -39,28 +39,8 @@ enum Command {
         /// Output folder (created if missing).
         #[arg(short = 'o', long = "out", default_value = ".")]
         out: PathBuf,
-        /// Accuracy in mm (default: 1e-6 × the part's bounding-box diagonal).
-        #[arg(long)]
-        tol: Option<f64>,
-        /// Check every output ball against the definition (nearest boundary at distance r,
-        /// touch points on the boundary at r); exit status 1 when the worst error exceeds the
-        /// accuracy.
-        #[arg(long)]
-        verify: bool,
-        /// Do not write the sheet mesh <stem>.sheets.obj.
-        #[arg(long)]
-        no_mesh: bool,
-        /// Do not write the picture <stem>.mat.svg.
-        #[arg(long)]
-        no_svg: bool,
-        /// Largest distance in mm from a traced point to its seam's B-spline curve in the
-        /// .mat.step file, and largest radius error (default: 1e-4 × the part's diagonal;
-        /// never below the accuracy).
-        #[arg(long)]
-        fit_tol: Option<f64>,
-        /// Include the input part in the .mat.step file (one open shows part and MAT).
-        #[arg(long)]
-        with_solid: bool,
+        #[command(flatten)]
+        trace: TraceArgs,
         /// Output file stem (default: the part's file name without extension). Used by
         /// `batch` to keep parts with the same name apart.
         #[arg(long, hide = true)]
@@ -95,25 +75,36 @@ enum Command {
         /// K, K+N, K+2N, … The summary is then OUTDIR/summary.K-of-N.json/.csv.
         #[arg(long, value_name = "K/N")]
         shard: Option<matrace::batch::Shard>,
-        /// Accuracy in mm (default: 1e-6 × each part's bounding-box diagonal).
-        #[arg(long)]
-        tol: Option<f64>,
-        /// Verify every part; a part whose worst error exceeds the accuracy counts as failed.
-        #[arg(long)]
-        verify: bool,
-        /// Do not write the sheet meshes.
-        #[arg(long)]
-        no_mesh: bool,
-        /// Do not write the pictures.
-        #[arg(long)]
-        no_svg: bool,
-        /// Fit tolerance in mm (as for `trace`).
-        #[arg(long)]
-        fit_tol: Option<f64>,
-        /// Include each input part in its .mat.step file.
-        #[arg(long)]
-        with_solid: bool,
+        #[command(flatten)]
+        trace: TraceArgs,
     },
+}
+
+/// What to compute and write for each part: shared by `trace` and `batch`.
+#[derive(clap::Args)]
+struct TraceArgs {
+    /// Accuracy in mm (default: 1e-6 × the part's bounding-box diagonal).
+    #[arg(long)]
+    tol: Option<f64>,
+    /// Check every output ball against the definition (nearest boundary at distance r, touch
+    /// points on the boundary at r). `trace` exits 1, and `batch` counts the part as failed,
+    /// when the worst error exceeds the accuracy.
+    #[arg(long)]
+    verify: bool,
+    /// Do not write the sheet mesh <stem>.sheets.obj.
+    #[arg(long)]
+    no_mesh: bool,
+    /// Do not write the picture <stem>.mat.svg.
+    #[arg(long)]
+    no_svg: bool,
+    /// Largest distance in mm from a traced point to its seam's B-spline curve in the
+    /// .mat.step file, and largest radius error (default: 1e-4 × the part's diagonal; never
+    /// below the accuracy).
+    #[arg(long)]
+    fit_tol: Option<f64>,
+    /// Include the input part in the .mat.step file (one open shows part and MAT).
+    #[arg(long)]
+    with_solid: bool,
 }
 
 fn main() -> ExitCode {
@@ -162,12 +153,15 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Trace {
             part,
             out,
-            tol,
-            verify,
-            no_mesh,
-            no_svg,
-            fit_tol,
-            with_solid,
+            trace:
+                TraceArgs {
+                    tol,
+                    verify,
+                    no_mesh,
+                    no_svg,
+                    fit_tol,
+                    with_solid,
+                },
             stem,
         } => {
             check_lengths(tol, fit_tol)?;
@@ -206,12 +200,15 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             max_memory,
             resume,
             shard,
-            tol,
-            verify,
-            no_mesh,
-            no_svg,
-            fit_tol,
-            with_solid,
+            trace:
+                TraceArgs {
+                    tol,
+                    verify,
+                    no_mesh,
+                    no_svg,
+                    fit_tol,
+                    with_solid,
+                },
         } => {
             check_lengths(tol, fit_tol)?;
             if !(timeout.is_finite() && timeout >= 0.0) {
