@@ -153,31 +153,13 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Trace {
             part,
             out,
-            trace:
-                TraceArgs {
-                    tol,
-                    verify,
-                    no_mesh,
-                    no_svg,
-                    fit_tol,
-                    with_solid,
-                },
+            trace,
             stem,
         } => {
-            check_lengths(tol, fit_tol)?;
+            trace.check()?;
             let opts = matrace::run::RunOptions {
-                tol,
-                fit_tol,
-                with_solid,
-                verify,
-                mesh_samples: if no_mesh {
-                    0
-                } else {
-                    matrace::medial::sheet_mesh::DEFAULT_SAMPLES
-                },
-                picture: !no_svg,
                 stem,
-                ..matrace::run::RunOptions::new(out)
+                ..trace.run_options(out)
             };
             let outcome = matrace::run::trace_part(&part, &opts)?;
             emit(&summary(&part, &outcome));
@@ -200,17 +182,9 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             max_memory,
             resume,
             shard,
-            trace:
-                TraceArgs {
-                    tol,
-                    verify,
-                    no_mesh,
-                    no_svg,
-                    fit_tol,
-                    with_solid,
-                },
+            trace,
         } => {
-            check_lengths(tol, fit_tol)?;
+            trace.check()?;
             if !(timeout.is_finite() && timeout >= 0.0) {
                 anyhow::bail!("--timeout must be a number of seconds >= 0, got {timeout}");
             }
@@ -230,12 +204,12 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             };
             opts.shard = shard;
             opts.resume = resume;
-            opts.tol = tol;
-            opts.fit_tol = fit_tol;
-            opts.verify = verify;
-            opts.mesh = !no_mesh;
-            opts.picture = !no_svg;
-            opts.with_solid = with_solid;
+            opts.tol = trace.tol;
+            opts.fit_tol = trace.fit_tol;
+            opts.verify = trace.verify;
+            opts.mesh = !trace.no_mesh;
+            opts.picture = !trace.no_svg;
+            opts.with_solid = trace.with_solid;
             let found = matrace::batch::collect_inputs(&inputs, &opts.out_dir)?;
             let n_found = found.len();
             let parts = match shard {
@@ -268,15 +242,35 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
 }
 
 /// Checks `--tol` and `--fit-tol`.
-fn check_lengths(tol: Option<f64>, fit_tol: Option<f64>) -> anyhow::Result<()> {
-    for (name, t) in [("--tol", tol), ("--fit-tol", fit_tol)] {
-        if let Some(t) = t {
-            if !(t.is_finite() && t > 0.0) {
-                anyhow::bail!("{name} must be a positive length in mm, got {t}");
+impl TraceArgs {
+    /// Refuses lengths that are not positive and finite.
+    fn check(&self) -> anyhow::Result<()> {
+        for (name, t) in [("--tol", self.tol), ("--fit-tol", self.fit_tol)] {
+            if let Some(t) = t {
+                if !(t.is_finite() && t > 0.0) {
+                    anyhow::bail!("{name} must be a positive length in mm, got {t}");
+                }
             }
         }
+        Ok(())
     }
-    Ok(())
+
+    /// The library's options for one part written into `out`.
+    fn run_options(&self, out: PathBuf) -> matrace::run::RunOptions {
+        matrace::run::RunOptions {
+            tol: self.tol,
+            fit_tol: self.fit_tol,
+            with_solid: self.with_solid,
+            verify: self.verify,
+            mesh_samples: if self.no_mesh {
+                0
+            } else {
+                matrace::medial::sheet_mesh::DEFAULT_SAMPLES
+            },
+            picture: !self.no_svg,
+            ..matrace::run::RunOptions::new(out)
+        }
+    }
 }
 
 /// Batch progress on stderr: a bar on a terminal, else one line per finished part.
