@@ -65,7 +65,8 @@ fn wrap_near(x: f64, reference: f64, period: Option<f64>) -> f64 {
 }
 
 /// The UV polygon of one loop of `face` (see the module docs). A vertex loop gives one point.
-pub fn loop_uv(model: &Model, face: &Face, lp: &Loop) -> Result<Vec<DVec2>, String> {
+pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>, String> {
+    let face = &model.faces[face_index];
     let (up, vp) = crate::geom::surface_periods(&face.surface);
     if let Some(v) = lp.vertex {
         let p = model.vertices[v].point;
@@ -78,11 +79,6 @@ pub fn loop_uv(model: &Model, face: &Face, lp: &Loop) -> Result<Vec<DVec2>, Stri
         p: DVec3,
         seam_dir: Option<DVec3>, // 3D direction of travel along a seam edge
     }
-    let face_index = model
-        .faces
-        .iter()
-        .position(|f| std::ptr::eq(f, face))
-        .unwrap_or(usize::MAX);
     let mut samples: Vec<Sample> = Vec::new();
     for oe in &lp.edges {
         let edge = &model.edges[oe.edge];

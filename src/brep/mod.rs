@@ -3,6 +3,7 @@
 mod domain;
 pub mod iges;
 pub mod model;
+pub mod p21;
 mod records;
 mod step;
 
@@ -90,14 +91,27 @@ fn check_finite(path: &Path, model: Model) -> Result<Model> {
             (!(model.bbox.0.is_finite() && model.bbox.1.is_finite()))
                 .then(|| "the bounding box".to_string())
         });
-    match bad {
-        Some(what) => Err(Error::Model {
+    if let Some(what) = bad {
+        return Err(Error::Model {
             path: path.into(),
             reason: format!("non-finite coordinate in {what}: a number overflows"),
-        }),
-        None => Ok(model),
+        });
     }
+    let size = model.bbox.0.distance(model.bbox.1);
+    if size > MAX_PART_SIZE_MM {
+        return Err(Error::Model {
+            path: path.into(),
+            reason: format!(
+                "the part is {size:.3e} mm across, more than {MAX_PART_SIZE_MM:.0e} mm (a unit or scale error?)"
+            ),
+        });
+    }
+    Ok(model)
 }
+
+/// The largest bounding-box diagonal accepted: 10 km. Beyond it squared distances lose the
+/// precision the tolerances assume, and no machined part is that large.
+pub const MAX_PART_SIZE_MM: f64 = 1e7;
 
 /// Reads STEP or IGES text already in memory: IGES when `path` has an IGES extension or the
 /// text has IGES's `S` in column 73 of its first record, STEP otherwise.

@@ -11,14 +11,15 @@
 //! - [`check_acyclic`] rejects reference cycles, on which any recursive reader overflows;
 //! - [`length_units`] and [`placements`] recover units and assembly transforms.
 
+use rustc_hash::FxHashMap;
 use ruststep::ast::{DataSection, EntityInstance, Name, Parameter, Record};
 use std::collections::HashMap;
 use truck_stepio::r#in::ruststep;
 
 /// Index of the records of a data section by STEP id.
 pub struct Records<'a> {
-    by_id: HashMap<u64, &'a EntityInstance>,
-    position: HashMap<u64, usize>,
+    /// Each id's position in the file and instance (ids are dense integers: Fx hashing).
+    by_id: FxHashMap<u64, (usize, &'a EntityInstance)>,
     /// Every id, in file order.
     order: Vec<u64>,
 }
@@ -38,22 +39,16 @@ impl<'a> Records<'a> {
     /// Indexes every instance of `sections`.
     pub fn new(sections: &'a [DataSection]) -> Self {
         let n = sections.iter().map(|s| s.entities.len()).sum();
-        let mut by_id = HashMap::with_capacity(n);
-        let mut position = HashMap::with_capacity(n);
+        let mut by_id = FxHashMap::with_capacity_and_hasher(n, Default::default());
         let mut order = Vec::with_capacity(n);
         for (i, inst) in sections.iter().flat_map(|s| &s.entities).enumerate() {
             let id = instance_id(inst);
             // A repeated id: the last definition wins, as in the index.
-            if by_id.insert(id, inst).is_none() {
+            if by_id.insert(id, (i, inst)).is_none() {
                 order.push(id);
             }
-            position.insert(id, i);
         }
-        Records {
-            by_id,
-            position,
-            order,
-        }
+        Records { by_id, order }
     }
 
     /// All instance ids, in file order.
@@ -63,12 +58,22 @@ impl<'a> Records<'a> {
 
     /// Position of an instance in the file (0-based), for numbering in file order.
     pub fn position(&self, id: u64) -> usize {
-        self.position.get(&id).copied().unwrap_or(usize::MAX)
+        self.by_id.get(&id).map_or(usize::MAX, |&(i, _)| i)
+    }
+
+    /// The number of instances in the file, repeated ids included (positions are below it).
+    pub fn positions(&self) -> usize {
+        self.by_id.values().map(|&(i, _)| i + 1).max().unwrap_or(0)
+    }
+
+    /// The position and instance of this id.
+    pub fn get_indexed(&self, id: u64) -> Option<(usize, &'a EntityInstance)> {
+        self.by_id.get(&id).copied()
     }
 
     /// The instance with this id.
     pub fn get(&self, id: u64) -> Option<&'a EntityInstance> {
-        self.by_id.get(&id).copied()
+        self.by_id.get(&id).map(|&(_, inst)| inst)
     }
 
     /// The record of a simple instance.
@@ -103,6 +108,14 @@ impl<'a> Records<'a> {
     /// True when the instance is (or, if complex, contains) an entity named `name`.
     pub fn is(&self, id: u64, name: &str) -> bool {
         self.complex_part(id, name).is_some()
+    }
+}
+
+/// The records of an instance: one for a simple instance, its parts for a complex one.
+pub fn parts_of(inst: &EntityInstance) -> &[Record] {
+    match inst {
+        EntityInstance::Simple { record, .. } => std::slice::from_ref(record),
+        EntityInstance::Complex { subsuper, .. } => &subsuper.0,
     }
 }
 
@@ -364,11 +377,7 @@ const TRUCK_LABELLED: &[&str] = &[
 pub fn check_knots(records: &Records) -> Option<(u64, String, String)> {
     for id in records.ids_in_order() {
         let inst = records.get(id)?;
-        let recs: Vec<&Record> = match inst {
-            EntityInstance::Simple { record, .. } => vec![record],
-            EntityInstance::Complex { subsuper, .. } => subsuper.0.iter().collect(),
-        };
-        for rec in recs {
+        for rec in parts_of(inst) {
             if !rec.name.contains("WITH_KNOTS") {
                 continue;
             }
@@ -395,7 +404,9 @@ pub const MAX_BSPLINE_DEGREE: i64 = 25;
 
 /// One parametric direction of a B-spline: declared degree, number of control points, sum of
 /// the knot multiplicities (each `None` where the record does not say).
-type BsplineDirection = (Option<i64>, Option<usize>, Option<i64>);
+/// (degree, control points, (sum, smallest) of the knot multiplicities). The sum is i128 so
+/// that no list of i64 multiplicities can wrap around to a plausible total.
+type BsplineDirection = (Option<i64>, Option<usize>, Option<(i128, i64)>);
 
 /// Finds a B-spline curve or surface whose declared degree is absurd or does not match its
 /// control points and knot multiplicities (`Σ multiplicities = control points + degree + 1`
@@ -416,11 +427,19 @@ pub fn check_bspline_degrees(records: &Records) -> Option<(u64, String, String)>
         _ => None,
     };
     let sum = |p: &Parameter| match p {
-        Parameter::List(l) => l.iter().map(int).sum::<Option<i64>>(),
+        Parameter::List(l) => l.iter().try_fold((0i128, i64::MAX), |(s, lo), q| {
+            int(q).map(|m| (s + i128::from(m), lo.min(m)))
+        }),
         _ => None,
     };
     for id in records.ids_in_order() {
         let inst = records.get(id)?;
+        if !parts_of(inst)
+            .iter()
+            .any(|r| r.name.starts_with("B_SPLINE_"))
+        {
+            continue;
+        }
         // (name, parameters without the label) of each part.
         let parts: Vec<(&str, &[Parameter])> = match inst {
             EntityInstance::Simple { record, .. } => {
@@ -480,9 +499,16 @@ pub fn check_bspline_degrees(records: &Records) -> Option<(u64, String, String)>
                 continue;
             };
         for dir in dirs {
-            let (Some(d), Some(n), Some(m)) = dir else {
+            let (Some(d), Some(n), Some((m, lowest))) = dir else {
                 continue;
             };
+            if lowest < 1 {
+                return Some((
+                    id,
+                    name.into(),
+                    format!("knot multiplicity {lowest} (must be at least 1)"),
+                ));
+            }
             if !(1..=MAX_BSPLINE_DEGREE).contains(&d) {
                 return Some((
                     id,
@@ -490,7 +516,7 @@ pub fn check_bspline_degrees(records: &Records) -> Option<(u64, String, String)>
                     format!("degree {d} (1 to {MAX_BSPLINE_DEGREE} supported)"),
                 ));
             }
-            if m != n as i64 + d + 1 {
+            if m != n as i128 + i128::from(d) + 1 {
                 return Some((
                     id,
                     name.into(),
@@ -524,48 +550,47 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
             }
         }
     }
-    // Iterative three-colour depth-first search.
-    let mut state: HashMap<u64, u8> = HashMap::new(); // 1 = on stack, 2 = done
-    let mut buf = Vec::new();
+    // Iterative three-colour depth-first search. Colours are kept by file position (dense);
+    // the children still to visit of every node on the path share one stack.
+    let mut state = vec![0u8; records.positions()]; // 0 = new, 1 = on the path, 2 = done
+    let mut path: Vec<(u64, usize, usize)> = Vec::new(); // (id, position, children start)
+    let mut pending: Vec<u64> = Vec::new();
     for root in records.ids_in_order() {
-        if state.contains_key(&root) {
+        let (pos, inst) = records.get_indexed(root)?;
+        if state[pos] != 0 {
             continue;
         }
-        let mut stack: Vec<(u64, Vec<u64>)> = Vec::new();
-        buf.clear();
-        refs_of(records.get(root)?, &mut buf);
-        state.insert(root, 1);
-        stack.push((root, buf.clone()));
-        while let Some((id, children)) = stack.last_mut() {
-            let id = *id;
-            match children.pop() {
-                None => {
-                    state.insert(id, 2);
-                    stack.pop();
+        state[pos] = 1;
+        path.push((root, pos, pending.len()));
+        refs_of(inst, &mut pending);
+        while let Some(&(id, pos, start)) = path.last() {
+            if pending.len() == start {
+                state[pos] = 2;
+                path.pop();
+                continue;
+            }
+            let child = pending.pop().expect("a pending child");
+            let Some((cpos, inst)) = records.get_indexed(child) else {
+                return Some((
+                    id,
+                    records.name(id),
+                    format!("refers to #{child}, which the file does not define"),
+                ));
+            };
+            match state[cpos] {
+                2 => {}
+                1 => {
+                    return Some((
+                        child,
+                        records.name(child),
+                        format!("reference cycle through #{id}"),
+                    ))
                 }
-                Some(child) => match state.get(&child) {
-                    Some(2) => {}
-                    Some(_) => {
-                        return Some((
-                            child,
-                            records.name(child),
-                            format!("reference cycle through #{id}"),
-                        ))
-                    }
-                    None => {
-                        let Some(inst) = records.get(child) else {
-                            return Some((
-                                id,
-                                records.name(id),
-                                format!("refers to #{child}, which the file does not define"),
-                            ));
-                        };
-                        buf.clear();
-                        refs_of(inst, &mut buf);
-                        state.insert(child, 1);
-                        stack.push((child, buf.clone()));
-                    }
-                },
+                _ => {
+                    state[cpos] = 1;
+                    path.push((child, cpos, pending.len()));
+                    refs_of(inst, &mut pending);
+                }
             }
         }
     }

@@ -11,15 +11,17 @@
 
 use super::domain::{align_loops, face_domain, loop_uv};
 use super::model::*;
+use super::p21;
 use super::records::{self, as_bool, as_ref, as_refs, params, LengthUnit, Mat4, Records};
 use crate::error::{Error, Result};
 use glam::DVec3;
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use truck_geometry::prelude::{Matrix4, Point3, Transformed};
 use truck_stepio::r#in::ruststep::ast::{Name, Parameter};
 use truck_stepio::r#in::ruststep::tables::{IntoOwned, PlaceHolder};
-use truck_stepio::r#in::{ruststep, EdgeCurveHolder, SurfaceAnyHolder, Table};
+use truck_stepio::r#in::{EdgeCurveHolder, SurfaceAnyHolder, Table};
 
 /// Files larger than this are refused before parsing (the parser keeps the whole structure in
 /// memory, several times the file size).
@@ -47,25 +49,10 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
             reason: "no END-ISO-10303-21; (file truncated?)".into(),
         });
     }
-    // The parser recurses once per nested list: a hostile file of deeply nested parentheses
-    // would overflow the stack (an abort no handler can catch).
-    if let Some(line) = too_deep(text, MAX_NESTING) {
-        return Err(Error::Syntax {
-            path: path.into(),
-            reason: format!(
-                "lists nested more than {MAX_NESTING} deep (line {line}); no STEP schema needs that"
-            ),
-        });
-    }
-    let mut exchange = guarded(|| ruststep::parser::parse(text))
-        .map_err(|p| Error::Syntax {
-            path: path.into(),
-            reason: format!("parser failed: {p}"),
-        })?
-        .map_err(|e| Error::Syntax {
-            path: path.into(),
-            reason: first_line(&e.to_string()),
-        })?;
+    let mut exchange = p21::parse(text, MAX_NESTING).map_err(|e| Error::Syntax {
+        path: path.into(),
+        reason: e.to_string(),
+    })?;
     if exchange.data.is_empty() {
         return Err(Error::Syntax {
             path: path.into(),
@@ -125,53 +112,6 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
 /// Deepest list nesting accepted. AP203/AP214 need at most 4 or 5 (a rational B-spline
 /// surface's weights: a list of lists inside a complex instance).
 pub const MAX_NESTING: usize = 64;
-
-/// The line where parentheses (outside strings and comments) first nest deeper than `max`.
-fn too_deep(text: &str, max: usize) -> Option<usize> {
-    let bytes = text.as_bytes();
-    let (mut depth, mut line, mut i) = (0usize, 1usize, 0usize);
-    while i < bytes.len() {
-        match bytes[i] {
-            b'\n' => line += 1,
-            b'\'' => {
-                // A string: '' is an escaped quote.
-                i += 1;
-                while i < bytes.len() {
-                    if bytes[i] == b'\'' {
-                        if bytes.get(i + 1) == Some(&b'\'') {
-                            i += 1;
-                        } else {
-                            break;
-                        }
-                    } else if bytes[i] == b'\n' {
-                        line += 1;
-                    }
-                    i += 1;
-                }
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'*') => {
-                i += 2;
-                while i + 1 < bytes.len() && !(bytes[i] == b'*' && bytes[i + 1] == b'/') {
-                    if bytes[i] == b'\n' {
-                        line += 1;
-                    }
-                    i += 1;
-                }
-                i += 1;
-            }
-            b'(' => {
-                depth += 1;
-                if depth > max {
-                    return Some(line);
-                }
-            }
-            b')' => depth = depth.saturating_sub(1),
-            _ => {}
-        }
-        i += 1;
-    }
-    None
-}
 
 /// Runs `f`, turning a panic into an error message (truck panics on some bad data).
 pub(crate) fn guarded<T>(f: impl FnOnce() -> T) -> std::result::Result<T, String> {
@@ -862,15 +802,26 @@ impl Ingest<'_> {
     }
 
     fn compute_domains(&mut self) -> Result<()> {
-        let m = &mut self.model;
-        for fi in 0..m.faces.len() {
-            let mut loops = std::mem::take(&mut m.faces[fi].loops);
-            for l in &mut loops {
-                l.uv = loop_uv(m, &m.faces[fi], l).map_err(|reason| {
-                    entity_err(&self.path, l.step_id, self.recs.name(l.step_id), reason)
-                })?;
+        // Faces are independent: their loops are projected in parallel (results are the same
+        // whatever the thread count), then the first error in face order is reported.
+        let m = &self.model;
+        let uvs: Vec<LoopsUv> = (0..m.faces.len())
+            .into_par_iter()
+            .map(|fi| {
+                m.faces[fi]
+                    .loops
+                    .iter()
+                    .map(|l| loop_uv(m, fi, l).map_err(|reason| (l.step_id, reason)))
+                    .collect()
+            })
+            .collect();
+        for (fi, uv) in uvs.into_iter().enumerate() {
+            let uv =
+                uv.map_err(|(id, reason)| entity_err(&self.path, id, self.recs.name(id), reason))?;
+            let m = &mut self.model;
+            for (l, uv) in m.faces[fi].loops.iter_mut().zip(uv) {
+                l.uv = uv;
             }
-            m.faces[fi].loops = loops;
             align_loops(&mut m.faces[fi]);
             let (domain, outer) = face_domain(m, &m.faces[fi]);
             m.faces[fi].domain = domain;
@@ -881,6 +832,9 @@ impl Ingest<'_> {
         Ok(())
     }
 }
+
+/// One face's loops in UV, or the failing loop's id and the reason.
+type LoopsUv = std::result::Result<Vec<Vec<glam::DVec2>>, (u64, String)>;
 
 /// `[k_p, k_{m−p}]` of a knot vector of degree `p` (m + 1 knots).
 fn valid_knot_range(knots: &truck_geometry::prelude::KnotVec, degree: usize) -> Option<(f64, f64)> {

@@ -25,6 +25,19 @@ pub const GRID: usize = 12;
 /// steps. The result is a local minimum of the distance; with a hint, the one nearest the
 /// hint; without one, the best over the seed grid.
 pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> Option<(f64, f64)> {
+    if let Some(uv) = plane_foot(surface, p) {
+        return Some(uv);
+    }
+    // With a hint, our own damped Newton from it is the common case and several times
+    // cheaper than truck's search (which also goes through its generic derivatives). Not on
+    // periodic surfaces: truck answers their angles in its canonical range, which the loop
+    // unwrapping in `brep::domain` relies on, where Newton would follow the hint past it.
+    let periodic = crate::geom::surface_periods(surface) != (None, None);
+    if let Some(h) = hint.filter(|_| !periodic) {
+        if let Some(uv) = newton(surface, p, h).filter(|uv| is_foot(surface, p, *uv)) {
+            return Some(uv);
+        }
+    }
     let q = Point3::new(p.x, p.y, p.z);
     let truck = crate::panic_guard::catch(|| surface.search_nearest_parameter(q, hint, 100))
         .ok()
@@ -154,6 +167,26 @@ pub const MAX_SPAN_SEEDS: usize = 400;
 /// True when `uv` is a foot point of `p`: `S(uv) − p` is normal to the surface (or `p` is on
 /// it), to a relative tolerance, and the distance is a local minimum there, not a maximum or
 /// saddle (the far side of a sphere is a stationary point too; truck's search can land on it).
+/// The foot point on a plane, in closed form (the normal equations of `o + u a + v b = p`).
+fn plane_foot(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
+    use truck_stepio::r#in::alias::ElementarySurface;
+    let Surface::ElementarySurface(e) = surface else {
+        return None;
+    };
+    let ElementarySurface::Plane(_) = e.as_ref() else {
+        return None;
+    };
+    let d = eval_surface(surface, 0.0, 0.0);
+    let (a, b, r) = (d.su, d.sv, p - d.p);
+    let (aa, ab, bb) = (a.dot(a), a.dot(b), b.dot(b));
+    let det = aa * bb - ab * ab;
+    if det.is_nan() || det <= 1e-300 {
+        return None;
+    }
+    let (ra, rb) = (r.dot(a), r.dot(b));
+    Some(((bb * ra - ab * rb) / det, (aa * rb - ab * ra) / det))
+}
+
 fn is_foot(surface: &Surface, p: DVec3, uv: (f64, f64)) -> bool {
     let d = eval_surface(surface, uv.0, uv.1);
     let r = d.p - p;

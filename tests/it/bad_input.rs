@@ -389,3 +389,121 @@ fn absurd_or_inconsistent_bspline_degree() {
         "needs knot multiplicities summing to",
     );
 }
+
+/// Knot multiplicities chosen so that their sum wraps around `i64` to exactly the total the
+/// degree needs (i64::MAX + i64::MAX + 11 ≡ 9): truck would then expand a knot vector of 2⁶⁴
+/// entries. A negative multiplicity with the right sum is refused too.
+#[test]
+fn huge_or_negative_knot_multiplicities() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(sample("box_bspline_top.step")).unwrap();
+    let mults = "(4,1,4),(4,1,4)";
+    assert!(text.contains(mults));
+    let huge = text.replacen(
+        mults,
+        "(9223372036854775807,9223372036854775807,11),(4,1,4)",
+        1,
+    );
+    rejects(
+        &write(dir.path(), "wrapping_mults.step", huge.as_bytes()),
+        "needs knot multiplicities summing to 9, not 18446744073709551625",
+    );
+    let negative = text.replacen(mults, "(4,-1,6),(4,1,4)", 1);
+    rejects(
+        &write(dir.path(), "negative_mults.step", negative.as_bytes()),
+        "knot multiplicity -1",
+    );
+}
+
+/// A part kilometres across (millimetres written as kilometres) is refused as a scale error
+/// instead of being traced with squared distances near 1e15.
+#[test]
+fn absurd_part_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = box_text().replace(".MILLI.,.METRE.", ".KILO.,.METRE.");
+    rejects(
+        &write(dir.path(), "kilometres.step", text.as_bytes()),
+        "mm across",
+    );
+}
+
+/// Runs `matrace ARGS` under a 3 GiB address-space limit (where `prlimit` exists) and a
+/// 10-minute deadline; the deadline is a bound on a hang, not a speed figure.
+fn bounded(args: &[&str], cwd: &Path) -> std::process::Output {
+    let exe = env!("CARGO_BIN_EXE_matrace");
+    let mut cmd = match matrace::batch::find_in_path("prlimit") {
+        Some(prlimit) => {
+            let mut c = std::process::Command::new(prlimit);
+            c.arg(format!("--as={}", 3u64 << 30)).arg("--").arg(exe);
+            c
+        }
+        None => std::process::Command::new(exe),
+    };
+    let mut child = cmd
+        .args(args)
+        .current_dir(cwd)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(600);
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            return child.wait_with_output().unwrap();
+        }
+        if std::time::Instant::now() > deadline {
+            child.kill().ok();
+            panic!("matrace {args:?} did not finish within 10 minutes");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}
+
+/// The box followed by 100 MB of points no solid uses: read within the memory bound, and the
+/// box comes out as before. The same file cut inside its last megabyte is a syntax error
+/// naming the line.
+#[test]
+fn hundred_megabyte_file() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let text = box_text();
+    let end = text.rfind("ENDSEC;").unwrap();
+    let path = dir.path().join("huge.step");
+    let mut f = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
+    f.write_all(&text.as_bytes()[..end]).unwrap();
+    let mut written = end;
+    let mut id = 1_000_000u64;
+    while written < 100 << 20 {
+        let line = format!(
+            "#{id}=CARTESIAN_POINT('',({}.5,{}.25,-{}.125));\n",
+            id % 977,
+            id % 331,
+            id % 97
+        );
+        f.write_all(line.as_bytes()).unwrap();
+        written += line.len();
+        id += 1;
+    }
+    f.write_all(&text.as_bytes()[end..]).unwrap();
+    drop(f);
+    let out = bounded(&["inspect", path.to_str().unwrap()], dir.path());
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "status {:?}: {}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("faces 6  edges 12"), "{stdout}");
+
+    // Cut it 500 kB before the end, keeping the end marker.
+    let bytes = std::fs::read(&path).unwrap();
+    let mut cut = bytes[..bytes.len() - 500_000].to_vec();
+    cut.extend_from_slice(b"\nENDSEC;\nEND-ISO-10303-21;\n");
+    std::fs::write(&path, &cut).unwrap();
+    drop(bytes);
+    let out = bounded(&["inspect", path.to_str().unwrap()], dir.path());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("huge.step") && err.contains("line "), "{err}");
+}

@@ -301,7 +301,7 @@ fn face_loops(ctx: &Ctx, model: &mut Model, f: usize, same_sense: bool) -> Resul
     let mut loops = std::mem::take(&mut model.faces[f].loops);
     let mut failed = None;
     for l in &mut loops {
-        match loop_uv(model, &model.faces[f], l) {
+        match loop_uv(model, f, l) {
             Ok(uv) => l.uv = uv,
             Err(reason) => {
                 failed = Some((l.step_id, reason));
