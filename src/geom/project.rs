@@ -38,6 +38,15 @@ pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> O
             return Some(uv);
         }
     }
+    // Without a hint, truck's B-spline search starts with a dense "presearch" grid costing
+    // far more than ours below (knot-span seeds and Newton): it is not asked there.
+    let bspline = matches!(
+        surface,
+        Surface::BSplineSurface(_) | Surface::NurbsSurface(_)
+    );
+    if hint.is_none() && bspline {
+        return seeded(surface, p, hint, None);
+    }
     let q = Point3::new(p.x, p.y, p.z);
     let truck = crate::panic_guard::catch(|| surface.search_nearest_parameter(q, hint, 100))
         .ok()
@@ -60,6 +69,17 @@ pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> O
             return Some(uv);
         }
     }
+    seeded(surface, p, hint, truck)
+}
+
+/// The best foot from a grid of seeds (knot spans for B-splines) and Newton from the few
+/// nearest, with `truck`'s answer as one more candidate when there was no hint.
+fn seeded(
+    surface: &Surface,
+    p: DVec3,
+    hint: Option<(f64, f64)>,
+    truck: Option<(f64, f64)>,
+) -> Option<(f64, f64)> {
     let (ur, vr) = crate::geom::parameter_range(surface);
     let seeds = |r: (Bound<f64>, Bound<f64>), h: Option<f64>| -> Vec<f64> {
         match (r.0, r.1) {
