@@ -1,0 +1,13 @@
+//! The whole STEP ingestion path on arbitrary bytes: file checks, the Part 21 reader, the
+//! entity checks, truck's conversion, the B-rep walk and the UV domains. Any outcome but a
+//! panic, a hang or an out-of-memory is fine; errors must be ordinary `Err`s.
+#![no_main]
+use libfuzzer_sys::fuzz_target;
+use std::path::Path;
+
+fuzz_target!(|data: &[u8]| {
+    if let Ok(model) = matrace::brep::read_model_from_bytes(Path::new("fuzz.step"), data) {
+        // A model that reads must classify.
+        let _ = matrace::classify(&model, &Default::default());
+    }
+});

@@ -1,0 +1,28 @@
+//! Differential: wherever ruststep's parser reads a text, matrace's Part 21 reader must read
+//! it to the same AST (ours accepts more: `''` in strings, empty lists, lower-case exponents).
+#![no_main]
+use libfuzzer_sys::fuzz_target;
+use truck_stepio::r#in::ruststep;
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    let ours = matrace::brep::p21::parse(text, 64);
+    // ruststep recurses per nested list and panics on integer overflow: only compare where
+    // it can answer.
+    if text.bytes().filter(|&b| b == b'(').count() > 64 {
+        return;
+    }
+    let theirs = std::panic::catch_unwind(|| ruststep::parser::parse(text));
+    if let Ok(Ok(theirs)) = theirs {
+        let ours = match ours {
+            Ok(ours) => ours,
+            // A real beyond f64: ruststep reads infinity, we refuse it.
+            Err(e) if e.message.contains("overflows") => return,
+            Err(e) => panic!("ruststep reads it, we do not: {e}"),
+        };
+        assert_eq!(ours.header, theirs.header);
+        assert_eq!(ours.data, theirs.data);
+    }
+});
