@@ -21,6 +21,7 @@
 //! The library does not print: progress goes to a callback ([`Progress`]).
 
 use crate::error::{Error, Result};
+pub use crate::run::PartOptions;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
@@ -258,18 +259,9 @@ pub struct BatchOptions {
     pub shard: Option<Shard>,
     /// Skip parts whose outputs are complete ([`completed_report`]).
     pub resume: bool,
-    /// `trace --tol`.
-    pub tol: Option<f64>,
-    /// `trace --fit-tol`.
-    pub fit_tol: Option<f64>,
-    /// `trace --verify`: a part whose worst error exceeds the accuracy counts as failed.
-    pub verify: bool,
-    /// Write `<stem>.sheets.obj`.
-    pub mesh: bool,
-    /// Write `<stem>.mat.svg`.
-    pub picture: bool,
-    /// `trace --with-solid`.
-    pub with_solid: bool,
+    /// What each part computes and writes, as `matrace trace` takes it. With
+    /// `part.verify`, a part whose worst error exceeds the accuracy counts as failed.
+    pub part: PartOptions,
 }
 
 impl BatchOptions {
@@ -284,22 +276,17 @@ impl BatchOptions {
             memory_limit: None,
             shard: None,
             resume: false,
-            tol: None,
-            fit_tol: None,
-            verify: false,
-            mesh: true,
-            picture: true,
-            with_solid: false,
+            part: PartOptions::default(),
         }
     }
 
     /// The output file names of a part with stem `stem`, the report last.
     pub fn output_names(&self, stem: &str) -> Vec<String> {
         let mut v = vec![format!("{stem}.mat.step")];
-        if self.mesh {
+        if self.part.mesh {
             v.push(format!("{stem}.sheets.obj"));
         }
-        if self.picture {
+        if self.part.picture {
             v.push(format!("{stem}.mat.svg"));
         }
         v.push(format!("{stem}.mat.json"));
@@ -366,12 +353,8 @@ pub struct Counts {
 /// The options a batch ran with, as written into the summary.
 #[derive(Clone, Debug, Serialize)]
 pub struct SummaryOptions {
-    pub tol: Option<f64>,
-    pub fit_tol: Option<f64>,
-    pub verify: bool,
-    pub mesh: bool,
-    pub picture: bool,
-    pub with_solid: bool,
+    #[serde(flatten)]
+    pub part: PartOptions,
     pub resume: bool,
 }
 
@@ -480,12 +463,7 @@ pub fn run_batch(
         timeout_seconds: opts.timeout.map(|t| t.as_secs_f64()),
         memory_limit_bytes: memory_limit,
         options: SummaryOptions {
-            tol: opts.tol,
-            fit_tol: opts.fit_tol,
-            verify: opts.verify,
-            mesh: opts.mesh,
-            picture: opts.picture,
-            with_solid: opts.with_solid,
+            part: opts.part.clone(),
             resume: opts.resume,
         },
         counts,
@@ -520,13 +498,13 @@ pub fn completed_report(input: &Input, opts: &BatchOptions) -> Option<serde_json
         return None;
     }
     let o = &report["options"];
-    let same = o["verify"].as_bool() == Some(opts.verify)
-        && (o["mesh_samples"].as_u64() != Some(0)) == opts.mesh
-        && match opts.tol {
+    let same = o["verify"].as_bool() == Some(opts.part.verify)
+        && (o["mesh_samples"].as_u64() != Some(0)) == opts.part.mesh
+        && match opts.part.tol {
             Some(t) => o["accuracy_from"] == "--tol" && o["accuracy"].as_f64() == Some(t),
             None => o["accuracy_from"] != "--tol",
         }
-        && opts.fit_tol.is_none_or(|t| {
+        && opts.part.fit_tol.is_none_or(|t| {
             o["fit_tolerance"].as_f64() == Some(t.max(o["accuracy"].as_f64().unwrap_or(0.0)))
         });
     same.then_some(report)
@@ -616,19 +594,19 @@ fn part_command(
     args.push(input.out_dir(&opts.out_dir).into_os_string());
     args.push("--stem".into());
     args.push(input.stem().into());
-    if let Some(t) = opts.tol {
+    if let Some(t) = opts.part.tol {
         args.push("--tol".into());
         args.push(t.to_string().into());
     }
-    if let Some(t) = opts.fit_tol {
+    if let Some(t) = opts.part.fit_tol {
         args.push("--fit-tol".into());
         args.push(t.to_string().into());
     }
     for (on, flag) in [
-        (opts.verify, "--verify"),
-        (!opts.mesh, "--no-mesh"),
-        (!opts.picture, "--no-svg"),
-        (opts.with_solid, "--with-solid"),
+        (opts.part.verify, "--verify"),
+        (!opts.part.mesh, "--no-mesh"),
+        (!opts.part.picture, "--no-svg"),
+        (opts.part.with_solid, "--with-solid"),
     ] {
         if on {
             args.push(flag.into());

@@ -159,7 +159,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             trace.check()?;
             let opts = matrace::run::RunOptions {
                 stem,
-                ..trace.run_options(out)
+                ..matrace::run::RunOptions::new(out, trace.part_options())
             };
             let outcome = matrace::run::trace_part(&part, &opts)?;
             emit(&summary(&part, &outcome));
@@ -204,12 +204,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             };
             opts.shard = shard;
             opts.resume = resume;
-            opts.tol = trace.tol;
-            opts.fit_tol = trace.fit_tol;
-            opts.verify = trace.verify;
-            opts.mesh = !trace.no_mesh;
-            opts.picture = !trace.no_svg;
-            opts.with_solid = trace.with_solid;
+            opts.part = trace.part_options();
             let found = matrace::batch::collect_inputs(&inputs, &opts.out_dir)?;
             let n_found = found.len();
             let parts = match shard {
@@ -255,20 +250,15 @@ impl TraceArgs {
         Ok(())
     }
 
-    /// The library's options for one part written into `out`.
-    fn run_options(&self, out: PathBuf) -> matrace::run::RunOptions {
-        matrace::run::RunOptions {
+    /// The library's per-part options.
+    fn part_options(&self) -> matrace::run::PartOptions {
+        matrace::run::PartOptions {
             tol: self.tol,
             fit_tol: self.fit_tol,
-            with_solid: self.with_solid,
             verify: self.verify,
-            mesh_samples: if self.no_mesh {
-                0
-            } else {
-                matrace::medial::sheet_mesh::DEFAULT_SAMPLES
-            },
+            mesh: !self.no_mesh,
             picture: !self.no_svg,
-            ..matrace::run::RunOptions::new(out)
+            with_solid: self.with_solid,
         }
     }
 }

@@ -7,41 +7,69 @@ use crate::report::{OptionsReport, Timings, TraceReport};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// What to compute and write for a part.
-#[derive(Clone, Debug)]
-pub struct RunOptions {
-    /// Folder for the outputs (created if missing).
-    pub out_dir: PathBuf,
+/// The choices made for every part, the same for `matrace trace` and for each part of a
+/// `matrace batch` (which passes them on to its workers and records them in its summary).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct PartOptions {
     /// Output accuracy in mm; `None`: 1e-6 × the part's bounding-box diagonal.
     pub tol: Option<f64>,
     /// Fit tolerance in mm for the seams' B-splines; `None`: 1e-4 × the diagonal (never
     /// below the accuracy).
     pub fit_tol: Option<f64>,
-    /// Copy the input part into `<stem>.mat.step`.
-    pub with_solid: bool,
     /// Check every ball against the definition.
     pub verify: bool,
-    /// Grid points for the sheet mesh (0: no `<stem>.sheets.obj`).
-    pub mesh_samples: usize,
+    /// Write the sheet mesh `<stem>.sheets.obj`.
+    pub mesh: bool,
     /// Write the picture `<stem>.mat.svg`.
     pub picture: bool,
+    /// Copy the input part into `<stem>.mat.step`.
+    pub with_solid: bool,
+}
+
+impl Default for PartOptions {
+    /// Every output, default tolerances, no verification.
+    fn default() -> PartOptions {
+        PartOptions {
+            tol: None,
+            fit_tol: None,
+            verify: false,
+            mesh: true,
+            picture: true,
+            with_solid: false,
+        }
+    }
+}
+
+/// What to compute and write for a part, and where.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Folder for the outputs (created if missing).
+    pub out_dir: PathBuf,
+    pub part: PartOptions,
+    /// Grid points for the sheet mesh, when `part.mesh`.
+    pub mesh_samples: usize,
     /// File stem of the outputs; `None`: the part's file name without its extension
     /// ([`stem`]). The batch runner sets it when two inputs would share one.
     pub stem: Option<String>,
 }
 
 impl RunOptions {
-    /// Every output, default tolerances, into `out_dir`.
-    pub fn new(out_dir: impl Into<PathBuf>) -> RunOptions {
+    /// `part` into `out_dir`, with the default mesh density.
+    pub fn new(out_dir: impl Into<PathBuf>, part: PartOptions) -> RunOptions {
         RunOptions {
             out_dir: out_dir.into(),
-            tol: None,
-            fit_tol: None,
-            with_solid: false,
-            verify: false,
+            part,
             mesh_samples: crate::medial::sheet_mesh::DEFAULT_SAMPLES,
-            picture: true,
             stem: None,
+        }
+    }
+
+    /// Sheet-mesh grid points; 0 when no mesh is wanted.
+    pub fn mesh_points(&self) -> usize {
+        if self.part.mesh {
+            self.mesh_samples
+        } else {
+            0
         }
     }
 }
@@ -79,7 +107,7 @@ pub fn stem(part: &Path) -> String {
 /// means complete outputs), `<stem>.mat.step`, `<stem>.sheets.obj` and `<stem>.mat.svg` into
 /// `opts.out_dir`.
 pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
-    if opts.with_solid && crate::brep::is_iges_path(part) {
+    if opts.part.with_solid && crate::brep::is_iges_path(part) {
         return Err(Error::Model {
             path: part.into(),
             reason: "--with-solid copies a STEP input into the .mat.step file; an IGES part \
@@ -100,7 +128,7 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
     let class = crate::classify(&model, &Default::default());
     t.classify = lap(&mut clock);
     let mut trace_opts = crate::medial::TraceOptions::for_model(&model);
-    let accuracy_from = match opts.tol {
+    let accuracy_from = match opts.part.tol {
         Some(tol) if tol.is_finite() && tol > 0.0 => {
             trace_opts.accuracy = tol;
             "--tol"
@@ -120,7 +148,7 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
     t.sheets = lap(&mut clock);
     let mut fit_opts =
         crate::output::fit::FitOptions::for_model(model.diagonal(), trace_opts.accuracy);
-    if let Some(tol) = opts.fit_tol {
+    if let Some(tol) = opts.part.fit_tol {
         fit_opts.tol = tol.max(trace_opts.accuracy);
     }
     let options = OptionsReport {
@@ -130,8 +158,8 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
         solver_tolerance: 1e-3 * trace_opts.accuracy,
         angle_tol_deg: crate::classify::DEFAULT_ANGLE_TOL_DEG,
         fit_tolerance: fit_opts.tol,
-        mesh_samples: opts.mesh_samples,
-        verify: opts.verify,
+        mesh_samples: opts.mesh_points(),
+        verify: opts.part.verify,
     };
     let mut report = TraceReport::new(&model, &class, &mat, &sheets, options);
 
@@ -154,18 +182,18 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
         &stem,
         &mat,
         &fits,
-        opts.with_solid.then_some(part),
+        opts.part.with_solid.then_some(part),
     )?;
     written.push(path);
     t.fit = lap(&mut clock);
-    if opts.mesh_samples > 0 {
+    if opts.mesh_points() > 0 {
         let mesh = crate::medial::sheet_mesh(
             &model,
             &boundary,
             &class,
             &sheets,
             &crate::medial::MeshOptions {
-                samples: opts.mesh_samples,
+                samples: opts.mesh_points(),
                 ..crate::medial::MeshOptions::new(trace_opts.accuracy)
             },
         );
@@ -175,7 +203,7 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
         written.push(path);
         t.mesh = lap(&mut clock);
     }
-    if opts.picture {
+    if opts.part.picture {
         let svg_opts = crate::output::svg::SvgOptions {
             title: part
                 .file_name()
@@ -190,7 +218,7 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
         written.push(path);
         t.picture = lap(&mut clock);
     }
-    if opts.verify {
+    if opts.part.verify {
         report.stats.verification = Some(crate::medial::verify(&model, &boundary, &mat));
         t.verify = lap(&mut clock);
     }
