@@ -534,22 +534,38 @@ pub fn check_bspline_degrees(records: &Records) -> Option<(u64, String, String)>
 /// Finds a reference to an id that does not exist, or a reference cycle. Returns
 /// `(id, entity, reason)`.
 pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
-    fn refs_of(inst: &EntityInstance, out: &mut Vec<u64>) {
-        fn walk(p: &Parameter, out: &mut Vec<u64>) {
+    /// Pushes the entity references of `inst`; the first reference to something else (a
+    /// constant `#NAME` or a value instance `@3`, on which truck panics) is returned.
+    fn refs_of(inst: &EntityInstance, out: &mut Vec<u64>) -> Option<String> {
+        fn walk(p: &Parameter, out: &mut Vec<u64>, other: &mut Option<String>) {
             match p {
                 Parameter::Ref(Name::Entity(id)) => out.push(*id),
-                Parameter::List(l) => l.iter().for_each(|q| walk(q, out)),
-                Parameter::Typed { parameter, .. } => walk(parameter, out),
+                Parameter::Ref(name) => {
+                    other.get_or_insert_with(|| match name {
+                        Name::Value(v) => format!("@{v}"),
+                        Name::ConstantEntity(c) => format!("#{c}"),
+                        Name::ConstantValue(c) => format!("@{c}"),
+                        Name::Entity(id) => format!("#{id}"),
+                    });
+                }
+                Parameter::List(l) => l.iter().for_each(|q| walk(q, out, other)),
+                Parameter::Typed { parameter, .. } => walk(parameter, out, other),
                 _ => {}
             }
         }
-        match inst {
-            EntityInstance::Simple { record, .. } => walk(&record.parameter, out),
-            EntityInstance::Complex { subsuper, .. } => {
-                subsuper.0.iter().for_each(|r| walk(&r.parameter, out))
-            }
+        let mut other = None;
+        for r in parts_of(inst) {
+            walk(&r.parameter, out, &mut other);
         }
+        other
     }
+    let unsupported = |id: u64, name: String| {
+        Some((
+            id,
+            records.name(id),
+            format!("refers to {name}: constant and value-instance names are not supported"),
+        ))
+    };
     // Iterative three-colour depth-first search. Colours are kept by file position (dense);
     // the children still to visit of every node on the path share one stack.
     let mut state = vec![0u8; records.positions()]; // 0 = new, 1 = on the path, 2 = done
@@ -562,7 +578,9 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
         }
         state[pos] = 1;
         path.push((root, pos, pending.len()));
-        refs_of(inst, &mut pending);
+        if let Some(name) = refs_of(inst, &mut pending) {
+            return unsupported(root, name);
+        }
         while let Some(&(id, pos, start)) = path.last() {
             if pending.len() == start {
                 state[pos] = 2;
@@ -589,7 +607,9 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
                 _ => {
                     state[cpos] = 1;
                     path.push((child, cpos, pending.len()));
-                    refs_of(inst, &mut pending);
+                    if let Some(name) = refs_of(inst, &mut pending) {
+                        return unsupported(child, name);
+                    }
                 }
             }
         }

@@ -182,6 +182,25 @@ fn reference_to_undefined_entity() {
     );
 }
 
+/// A constant name (`#FACE_BOUND31`) or a value instance (`@3`) where an entity is expected:
+/// truck's reader panics on them ("not implemented"); found by `cargo fuzz` (ingest_step).
+#[test]
+fn constant_and_value_instance_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = box_text();
+    let (_, rest) = first_instance_of(&text, "VERTEX_POINT(");
+    for (name, file) in [("#FACE_BOUND31", "constant.step"), ("@3", "value.step")] {
+        let at = rest.find('#').unwrap();
+        let digits = rest[at + 1..].find(|c: char| !c.is_ascii_digit()).unwrap();
+        let patched_rest = format!("{}{name}{}", &rest[..at], &rest[at + 1 + digits..]);
+        let patched = text.replacen(rest, &patched_rest, 1);
+        rejects(
+            &write(dir.path(), file, patched.as_bytes()),
+            &format!("refers to {name}: constant and value-instance names are not supported"),
+        );
+    }
+}
+
 #[test]
 fn reference_cycle() {
     let dir = tempfile::tempdir().unwrap();
@@ -219,8 +238,8 @@ fn first_instance_of<'a>(text: &'a str, name_paren: &str) -> (u64, &'a str) {
     (id, &text[body_start..end])
 }
 
-/// Parentheses nested 100 000 deep would overflow the parser's stack (an abort, not even a
-/// panic): refused before parsing, naming the line.
+/// Parentheses nested 100 000 deep overflowed ruststep's recursive parser (an abort, not even a
+/// panic): our reader refuses them past depth 64, naming the line.
 #[test]
 fn deeply_nested_lists() {
     let dir = tempfile::tempdir().unwrap();
