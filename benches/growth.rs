@@ -54,15 +54,7 @@ fn bench(c: &mut Criterion) {
         let boundary = matrace::geom::Boundary::new(&m);
         let run = || matrace::medial::trace_with_boundary(&m, &boundary, &class, &opts);
         let mat = run();
-        let open = mat
-            .seams
-            .iter()
-            .filter(|s| {
-                s.ends
-                    .iter()
-                    .any(|e| matches!(e, matrace::medial::SeamEnd::Open(_)))
-            })
-            .count();
+        let open = mat.seams.iter().filter(|s| s.is_open()).count();
         g.bench_function(
             format!(
                 "comb {teeth} teeth ({} seams, {open} open)",

@@ -110,6 +110,13 @@ pub struct Seam {
     pub handovers: Vec<Handover>,
 }
 
+impl Seam {
+    /// True when either end is [`SeamEnd::Open`].
+    pub fn is_open(&self) -> bool {
+        self.ends.iter().any(|e| matches!(e, SeamEnd::Open(_)))
+    }
+}
+
 /// A junction: a ball touching four segments.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Junction {
@@ -562,7 +569,7 @@ impl Tracer<'_> {
         let arrived: HashSet<(usize, Vec<String>)> = self
             .seams
             .iter()
-            .filter(|s| !s.ends.iter().any(|e| matches!(e, SeamEnd::Open(_))))
+            .filter(|s| !s.is_open())
             .flat_map(|s| {
                 let a = match s.ends[0] {
                     SeamEnd::Junction(j) => Some((j, key(&s.segments))),

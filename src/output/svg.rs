@@ -1321,15 +1321,7 @@ fn draw_title_block(
     let r = lay.title;
     let (lo, hi) = model.bbox;
     let size = hi - lo;
-    let open = mat
-        .seams
-        .iter()
-        .filter(|s| {
-            s.ends
-                .iter()
-                .any(|e| matches!(e, crate::medial::SeamEnd::Open(_)))
-        })
-        .count();
+    let open = mat.seams.iter().filter(|s| s.is_open()).count();
     let curves = mat.degenerate.iter().filter(|d| d.kind == "curve").count();
     let cells: [(&str, f64, Vec<String>); 4] = [
         (
