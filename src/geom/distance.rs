@@ -84,12 +84,12 @@
 use super::bbox::Aabb;
 use super::bvh::{box_distance_squared, union, Bvh};
 use super::eval::{eval_curve, eval_surface};
+use super::project::{plane_frame, project_plane};
 use super::trim::{clamp_ranges, covered_domain};
 use super::{project_point, trim, unit_normal};
 use crate::brep::model::{Curve3D, Edge, Face, Model, Surface};
 use glam::{DVec2, DVec3};
 use std::ops::Range;
-use truck_stepio::r#in::alias::ElementarySurface;
 
 /// Which feature of the boundary a nearest point lies on.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -370,31 +370,6 @@ fn edge_feature(e: &Edge, edge: usize, t: f64, wrap: bool) -> Feature {
 // ---------------------------------------------------------------------------------------------
 // Faces
 // ---------------------------------------------------------------------------------------------
-
-/// `(origin, Su, Sv)` of a plane.
-fn plane_frame(s: &Surface) -> Option<(DVec3, DVec3, DVec3)> {
-    match s {
-        Surface::ElementarySurface(e) if matches!(e.as_ref(), ElementarySurface::Plane(_)) => {
-            let d = eval_surface(s, 0.0, 0.0);
-            Some((d.p, d.su, d.sv))
-        }
-        _ => None,
-    }
-}
-
-/// Exact foot point on a plane `o + u·a + v·b`.
-#[inline]
-fn project_plane(frame: (DVec3, DVec3, DVec3), p: DVec3) -> (f64, f64) {
-    let (o, a, b) = frame;
-    let r = p - o;
-    let (aa, ab, bb) = (a.dot(a), a.dot(b), b.dot(b));
-    let (ra, rb) = (r.dot(a), r.dot(b));
-    let det = aa * bb - ab * ab;
-    if det.abs() <= f64::MIN_POSITIVE {
-        return (0.0, 0.0);
-    }
-    ((ra * bb - rb * ab) / det, (rb * aa - ra * ab) / det)
-}
 
 /// Damped Newton (Levenberg–Marquardt) descent of `½‖S(u,v) − p‖²` from `start`: every
 /// accepted step decreases the distance, so the result is never farther than the start.

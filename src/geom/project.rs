@@ -1,18 +1,22 @@
 //! Projecting a point onto an untrimmed surface: the foot point `(u, v)` minimising
 //! `‖S(u, v) − p‖`.
 //!
-//! truck's `search_nearest_parameter` is fast with a good hint but fails outright on some
-//! inputs (cones, high-degree B-splines, poles of spheres, measured on the real-world corpus).
-//! [`project_point`] tries it first and falls back to damped Newton (Levenberg–Marquardt on
-//! `½‖S − p‖²` with the exact second derivatives of [`super::eval`]) started from a grid of
-//! seeds over the surface's parameter range (unbounded directions are seeded at 0 and around
-//! the hint).
+//! [`project_point`], in order: a plane in closed form; with a hint on a non-periodic
+//! surface, damped Newton (Levenberg–Marquardt on `½‖S − p‖²` with the exact second
+//! derivatives of [`super::eval`]) from the hint; truck's `search_nearest_parameter` on
+//! analytic surfaces and wherever that Newton fails (truck keeps periodic angles in its
+//! canonical range, which the loop unwrapping relies on); last, Newton from a grid of seeds
+//! over the parameter range (knot spans for B-splines; unbounded directions seeded at 0 and
+//! around the hint). truck alone fails outright on some inputs (cones, high-degree B-splines,
+//! poles of spheres, measured on the real-world corpus), and without a hint on a B-spline its
+//! dense "presearch" costs more than our seeds, so it is not asked there.
 
 use super::eval::eval_surface;
 use crate::brep::model::Surface;
 use glam::DVec3;
 use std::ops::Bound;
 use truck_geometry::prelude::{ParametricSurface, Point3, SearchNearestParameter};
+use truck_stepio::r#in::alias::ElementarySurface;
 
 /// Newton iterations per seed.
 pub const MAX_ITER: usize = 50;
@@ -25,8 +29,8 @@ pub const GRID: usize = 12;
 /// steps. The result is a local minimum of the distance; with a hint, the one nearest the
 /// hint; without one, the best over the seed grid.
 pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> Option<(f64, f64)> {
-    if let Some(uv) = plane_foot(surface, p) {
-        return Some(uv);
+    if let Some(frame) = plane_frame(surface) {
+        return Some(project_plane(frame, p));
     }
     // With a hint, our own damped Newton from it is the common case and several times
     // cheaper than truck's search (which also goes through its generic derivatives). Not on
@@ -184,29 +188,34 @@ pub const NEWTON_SEEDS: usize = 8;
 /// Cap on seeds per direction from knot spans.
 pub const MAX_SPAN_SEEDS: usize = 400;
 
+/// `(origin, Su, Sv)` of a plane.
+pub(crate) fn plane_frame(s: &Surface) -> Option<(DVec3, DVec3, DVec3)> {
+    match s {
+        Surface::ElementarySurface(e) if matches!(e.as_ref(), ElementarySurface::Plane(_)) => {
+            let d = eval_surface(s, 0.0, 0.0);
+            Some((d.p, d.su, d.sv))
+        }
+        _ => None,
+    }
+}
+
+/// Exact foot point on a plane `o + u·a + v·b`.
+#[inline]
+pub(crate) fn project_plane(frame: (DVec3, DVec3, DVec3), p: DVec3) -> (f64, f64) {
+    let (o, a, b) = frame;
+    let r = p - o;
+    let (aa, ab, bb) = (a.dot(a), a.dot(b), b.dot(b));
+    let (ra, rb) = (r.dot(a), r.dot(b));
+    let det = aa * bb - ab * ab;
+    if det.abs() <= f64::MIN_POSITIVE {
+        return (0.0, 0.0);
+    }
+    ((ra * bb - rb * ab) / det, (rb * aa - ra * ab) / det)
+}
+
 /// True when `uv` is a foot point of `p`: `S(uv) − p` is normal to the surface (or `p` is on
 /// it), to a relative tolerance, and the distance is a local minimum there, not a maximum or
 /// saddle (the far side of a sphere is a stationary point too; truck's search can land on it).
-/// The foot point on a plane, in closed form (the normal equations of `o + u a + v b = p`).
-fn plane_foot(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
-    use truck_stepio::r#in::alias::ElementarySurface;
-    let Surface::ElementarySurface(e) = surface else {
-        return None;
-    };
-    let ElementarySurface::Plane(_) = e.as_ref() else {
-        return None;
-    };
-    let d = eval_surface(surface, 0.0, 0.0);
-    let (a, b, r) = (d.su, d.sv, p - d.p);
-    let (aa, ab, bb) = (a.dot(a), a.dot(b), b.dot(b));
-    let det = aa * bb - ab * ab;
-    if det.is_nan() || det <= 1e-300 {
-        return None;
-    }
-    let (ra, rb) = (r.dot(a), r.dot(b));
-    Some(((bb * ra - ab * rb) / det, (aa * rb - ab * ra) / det))
-}
-
 fn is_foot(surface: &Surface, p: DVec3, uv: (f64, f64)) -> bool {
     let d = eval_surface(surface, uv.0, uv.1);
     let r = d.p - p;
@@ -234,7 +243,6 @@ fn is_foot(surface: &Surface, p: DVec3, uv: (f64, f64)) -> bool {
 /// extent: B-spline/NURBS patches and spheres (latitude ±π/2). truck reports [0, 1] for a
 /// plane and unbounded or arbitrary ranges for the other analytic and swept surfaces.
 pub fn range_is_extent(surface: &Surface) -> bool {
-    use truck_stepio::r#in::alias::ElementarySurface;
     match surface {
         Surface::BSplineSurface(_) | Surface::NurbsSurface(_) => true,
         Surface::ElementarySurface(e) => matches!(e.as_ref(), ElementarySurface::Sphere(_)),
