@@ -22,6 +22,8 @@ pub struct Records<'a> {
     by_id: FxHashMap<u64, (usize, &'a EntityInstance)>,
     /// Every id, in file order.
     order: Vec<u64>,
+    /// Instances in the file, repeated ids included.
+    count: usize,
 }
 
 /// A 4×4 rigid (or scaling) transform, row-major, acting on column vectors.
@@ -48,7 +50,11 @@ impl<'a> Records<'a> {
                 order.push(id);
             }
         }
-        Records { by_id, order }
+        Records {
+            by_id,
+            order,
+            count: n,
+        }
     }
 
     /// All instance ids, in file order.
@@ -63,7 +69,7 @@ impl<'a> Records<'a> {
 
     /// The number of instances in the file, repeated ids included (positions are below it).
     pub fn positions(&self) -> usize {
-        self.by_id.values().map(|&(i, _)| i + 1).max().unwrap_or(0)
+        self.count
     }
 
     /// The position and instance of this id.
@@ -402,10 +408,9 @@ pub fn check_knots(records: &Records) -> Option<(u64, String, String)> {
 /// Highest B-spline degree accepted (OpenCASCADE's limit is 25).
 pub const MAX_BSPLINE_DEGREE: i64 = 25;
 
-/// One parametric direction of a B-spline: declared degree, number of control points, sum of
-/// the knot multiplicities (each `None` where the record does not say).
-/// (degree, control points, (sum, smallest) of the knot multiplicities). The sum is i128 so
-/// that no list of i64 multiplicities can wrap around to a plausible total.
+/// One parametric direction of a B-spline: declared degree, number of control points, and the
+/// sum and smallest of the knot multiplicities (each `None` where the record does not say).
+/// The sum is i128 so that no list of i64 multiplicities can wrap around to a plausible total.
 type BsplineDirection = (Option<i64>, Option<usize>, Option<(i128, i64)>);
 
 /// Finds a B-spline curve or surface whose declared degree is absurd or does not match its
