@@ -202,22 +202,25 @@ fn face_mesh(
     let (u0, u1) = face.domain.u;
     let (v0, v1) = face.domain.v;
     let me = group_of_face(f);
-    let solid = model.solid_of_face(f);
     // Balls on a lattice 2^REFINE times finer than the grid, computed on demand.
     let k = 1usize << REFINE;
     let (lu, lv) = (nu * k, nv * k);
     let mut balls: std::collections::HashMap<(usize, usize), Option<Ball>> = Default::default();
+    // The last ball's radius: cells are visited neighbour after neighbour, so it is a close
+    // first guess for the next one.
+    let mut last_r: Option<f64> = None;
     let mut ball = |i: usize, j: usize| -> Option<Ball> {
         *balls.entry((i, j)).or_insert_with(|| {
             let uv = DVec2::new(
                 u0 + (u1 - u0) * (i as f64 + 0.5 * k as f64) / lu as f64,
                 v0 + (v1 - v0) * (j as f64 + 0.5 * k as f64) / lv as f64,
             );
-            if boundary.contains_uv(face, f, uv) {
-                maximal_ball(model, boundary, f, solid, uv, opts.accuracy, group_of_face)
-            } else {
-                None
+            if !boundary.contains_uv(face, f, uv) {
+                return None;
             }
+            let b = maximal_ball(model, boundary, f, uv, opts.accuracy, last_r, group_of_face);
+            last_r = b.map(|b| b.r).or(last_r);
+            b
         })
     };
     let mut verts = vec![];
@@ -278,13 +281,14 @@ fn maximal_ball(
     model: &Model,
     boundary: &Boundary,
     f: usize,
-    solid: usize,
     uv: DVec2,
     acc: f64,
+    near_r: Option<f64>,
     group_of_face: &(dyn Fn(usize) -> usize + Sync),
 ) -> Option<Ball> {
     let ev = Segment::Face(f).eval(model, [uv.x, uv.y])?;
     let (p, m) = (ev.p, -ev.n);
+    let solid = model.solid_of_face(f);
     // Start from the largest ball tangent at p that fits in the part's bounding box (a
     // maximal ball is inside the solid, so inside its box): a far tighter first guess than
     // the diagonal, and a first nearest-point query from inside the part.
@@ -300,6 +304,12 @@ fn maximal_ball(
         }
     }
     r *= 1.01;
+    // A neighbour's radius, with a margin: shrinking converges from above to the same
+    // maximal ball from any start, in fewer queries from a close one; a start below it
+    // finds the ball empty and grows.
+    if let Some(near) = near_r {
+        r = r.min(1.5 * near + 10.0 * acc);
+    }
     // The box of a curved part is a close inner estimate (`Model::bounding_box`), so a
     // ball that is empty at the first guess is grown until a query shrinks it: only a
     // shrunk ball is known to be maximal.
