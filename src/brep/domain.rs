@@ -32,11 +32,12 @@ fn project(face: &Face, p: DVec3, hint: Option<(f64, f64)>) -> Option<(f64, f64)
         eval_surface(&face.surface, uv.0, uv.1).p.distance(p) <= ON_SURFACE_TOL * scale
     };
     // A hint can lead to a far stationary point (the far side of a sphere): retry without.
-    crate::geom::project_point(&face.surface, p, hint)
-        .filter(on)
-        .or_else(|| {
-            hint.and_then(|_| crate::geom::project_point(&face.surface, p, None).filter(on))
-        })
+    match hint {
+        Some(h) => crate::geom::project::project_point_along(&face.surface, p, h),
+        None => crate::geom::project_point(&face.surface, p, None),
+    }
+    .filter(on)
+    .or_else(|| hint.and_then(|_| crate::geom::project_point(&face.surface, p, None).filter(on)))
 }
 
 /// How far (relative to the size of the coordinates) a boundary point may be from its face's
