@@ -11,9 +11,11 @@
 //! - [`check_acyclic`] rejects reference cycles, on which any recursive reader overflows;
 //! - [`length_units`] and [`placements`] recover units and assembly transforms.
 
+use glam::DVec3;
 use rustc_hash::FxHashMap;
 use ruststep::ast::{DataSection, EntityInstance, Name, Parameter, Record};
 use std::collections::HashMap;
+use truck_geometry::prelude::{Matrix4, Transformed};
 use truck_stepio::r#in::ruststep;
 
 /// Index of the records of a data section by STEP id.
@@ -799,6 +801,29 @@ pub fn mat_mul(a: &Mat4, b: &Mat4) -> Mat4 {
         }
     }
     m
+}
+
+/// `m` applied to the point `p`.
+pub fn apply(m: &Mat4, p: DVec3) -> DVec3 {
+    let a = [p.x, p.y, p.z, 1.0];
+    let r = |i: usize| (0..4).map(|k| m[i][k] * a[k]).sum::<f64>();
+    DVec3::new(r(0), r(1), r(2))
+}
+
+/// Geometry moved by the placement `m` (mm scaling and assembly transform).
+pub fn placed<T: Transformed<Matrix4>>(mut geometry: T, m: &Mat4) -> T {
+    if *m != IDENTITY {
+        geometry.transform_by(to_matrix4(m));
+    }
+    geometry
+}
+
+pub fn to_matrix4(m: &Mat4) -> Matrix4 {
+    // cgmath matrices are column-major: Matrix4::new takes columns.
+    Matrix4::new(
+        m[0][0], m[1][0], m[2][0], m[3][0], m[0][1], m[1][1], m[2][1], m[3][1], m[0][2], m[1][2],
+        m[2][2], m[3][2], m[0][3], m[1][3], m[2][3], m[3][3],
+    )
 }
 
 /// Inverse of a rigid transform (rotation + translation).

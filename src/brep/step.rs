@@ -18,7 +18,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use truck_geometry::prelude::{Matrix4, Point3, Transformed};
+use truck_geometry::prelude::Point3;
 use truck_stepio::r#in::ruststep::ast::{Name, Parameter};
 use truck_stepio::r#in::ruststep::tables::{IntoOwned, PlaceHolder};
 use truck_stepio::r#in::{EdgeCurveHolder, SurfaceAnyHolder, Table};
@@ -549,7 +549,7 @@ impl Ingest<'_> {
         if c.len() != 3 || c.iter().any(|x| !x.is_finite()) {
             return Err(self.err(pid, "needs three finite coordinates"));
         }
-        let point = transform_point(m, DVec3::new(c[0], c[1], c[2]));
+        let point = records::apply(m, DVec3::new(c[0], c[1], c[2]));
         let v = self.model.vertices.len();
         self.model.vertices.push(Vertex { step_id: id, point });
         self.vertex_map.insert((id, instance), v);
@@ -688,7 +688,7 @@ impl Ingest<'_> {
                 .map_err(|e| first_line(&e.to_string()))?;
             Surface::try_from(&any).map_err(|e| first_line(&e.to_string()))
         })?;
-        Ok(placed(surface, m))
+        Ok(records::placed(surface, m))
     }
 
     fn convert_edge_curve(&self, id: u64, geometry: u64, m: &Mat4) -> Result<Curve3D> {
@@ -723,7 +723,7 @@ impl Ingest<'_> {
         if matches!(curve, Curve3D::PCurve(_)) {
             return Err(self.err(id, "edge has only a pcurve, no 3D curve"));
         }
-        Ok(placed(curve, m))
+        Ok(records::placed(curve, m))
     }
 
     /// Compares what the file defines with what the model holds: every `ADVANCED_FACE`,
@@ -857,26 +857,4 @@ fn permutation(keys: &[(usize, usize)]) -> Vec<usize> {
     let mut perm: Vec<usize> = (0..keys.len()).collect();
     perm.sort_by_key(|&i| keys[i]);
     perm
-}
-
-fn transform_point(m: &Mat4, p: DVec3) -> DVec3 {
-    let a = [p.x, p.y, p.z, 1.0];
-    let r = |i: usize| (0..4).map(|k| m[i][k] * a[k]).sum::<f64>();
-    DVec3::new(r(0), r(1), r(2))
-}
-
-/// Geometry moved by the placement `m` (mm scaling and assembly transform).
-fn placed<T: Transformed<Matrix4>>(mut geometry: T, m: &Mat4) -> T {
-    if *m != records::IDENTITY {
-        geometry.transform_by(to_matrix4(m));
-    }
-    geometry
-}
-
-fn to_matrix4(m: &Mat4) -> Matrix4 {
-    // cgmath matrices are column-major: Matrix4::new takes columns.
-    Matrix4::new(
-        m[0][0], m[1][0], m[2][0], m[3][0], m[0][1], m[1][1], m[2][1], m[3][1], m[0][2], m[1][2],
-        m[2][2], m[3][2], m[0][3], m[1][3], m[2][3], m[3][3],
-    )
 }

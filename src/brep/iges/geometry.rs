@@ -23,50 +23,11 @@ use truck_stepio::r#in::alias::{
     Conic3D, Curve3D, ElementarySurface, Sphere, SphericalSurface, Surface, SweptCurve,
 };
 
-/// A row-major affine 4×4 matrix (last row 0 0 0 1).
-pub type Mat4 = [[f64; 4]; 4];
-
-pub const IDENTITY: Mat4 = [
-    [1.0, 0.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0, 0.0],
-    [0.0, 0.0, 1.0, 0.0],
-    [0.0, 0.0, 0.0, 1.0],
-];
-
-pub fn mat_mul(a: &Mat4, b: &Mat4) -> Mat4 {
-    let mut c = [[0.0; 4]; 4];
-    for (i, row) in c.iter_mut().enumerate() {
-        for (j, cell) in row.iter_mut().enumerate() {
-            *cell = (0..4).map(|k| a[i][k] * b[k][j]).sum();
-        }
-    }
-    c
-}
-
-pub fn apply(m: &Mat4, p: DVec3) -> DVec3 {
-    let a = [p.x, p.y, p.z, 1.0];
-    let r = |i: usize| (0..4).map(|k| m[i][k] * a[k]).sum::<f64>();
-    DVec3::new(r(0), r(1), r(2))
-}
+pub use crate::brep::records::{apply, mat_mul, placed, to_matrix4, Mat4, IDENTITY};
 
 fn apply_dir(m: &Mat4, d: DVec3) -> DVec3 {
     let r = |i: usize| m[i][0] * d.x + m[i][1] * d.y + m[i][2] * d.z;
     DVec3::new(r(0), r(1), r(2))
-}
-
-fn to_matrix4(m: &Mat4) -> Matrix4 {
-    // cgmath matrices are column-major: Matrix4::new takes columns.
-    Matrix4::new(
-        m[0][0], m[1][0], m[2][0], m[3][0], m[0][1], m[1][1], m[2][1], m[3][1], m[0][2], m[1][2],
-        m[2][2], m[3][2], m[0][3], m[1][3], m[2][3], m[3][3],
-    )
-}
-
-fn placed<T: Transformed<Matrix4>>(mut g: T, m: &Mat4) -> T {
-    if *m != IDENTITY {
-        g.transform_by(to_matrix4(m));
-    }
-    g
 }
 
 fn p3(p: DVec3) -> Point3 {
