@@ -26,14 +26,15 @@ fn to_dvec(p: Point3) -> DVec3 {
 
 /// Projects `p` onto `face`'s surface; `None` unless the foot point is within
 /// `ON_SURFACE_TOL` (relative to the coordinates' size) of `p`.
-fn project(face: &Face, p: DVec3, hint: Option<(f64, f64)>) -> Option<(f64, f64)> {
+/// `periodic`: whether the surface has an angle parameter (truck's `u_period`/`v_period`).
+fn project(face: &Face, p: DVec3, hint: Option<(f64, f64)>, periodic: bool) -> Option<(f64, f64)> {
     let scale = 1.0 + p.abs().max_element();
     let on = |uv: &(f64, f64)| {
         eval_surface(&face.surface, uv.0, uv.1).p.distance(p) <= ON_SURFACE_TOL * scale
     };
     // A hint can lead to a far stationary point (the far side of a sphere): retry without.
     match hint {
-        Some(h) => crate::geom::project::project_point_along(&face.surface, p, h),
+        Some(h) => crate::geom::project::project_point_along(&face.surface, p, h, periodic),
         None => crate::geom::project_point(&face.surface, p, None),
     }
     .filter(on)
@@ -69,10 +70,17 @@ fn wrap_near(x: f64, reference: f64, period: Option<f64>) -> f64 {
 pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>, String> {
     let face = &model.faces[face_index];
     let (up, vp) = crate::geom::surface_periods(&face.surface);
+    // Angles: truck's canonical range is what the unwrapping below expects. A B-spline that
+    // closes on itself has no angle: every answer is in its knot range, which `align_loops`
+    // handles.
+    let periodic = {
+        use truck_geometry::prelude::ParametricSurface;
+        face.surface.u_period().is_some() || face.surface.v_period().is_some()
+    };
     if let Some(v) = lp.vertex {
         let p = model.vertices[v].point;
-        let uv =
-            project(face, p, None).ok_or("vertex loop's vertex is not on the face's surface")?;
+        let uv = project(face, p, None, false)
+            .ok_or("vertex loop's vertex is not on the face's surface")?;
         return Ok(vec![DVec2::new(uv.0, uv.1)]);
     }
     // Sample the loop in order; remember which samples start a seam traversal.
@@ -112,7 +120,7 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
     let mut raw: Vec<Option<(f64, f64)>> = Vec::with_capacity(samples.len());
     let mut hint = None;
     for s in &samples {
-        let uv = project(face, s.p, hint);
+        let uv = project(face, s.p, hint, periodic);
         if let Some(uv) = uv {
             if !is_singular(face, uv) {
                 hint = Some(uv);

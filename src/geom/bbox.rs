@@ -70,10 +70,16 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
             for j in 0..=n {
                 let u = f.domain.u.0 + (f.domain.u.1 - f.domain.u.0) * i as f64 / n as f64;
                 let v = f.domain.v.0 + (f.domain.v.1 - f.domain.v.0) * j as f64 / n as f64;
+                // Most grid points are inside the box already: test the trim (a walk over
+                // the loops' polygons) only for a point that would grow it.
+                let p = super::eval_surface(&f.surface, u, v).p;
+                if p.cmpge(b.min).all() && p.cmple(b.max).all() {
+                    continue;
+                }
                 if f.outer.is_some() && !super::trim::contains(f, glam::DVec2::new(u, v)) {
                     continue;
                 }
-                b.add(super::eval_surface(&f.surface, u, v).p);
+                b.add(p);
             }
         }
     }

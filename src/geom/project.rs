@@ -66,8 +66,18 @@ pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> O
 /// 268 with 22). The loops' feet are exact to 1e-12 instead of truck's 1e-6; even that moves
 /// a few open seam ends on the two real parts that have them in degenerate spots (trimesh 22
 /// → 20, M6 screw 7 → 8).
-pub fn project_point_along(surface: &Surface, p: DVec3, hint: (f64, f64)) -> Option<(f64, f64)> {
-    let periodic = crate::geom::surface_periods(surface) != (None, None);
+///
+/// `periodic` is whether the surface has an angle parameter (truck's `u_period` or
+/// `v_period`: spheres, tori, cylinders, cones, revolutions), where our Newton would leave
+/// truck's canonical range. A B-spline patch that closes on itself is not periodic here:
+/// Newton's iterates are clamped to its knot range, and a foot stuck at the closing border
+/// fails [`is_foot`] and goes to truck. The caller decides once per loop.
+pub fn project_point_along(
+    surface: &Surface,
+    p: DVec3,
+    hint: (f64, f64),
+    periodic: bool,
+) -> Option<(f64, f64)> {
     if !periodic {
         if let Some(uv) = newton(surface, p, hint).filter(|uv| is_foot(surface, p, *uv)) {
             return Some(uv);
