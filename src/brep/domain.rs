@@ -11,18 +11,13 @@
 //! jumps across the period.
 
 use super::model::{Face, Loop, Model, UvDomain};
-use crate::geom::eval_surface;
+use crate::geom::{eval_curve, eval_surface};
 use glam::{DVec2, DVec3};
-use truck_geometry::prelude::{ParametricCurve, Point3};
 
 /// Samples per curved edge when building a loop's UV polygon. Loops are used for
 /// inside/outside tests and domains, not for exact geometry; 32 keeps the chordal deviation of
 /// a full circle below 0.5 % of its radius.
 pub const SAMPLES_PER_CURVED_EDGE: usize = 32;
-
-fn to_dvec(p: Point3) -> DVec3 {
-    DVec3::new(p.x, p.y, p.z)
-}
 
 /// Projects `p` onto `face`'s surface; `None` unless the foot point is within
 /// `ON_SURFACE_TOL` (relative to the coordinates' size) of `p`.
@@ -32,6 +27,15 @@ fn project(face: &Face, p: DVec3, hint: Option<(f64, f64)>, periodic: bool) -> O
     let on = |uv: &(f64, f64)| {
         eval_surface(&face.surface, uv.0, uv.1).p.distance(p) <= ON_SURFACE_TOL * scale
     };
+    // Without a hint (a loop's first sample), a B-spline patch's own control net gives one:
+    // several times cheaper than truck's search without a hint, which starts from a dense
+    // grid of surface points. If that does not find the point on the patch, the search
+    // without a hint below runs.
+    let hint = hint.or_else(|| {
+        (!periodic)
+            .then(|| crate::geom::project::greville_hint(&face.surface, p))
+            .flatten()
+    });
     // A hint can lead to a far stationary point (the far side of a sphere): retry without.
     match hint {
         Some(h) => crate::geom::project::project_point_along(&face.surface, p, h, periodic),
@@ -53,10 +57,6 @@ fn is_singular(face: &Face, uv: (f64, f64)) -> bool {
     su.cross(sv).length() <= 1e-9 * (su.length() * sv.length()).max(1e-300)
         || su.length() < 1e-12
         || sv.length() < 1e-12
-}
-
-fn to_dvec_v(v: truck_geometry::prelude::Vector3) -> DVec3 {
-    DVec3::new(v.x, v.y, v.z)
 }
 
 fn wrap_near(x: f64, reference: f64, period: Option<f64>) -> f64 {
@@ -105,9 +105,10 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
         };
         for k in 0..n {
             let t = t0 + (t1 - t0) * (k as f64) / (n as f64);
-            let p = to_dvec(edge.curve.subs(t));
+            let c = eval_curve(&edge.curve, t);
+            let p = c.p;
             let seam_dir = seam.then(|| {
-                let d = to_dvec_v(edge.curve.der(t));
+                let d = c.d1;
                 if oe.forward {
                     d
                 } else {

@@ -2,7 +2,6 @@
 
 use crate::brep::Model;
 use glam::DVec3;
-use truck_geometry::prelude::ParametricCurve;
 
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,8 +48,7 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
     for e in &model.edges {
         for k in 0..=BBOX_EDGE_SAMPLES {
             let t = e.range.0 + (e.range.1 - e.range.0) * k as f64 / BBOX_EDGE_SAMPLES as f64;
-            let p = e.curve.subs(t);
-            b.add(DVec3::new(p.x, p.y, p.z));
+            b.add(super::eval_curve(&e.curve, t).p);
         }
     }
     // Face interiors: a free-form face can bulge beyond its edges (a B-spline top with a
@@ -64,6 +62,11 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
             crate::geom::surface_kind(&f.surface),
             "plane" | "cylinder" | "cone" | "extrusion"
         ) {
+            continue;
+        }
+        // A B-spline or NURBS patch (positive weights) lies in the convex hull of its control
+        // points: when they are all in the box, so is the face.
+        if control_points_within(&f.surface, &b) {
             continue;
         }
         for i in 0..=n {
@@ -84,4 +87,24 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
         }
     }
     (b.min, b.max)
+}
+
+/// True when `surface` is a B-spline or NURBS patch whose control points (NURBS: with
+/// positive weights) all lie in `b`.
+fn control_points_within(surface: &crate::brep::model::Surface, b: &Aabb) -> bool {
+    use crate::brep::model::Surface;
+    let inside = |p: DVec3| p.cmpge(b.min).all() && p.cmple(b.max).all();
+    match surface {
+        Surface::BSplineSurface(s) => s
+            .control_points()
+            .iter()
+            .flatten()
+            .all(|p| inside(DVec3::new(p.x, p.y, p.z))),
+        Surface::NurbsSurface(s) => s
+            .control_points()
+            .iter()
+            .flatten()
+            .all(|h| h.w > 0.0 && inside(DVec3::new(h.x, h.y, h.z) / h.w)),
+        _ => false,
+    }
 }

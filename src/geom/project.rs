@@ -79,12 +79,77 @@ pub fn project_point_along(
     periodic: bool,
 ) -> Option<(f64, f64)> {
     if !periodic {
-        if let Some(uv) = newton(surface, p, hint).filter(|uv| is_foot(surface, p, *uv)) {
+        // A loop sample lies on the surface up to the file's gaps (1e-8 on the screw), where
+        // rounding leaves `is_foot`'s angle test (1e-6 rad) out of reach: a foot within
+        // `ON_SURFACE` of the point is taken as it is.
+        let scale = 1.0 + p.abs().max_element();
+        let on =
+            |uv: &(f64, f64)| eval_surface(surface, uv.0, uv.1).p.distance(p) <= ON_SURFACE * scale;
+        if let Some(uv) = newton(surface, p, hint).filter(|uv| on(uv) || is_foot(surface, p, *uv)) {
             return Some(uv);
         }
     }
     project_point(surface, p, Some(hint))
 }
+
+/// A start for Newton on a B-spline or NURBS patch near `p`: the Greville abscissae
+/// (`(t_{i+1} + … + t_{i+p}) / p` in each direction) of the control point nearest `p`. A
+/// patch follows its control net, so this is near the foot of a point on the patch; `None`
+/// for other surfaces and for degree 0.
+pub fn greville_hint(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
+    use truck_geometry::prelude::KnotVec;
+    let nearest = |rows: &mut dyn Iterator<Item = (usize, usize, DVec3)>| {
+        rows.filter(|(_, _, c)| c.is_finite())
+            .min_by(|a, b| a.2.distance_squared(p).total_cmp(&b.2.distance_squared(p)))
+            .map(|(i, j, _)| (i, j))
+    };
+    let (ku, kv, pu, pv, (i, j)): (&KnotVec, &KnotVec, usize, usize, (usize, usize)) = match surface
+    {
+        Surface::BSplineSurface(b) => {
+            let ij = nearest(
+                &mut b.control_points().iter().enumerate().flat_map(|(i, r)| {
+                    r.iter()
+                        .enumerate()
+                        .map(move |(j, c)| (i, j, DVec3::new(c.x, c.y, c.z)))
+                }),
+            )?;
+            (
+                &b.knot_vecs().0,
+                &b.knot_vecs().1,
+                b.udegree(),
+                b.vdegree(),
+                ij,
+            )
+        }
+        Surface::NurbsSurface(n) => {
+            let ij = nearest(
+                &mut n.control_points().iter().enumerate().flat_map(|(i, r)| {
+                    r.iter()
+                        .enumerate()
+                        .map(move |(j, c)| (i, j, DVec3::new(c.x, c.y, c.z) / c.w))
+                }),
+            )?;
+            (
+                &n.knot_vecs().0,
+                &n.knot_vecs().1,
+                n.udegree(),
+                n.vdegree(),
+                ij,
+            )
+        }
+        _ => return None,
+    };
+    let greville = |k: &KnotVec, deg: usize, i: usize| -> Option<f64> {
+        (deg > 0 && i + deg < k.len())
+            .then(|| (1..=deg).map(|d| k[i + d]).sum::<f64>() / deg as f64)
+    };
+    Some((greville(ku, pu, i)?, greville(kv, pv, j)?))
+}
+
+/// Distance, relative to the size of the coordinates, within which [`project_point_along`]
+/// takes Newton's point as the foot of a point on the surface without testing that it is a
+/// stationary point (truck's search is accurate to about this).
+pub const ON_SURFACE: f64 = 1e-6;
 
 /// The best foot from a grid of seeds (knot spans for B-splines) and Newton from the few
 /// nearest, with `truck`'s answer as one more candidate when there was no hint.
