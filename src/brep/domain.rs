@@ -27,6 +27,10 @@ fn project(face: &Face, p: DVec3, hint: Option<(f64, f64)>, periodic: bool) -> O
     let on = |uv: &(f64, f64)| {
         eval_surface(&face.surface, uv.0, uv.1).p.distance(p) <= ON_SURFACE_TOL * scale
     };
+    // Cylinders and cones in closed form, in truck's parameters.
+    if let Some(uv) = crate::geom::project::project_revolved_line(&face.surface, p).filter(on) {
+        return Some(uv);
+    }
     // Without a hint (a loop's first sample), a B-spline patch's own control net gives one:
     // several times cheaper than truck's search without a hint, which starts from a dense
     // grid of surface points. If that does not find the point on the patch, the search
@@ -105,10 +109,9 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
         };
         for k in 0..n {
             let t = t0 + (t1 - t0) * (k as f64) / (n as f64);
-            let c = eval_curve(&edge.curve, t);
-            let p = c.p;
+            let p = crate::geom::eval::curve_point(&edge.curve, t);
             let seam_dir = seam.then(|| {
-                let d = c.d1;
+                let d = eval_curve(&edge.curve, t).d1;
                 if oe.forward {
                     d
                 } else {

@@ -46,9 +46,15 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
         b.add(v.point);
     }
     for e in &model.edges {
-        for k in 0..=BBOX_EDGE_SAMPLES {
-            let t = e.range.0 + (e.range.1 - e.range.0) * k as f64 / BBOX_EDGE_SAMPLES as f64;
-            b.add(super::eval_curve(&e.curve, t).p);
+        // A line's extent is its end points'.
+        let n = if matches!(e.curve, crate::brep::model::Curve3D::Line(_)) {
+            1
+        } else {
+            BBOX_EDGE_SAMPLES
+        };
+        for k in 0..=n {
+            let t = e.range.0 + (e.range.1 - e.range.0) * k as f64 / n as f64;
+            b.add(super::eval::curve_point(&e.curve, t));
         }
     }
     // Face interiors: a free-form face can bulge beyond its edges (a B-spline top with a

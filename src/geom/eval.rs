@@ -107,6 +107,18 @@ pub fn eval_curve(curve: &Curve3D, t: f64) -> CurveDerivs {
     }
 }
 
+/// The point of `curve` at `t` alone: B-spline and NURBS curves by our evaluator (truck's
+/// allocates per call), the other kinds by truck's `subs` (one evaluation where
+/// [`eval_curve`] makes three for a conic).
+pub fn curve_point(curve: &Curve3D, t: f64) -> DVec3 {
+    match curve {
+        Curve3D::BSplineCurve(_) | Curve3D::NurbsCurve(_) | Curve3D::PCurve(_) => {
+            eval_curve(curve, t).p
+        }
+        _ => point3(curve.subs(t)),
+    }
+}
+
 /// Evaluates a B-spline surface (our code, not truck's `uuder`/`vvder`).
 pub fn eval_bspline_surface(s: &BSplineSurface<Point3>, u: f64, v: f64) -> SurfaceDerivs {
     let (uk, vk) = s.knot_vecs();

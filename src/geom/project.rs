@@ -146,6 +146,106 @@ pub fn greville_hint(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
     Some((greville(ku, pu, i)?, greville(kv, pv, j)?))
 }
 
+/// The exact foot of `p` on a cylinder or cone (truck's `Processor<RevolutedCurve<Line>,
+/// Matrix4>`), in truck's parameters: the line parameter, and the angle in `[0, 2π]` as
+/// truck's own search gives it (`acos` of the radial directions, mirrored by the side of the
+/// axis). Both nappes of a cone count; the nearer wins.
+///
+/// `None` (the caller searches instead) for other surfaces, a transform that is not a
+/// similarity (it would not map feet to feet), a line out of the axis's plane, and a point
+/// on the axis (every angle is a foot).
+pub fn project_revolved_line(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
+    let Surface::ElementarySurface(e) = surface else {
+        return None;
+    };
+    let pr = match e.as_ref() {
+        ElementarySurface::CylindricalSurface(pr) | ElementarySurface::ConicalSurface(pr) => pr,
+        _ => return None,
+    };
+    let m = glam::DMat4::from_cols_array_2d(&(*pr.transform()).into());
+    let (c0, c1, c2) = (
+        m.x_axis.truncate(),
+        m.y_axis.truncate(),
+        m.z_axis.truncate(),
+    );
+    let s2 = c0.length_squared();
+    let similar = m.x_axis.w == 0.0
+        && m.y_axis.w == 0.0
+        && m.z_axis.w == 0.0
+        && m.w_axis.w == 1.0
+        && s2 > 0.0
+        && (c1.length_squared() - s2).abs() <= 1e-12 * s2
+        && (c2.length_squared() - s2).abs() <= 1e-12 * s2
+        && c0.dot(c1).abs() <= 1e-12 * s2
+        && c0.dot(c2).abs() <= 1e-12 * s2
+        && c1.dot(c2).abs() <= 1e-12 * s2;
+    if !similar {
+        return None;
+    }
+    let q = m.inverse().transform_point3(p);
+    let rev = pr.entity();
+    let o = DVec3::new(rev.origin().x, rev.origin().y, rev.origin().z);
+    let a = DVec3::new(rev.axis().x, rev.axis().y, rev.axis().z);
+    let line = rev.entity_curve();
+    let (la, lb) = (
+        DVec3::new(line.0.x, line.0.y, line.0.z),
+        DVec3::new(line.1.x, line.1.y, line.1.z),
+    );
+    // (axial, radial) coordinates in the meridian half-plane of `e`, the line's side.
+    let split = |x: DVec3| {
+        let r = x - o;
+        let z = r.dot(a);
+        (z, r - a * z)
+    };
+    let ((za, ha), (zb, hb), (zq, hq)) = (split(la), split(lb), split(q));
+    let size = (la - o).length().max((lb - o).length()).max(1e-300);
+    let e = if ha.length() >= hb.length() { ha } else { hb }.normalize_or_zero();
+    if e == DVec3::ZERO
+        || ha.cross(e).length() > 1e-12 * size
+        || hb.cross(e).length() > 1e-12 * size
+        || hq.length() <= 1e-12 * (size + (q - o).length())
+    {
+        return None;
+    }
+    let (ra, rb, rq) = (ha.dot(e), hb.dot(e), hq.length());
+    let (dz, dr) = (zb - za, rb - ra);
+    let dd = dz * dz + dr * dr;
+    if dd <= 0.0 {
+        return None;
+    }
+    // truck's angle from `e` to `hq`, in [0, 2π).
+    let hqn = hq / rq;
+    let angle = |from: DVec3| {
+        let t = from.dot(hqn).clamp(-1.0, 1.0).acos();
+        if from.cross(hqn).dot(a) < 0.0 {
+            2.0 * std::f64::consts::PI - t
+        } else {
+            t
+        }
+    };
+    // The nearest point of the line in the half-plane of `q` (radius > 0 there) and in the
+    // opposite one (radius < 0: the other nappe, reached by turning half a turn more).
+    let foot = |rq: f64| {
+        let t = ((zq - za) * dz + (rq - ra) * dr) / dd;
+        let (z, r) = (za + t * dz, ra + t * dr);
+        (t, r, (z - zq).hypot(r - rq))
+    };
+    let (t1, r1, d1) = foot(rq);
+    let (t2, r2, d2) = foot(-rq);
+    let (t, theta) = match (r1 > 0.0, r2 < 0.0) {
+        (true, false) => (t1, angle(e)),
+        (false, true) => (t2, angle(-e)),
+        (true, true) if d1 <= d2 => (t1, angle(e)),
+        (true, true) => (t2, angle(-e)),
+        (false, false) => return None,
+    };
+    Some(if pr.orientation() {
+        (t, theta)
+    } else {
+        (theta, t)
+    })
+}
+
 /// Distance, relative to the size of the coordinates, within which [`project_point_along`]
 /// takes Newton's point as the foot of a point on the surface without testing that it is a
 /// stationary point (truck's search is accurate to about this).
@@ -443,4 +543,121 @@ fn newton(surface: &Surface, p: DVec3, start: (f64, f64)) -> Option<(f64, f64)> 
         }
     }
     Some((u, v))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::TAU;
+    use truck_geometry::prelude::*;
+    use truck_stepio::r#in::alias::ElementarySurface;
+
+    /// A cylinder (`apex_shift` 0) or cone about `axis`, placed by a rotation, a uniform scale
+    /// and a shift, in both orientations: what truck-stepio makes of STEP's cylinders and
+    /// cones, placed and scaled to mm.
+    fn revolved(apex_shift: f64, inverted: bool, turn: f64, scale: f64) -> Surface {
+        let (c, z) = (
+            Point3::new(1.0, -2.0, 0.5),
+            Vector3::new(0.3, 0.4, 1.0).normalize(),
+        );
+        let x = Vector3::new(1.0, 0.0, -0.3).normalize();
+        let x = (x - z * x.dot(z)).normalize();
+        let p = c + x * 2.0;
+        let line = Line(p, p + z + x * apex_shift);
+        let mut s = Processor::<_, Matrix4>::new(RevolutedCurve::by_revolution(line, c, z));
+        if inverted {
+            s.invert();
+        }
+        let m = Matrix4::from_translation(Vector3::new(5.0, 0.0, -3.0))
+            * Matrix4::from_axis_angle(Vector3::new(1.0, 1.0, 0.0).normalize(), Rad(turn))
+            * Matrix4::from_scale(scale);
+        s.transform_by(m);
+        let e = if apex_shift == 0.0 {
+            ElementarySurface::CylindricalSurface(s)
+        } else {
+            ElementarySurface::ConicalSurface(s)
+        };
+        Surface::ElementarySurface(Box::new(e))
+    }
+
+    /// The closed form gives truck's own answer (its search without a hint, which for a
+    /// revolved line solves along the line and then takes the angle) for points on and near
+    /// cylinders and cones: the same foot to 1e-9, the same parameters, the angle in truck's
+    /// `[0, 2π]` (`2π − ε` rounds to 2π) and differing by a whole turn only at the seam.
+    #[test]
+    fn revolved_line_feet_are_truck_s() {
+        let mut compared = 0;
+        for (apex_shift, inverted, turn, scale) in [
+            (0.0, true, 0.0, 1.0),
+            (0.0, false, 0.7, 25.4),
+            (0.4, true, 2.0, 1.0),
+            (-0.25, false, -1.1, 0.001),
+        ] {
+            let s = revolved(apex_shift, inverted, turn, scale);
+            for k in 0..400 {
+                let (a, h, off) = (
+                    TAU * ((k as f64 * 0.618034) % 1.0),
+                    -1.5 + 3.0 * ((k as f64 * 0.414214) % 1.0),
+                    0.2 * ((k as f64 * 0.732051) % 1.0) - 0.1,
+                );
+                let (u, v) = if inverted { (a, h) } else { (h, a) };
+                let d = eval_surface(&s, u, v);
+                let n = d.su.cross(d.sv).normalize();
+                let p = d.p + n * off * scale;
+                let ours = project_revolved_line(&s, p).expect("closed form");
+                let q = Point3::new(p.x, p.y, p.z);
+                let truck = s.search_nearest_parameter(q, None, 100).expect("truck");
+                let foot = |uv: (f64, f64)| eval_surface(&s, uv.0, uv.1).p;
+                let size = scale * 4.0;
+                assert!(
+                    foot(ours).distance(foot(truck)) <= 1e-9 * size,
+                    "{apex_shift} {inverted}: {ours:?} vs truck {truck:?}"
+                );
+                // The same parameters, the angle up to a whole turn only at the seam.
+                let (ai, hi) = if inverted { (0, 1) } else { (1, 0) };
+                let pick = |uv: (f64, f64), i: usize| if i == 0 { uv.0 } else { uv.1 };
+                assert!((pick(ours, hi) - pick(truck, hi)).abs() <= 1e-9 * (1.0 + size));
+                let (ao, at) = (pick(ours, ai), pick(truck, ai));
+                assert!((0.0..=TAU).contains(&ao), "angle {ao} outside [0, 2π]");
+                let da = (ao - at).abs();
+                assert!(
+                    da <= 1e-9 || ((da - TAU).abs() <= 1e-9 && ao.min(TAU - ao) <= 1e-9),
+                    "angle {ao} vs truck {at}"
+                );
+                compared += 1;
+            }
+        }
+        assert_eq!(compared, 1600);
+    }
+
+    /// A point on the axis has every angle as a foot, and a shear is not a similarity: both
+    /// are left to the search.
+    #[test]
+    fn revolved_line_declines_the_axis_and_non_similar_transforms() {
+        let s = revolved(0.0, true, 0.0, 1.0);
+        let axis_point = eval_surface(&s, 0.0, 0.5).p; // on the surface ...
+        assert!(project_revolved_line(&s, axis_point).is_some());
+        let Surface::ElementarySurface(e) = &s else {
+            unreachable!()
+        };
+        let ElementarySurface::CylindricalSurface(pr) = e.as_ref() else {
+            unreachable!()
+        };
+        // ... the axis itself: centre (1, −2, 0.5) placed by the shift.
+        let c = DVec3::new(6.0, -2.0, -2.5);
+        assert!(project_revolved_line(&s, c).is_none());
+        let mut sheared = pr.clone();
+        sheared.transform_by(Matrix4::new(
+            1.0, 0.0, 0.0, 0.0, 0.5, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+        ));
+        let sheared =
+            Surface::ElementarySurface(Box::new(ElementarySurface::CylindricalSurface(sheared)));
+        assert!(project_revolved_line(&sheared, axis_point).is_none());
+        let plane = Surface::ElementarySurface(Box::new(ElementarySurface::Plane(Plane::new(
+            Point3::origin(),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+        ))));
+        assert!(project_revolved_line(&plane, DVec3::ONE).is_none());
+    }
 }
