@@ -624,6 +624,72 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
     None
 }
 
+/// The simple entities truck-stepio 0.3's `Table::push_instance` reads into its tables; it
+/// keeps every other simple entity as a `Dummy` holding the record's `Debug` text.
+pub const TRUCK_SIMPLE_ENTITIES: [&str; 45] = [
+    "CARTESIAN_POINT",
+    "DIRECTION",
+    "VECTOR",
+    "PLACEMENT",
+    "AXIS1_PLACEMENT",
+    "AXIS2_PLACEMENT_2D",
+    "AXIS2_PLACEMENT_3D",
+    "LINE",
+    "POLYLINE",
+    "B_SPLINE_CURVE_WITH_KNOTS",
+    "BEZIER_CURVE",
+    "QUASI_UNIFORM_CURVE",
+    "UNIFORM_CURVE",
+    "CIRCLE",
+    "ELLIPSE",
+    "HYPERBOLA",
+    "PARABOLA",
+    "PCURVE",
+    "SURFACE_CURVE",
+    "SEAM_CURVE",
+    "PLANE",
+    "SPHERICAL_SURFACE",
+    "CYLINDRICAL_SURFACE",
+    "TOROIDAL_SURFACE",
+    "CONICAL_SURFACE",
+    "B_SPLINE_SURFACE_WITH_KNOTS",
+    "UNIFORM_SURFACE",
+    "QUASI_UNIFORM_SURFACE",
+    "BEZIER_SURFACE",
+    "SURFACE_OF_LINEAR_EXTRUSION",
+    "SURFACE_OF_REVOLUTION",
+    "VERTEX_POINT",
+    "EDGE_CURVE",
+    "ORIENTED_EDGE",
+    "EDGE_LOOP",
+    "FACE_BOUND",
+    "FACE_OUTER_BOUND",
+    "FACE_SURFACE",
+    "ADVANCED_FACE",
+    "ORIENTED_FACE",
+    "OPEN_SHELL",
+    "CLOSED_SHELL",
+    "ORIENTED_OPEN_SHELL",
+    "ORIENTED_CLOSED_SHELL",
+    "DEFINITIONAL_REPRESENTATION",
+];
+
+/// True for the simple entities truck reads (see [`TRUCK_SIMPLE_ENTITIES`]).
+pub fn truck_reads(name: &str) -> bool {
+    TRUCK_SIMPLE_ENTITIES.contains(&name)
+}
+
+/// The entities a `DEFINITIONAL_REPRESENTATION` names as its context: truck resolves them
+/// among its `Dummy` records.
+pub fn definitional_contexts(records: &Records) -> rustc_hash::FxHashSet<u64> {
+    records
+        .ids_in_order()
+        .filter_map(|id| records.simple(id))
+        .filter(|r| r.name == "DEFINITIONAL_REPRESENTATION")
+        .filter_map(|r| params(r).get(2).and_then(as_ref))
+        .collect()
+}
+
 /// A length unit: its name as the file gives it, and millimetres per unit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LengthUnit {
@@ -987,4 +1053,46 @@ pub fn placements(rep: u64, links: &[(u64, u64, Mat4)]) -> Vec<Mat4> {
         }
     }
     unique
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use truck_stepio::r#in::ruststep::ast::{EntityInstance, Parameter, Record};
+    use truck_stepio::r#in::Table;
+
+    fn simple(id: u64, name: &str) -> EntityInstance {
+        EntityInstance::Simple {
+            id,
+            record: Record {
+                name: name.into(),
+                parameter: Parameter::List(vec![]),
+            },
+        }
+    }
+
+    /// The list is truck's: every name on it is read into one of truck's tables (or refused
+    /// for its missing parameters), never kept as a `Dummy`; a name truck does not know is.
+    /// The reader skips the names not on the list, so a name truck reads and the list lacks
+    /// would lose geometry: the list was taken from `push_instance`'s match arms, and the
+    /// sample and real-world tests read every kind of entity the corpus has.
+    #[test]
+    fn truck_simple_entities_are_the_ones_truck_does_not_keep_as_dummies() {
+        for (k, name) in TRUCK_SIMPLE_ENTITIES.iter().enumerate() {
+            let mut table = Table::default();
+            let _ = table.push_instance(&simple(k as u64 + 1, name));
+            assert!(table.dummy.is_empty(), "truck keeps {name} as a dummy");
+        }
+        for name in [
+            "STYLED_ITEM",
+            "COLOUR_RGB",
+            "PRODUCT",
+            "SHAPE_REPRESENTATION",
+        ] {
+            assert!(!truck_reads(name));
+            let mut table = Table::default();
+            table.push_instance(&simple(1, name)).expect("a dummy");
+            assert_eq!(table.dummy.len(), 1, "{name}");
+        }
+    }
 }
