@@ -122,15 +122,16 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
         }
     }
     let mut raw: Vec<Option<(f64, f64)>> = Vec::with_capacity(samples.len());
+    let mut singular: Vec<bool> = Vec::with_capacity(samples.len());
     let mut hint = None;
     for s in &samples {
         let uv = project(face, s.p, hint, periodic);
-        if let Some(uv) = uv {
-            if !is_singular(face, uv) {
-                hint = Some(uv);
-            }
+        let pole = uv.is_some_and(|uv| is_singular(face, uv));
+        if let (Some(uv), false) = (uv, pole) {
+            hint = Some(uv);
         }
         raw.push(uv);
+        singular.push(pole);
     }
     if raw.iter().any(|x| x.is_none()) {
         let k = raw.iter().position(|x| x.is_none()).unwrap_or(0);
@@ -149,7 +150,6 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
         ));
     }
     let raw: Vec<(f64, f64)> = raw.into_iter().flatten().collect();
-    let singular: Vec<bool> = raw.iter().map(|uv| is_singular(face, *uv)).collect();
     // Start at a seam sample if there is one (its placement is absolute).
     let start = samples
         .iter()

@@ -78,6 +78,9 @@ pub fn project_point_along(
     hint: (f64, f64),
     periodic: bool,
 ) -> Option<(f64, f64)> {
+    if let Some(frame) = plane_frame(surface) {
+        return Some(project_plane(frame, p));
+    }
     if !periodic {
         // A loop sample lies on the surface up to the file's gaps (1e-8 on the screw), where
         // rounding leaves `is_foot`'s angle test (1e-6 rad) out of reach: a foot within
