@@ -118,7 +118,16 @@ impl<'a> Parser<'a> {
     }
 
     /// Skips white space and comments.
+    #[inline]
     fn ws(&mut self) -> R<()> {
+        // Most calls land on a token: no white space, no comment.
+        match self.b.get(self.i) {
+            Some(&c) if c > b' ' && c != b'/' => Ok(()),
+            _ => self.ws_slow(),
+        }
+    }
+
+    fn ws_slow(&mut self) -> R<()> {
         loop {
             while self.i < self.b.len() && self.b[self.i].is_ascii_whitespace() {
                 self.i += 1;

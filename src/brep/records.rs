@@ -214,13 +214,19 @@ fn plane_angle_factor(sections: &[DataSection]) -> f64 {
 /// Rewrites what truck misreads (see the module docs). Returns the number of records changed.
 pub fn patch_for_truck(sections: &mut [DataSection]) -> usize {
     let angle = plane_angle_factor(sections);
-    // Directions, to repair placements whose implicit x axis is degenerate.
+    // Directions, to repair placements whose implicit x axis is degenerate (only collected
+    // when some placement leaves its x axis out).
+    let implicit_x = sections.iter().flat_map(|s| &s.entities).any(|inst| {
+        matches!(inst, EntityInstance::Simple { record, .. }
+            if record.name == "AXIS2_PLACEMENT_3D"
+                && matches!(params(record).get(3), Some(Parameter::NotProvided)))
+    });
     let mut directions: HashMap<u64, [f64; 3]> = HashMap::new();
     let mut max_id = 0;
     for inst in sections.iter().flat_map(|s| &s.entities) {
         max_id = max_id.max(instance_id(inst));
         if let EntityInstance::Simple { id, record } = inst {
-            if record.name == "DIRECTION" {
+            if implicit_x && record.name == "DIRECTION" {
                 if let Some(Parameter::List(l)) = params(record).get(1) {
                     let c: Vec<f64> = l.iter().filter_map(as_real).collect();
                     if c.len() == 3 {

@@ -46,7 +46,11 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
         b.add(v.point);
     }
     for e in &model.edges {
-        // A line's extent is its end points'.
+        // A line's extent is its end points'. A curve inside a box that is already in the
+        // model's box adds nothing (every vertex is in by now).
+        if curve_hull_within(&e.curve, &b) {
+            continue;
+        }
         let n = if matches!(e.curve, crate::brep::model::Curve3D::Line(_)) {
             1
         } else {
@@ -112,5 +116,92 @@ fn control_points_within(surface: &crate::brep::model::Surface, b: &Aabb) -> boo
             .flatten()
             .all(|h| h.w > 0.0 && inside(DVec3::new(h.x, h.y, h.z) / h.w)),
         _ => false,
+    }
+}
+
+/// True when a box around the whole of `curve` (not just its trimmed range) lies in `b`: an
+/// ellipse's `centre ± (|a| + |b|)` per axis, a B-spline's or NURBS curve's (positive
+/// weights) control points.
+fn curve_hull_within(curve: &crate::brep::model::Curve3D, b: &Aabb) -> bool {
+    use crate::brep::model::Curve3D;
+    use truck_stepio::r#in::alias::Conic3D;
+    let inside = |p: DVec3| p.cmpge(b.min).all() && p.cmple(b.max).all();
+    match curve {
+        Curve3D::Conic(Conic3D::Ellipse(e)) => {
+            let m = e.transform();
+            // Affine only (what placements and unit scaling give).
+            if m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0 {
+                return false;
+            }
+            let c = DVec3::new(m[3][0], m[3][1], m[3][2]);
+            let (u, v) = (
+                DVec3::new(m[0][0], m[0][1], m[0][2]),
+                DVec3::new(m[1][0], m[1][1], m[1][2]),
+            );
+            let r = u.abs() + v.abs();
+            c.is_finite() && r.is_finite() && inside(c - r) && inside(c + r)
+        }
+        Curve3D::BSplineCurve(c) => c
+            .control_points()
+            .iter()
+            .all(|p| inside(DVec3::new(p.x, p.y, p.z))),
+        Curve3D::NurbsCurve(c) => c
+            .control_points()
+            .iter()
+            .all(|h| h.w > 0.0 && inside(DVec3::new(h.x, h.y, h.z) / h.w)),
+        _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::brep::model::Curve3D;
+    use truck_geometry::prelude::*;
+    use truck_stepio::r#in::alias::Conic3D;
+
+    /// `curve_hull_within` never passes a box that misses part of a placed, scaled ellipse
+    /// or of a B-spline (sampled 10,001 times), so a curve it skips cannot grow the model's
+    /// box; it passes a box around everything.
+    #[test]
+    fn curve_hulls_hold_their_curves() {
+        let m = Matrix4::from_translation(Vector3::new(3.0, -1.0, 2.0))
+            * Matrix4::from_axis_angle(Vector3::new(1.0, 2.0, 0.5).normalize(), Rad(0.8))
+            * Matrix4::from_nonuniform_scale(4.0, 1.5, 1.0);
+        let ellipse = Curve3D::Conic(Conic3D::Ellipse(
+            Processor::new(TrimmedCurve::new(UnitCircle::<Point3>::new(), (0.0, 6.3)))
+                .transformed(m),
+        ));
+        let spline = Curve3D::BSplineCurve(BSplineCurve::new(
+            KnotVec::bezier_knot(3),
+            vec![
+                Point3::new(0.0, 0.0, 0.0),
+                Point3::new(1.0, 3.0, -1.0),
+                Point3::new(2.0, -2.0, 1.0),
+                Point3::new(3.0, 0.0, 0.5),
+            ],
+        ));
+        for c in [ellipse, spline] {
+            let mut pts = Aabb::EMPTY;
+            for k in 0..=10_000 {
+                let t = match &c {
+                    Curve3D::Conic(_) => 6.3 * k as f64 / 10_000.0,
+                    _ => k as f64 / 10_000.0,
+                };
+                pts.add(crate::geom::eval_curve(&c, t).p);
+            }
+            let hull_ok = |b: &Aabb| curve_hull_within(&c, b);
+            let huge = Aabb {
+                min: DVec3::splat(-100.0),
+                max: DVec3::splat(100.0),
+            };
+            assert!(hull_ok(&huge));
+            // A box smaller than the curve's own extent never passes.
+            let shrunk = Aabb {
+                min: pts.min + 1e-3,
+                max: pts.max - 1e-3,
+            };
+            assert!(!hull_ok(&shrunk));
+        }
     }
 }
