@@ -123,12 +123,26 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
     }
     let mut raw: Vec<Option<(f64, f64)>> = Vec::with_capacity(samples.len());
     let mut singular: Vec<bool> = Vec::with_capacity(samples.len());
-    let mut hint = None;
+    let mut hint: Option<(f64, f64)> = None;
+    let mut before: Option<(f64, f64)> = None;
     for s in &samples {
-        let uv = project(face, s.p, hint, periodic);
+        // Linear prediction from the last two feet (samples are evenly spaced along each
+        // edge): Newton starts second-order close instead of first-order.
+        let predicted = match (hint, before) {
+            (Some(h), Some(b)) if !periodic => Some((2.0 * h.0 - b.0, 2.0 * h.1 - b.1)),
+            _ => hint,
+        };
+        let uv = project(face, s.p, predicted, periodic).or_else(|| {
+            (predicted != hint)
+                .then(|| project(face, s.p, hint, periodic))
+                .flatten()
+        });
         let pole = uv.is_some_and(|uv| is_singular(face, uv));
         if let (Some(uv), false) = (uv, pole) {
+            before = hint;
             hint = Some(uv);
+        } else {
+            before = None;
         }
         raw.push(uv);
         singular.push(pole);
