@@ -27,8 +27,8 @@ fn project(face: &Face, p: DVec3, hint: Option<(f64, f64)>, periodic: bool) -> O
     let on = |uv: &(f64, f64)| {
         eval_surface(&face.surface, uv.0, uv.1).p.distance(p) <= ON_SURFACE_TOL * scale
     };
-    // Cylinders and cones in closed form, in truck's parameters.
-    if let Some(uv) = crate::geom::project::project_revolved_line(&face.surface, p).filter(on) {
+    // Cylinders, cones and spheres in closed form, in truck's parameters.
+    if let Some(uv) = crate::geom::project::project_closed_form(&face.surface, p).filter(on) {
         return Some(uv);
     }
     let along = |h: (f64, f64)| {
