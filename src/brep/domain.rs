@@ -2,8 +2,10 @@
 //!
 //! truck's `parameter_range()` is not a face's domain (a plane reports [0,1]); the domain is
 //! what the face's boundary loops enclose. Each loop is sampled along its exact edge curves
-//! and projected onto the face's surface (with hints, so each projection is a few Newton
-//! steps). Periodic parameters are unwrapped continuously along the loop, and a *seam* edge
+//! and projected onto the face's surface: planes, cylinders, cones and spheres in closed
+//! form, other surfaces by Newton from the linear prediction of the last two feet (or the
+//! control net's nearest point for a loop's first sample), with truck's search as the
+//! fallback. Periodic parameters are unwrapped continuously along the loop, and a *seam* edge
 //! (an edge the face uses twice) is placed on the side of the period where the face lies:
 //! by the STEP convention a loop has the face on its left when seen against the face normal
 //! (`Su × Sv` when the face's `same_sense` is true), which fixes whether a traversal of the

@@ -8,6 +8,12 @@
 //! hint). truck alone fails outright on some inputs (cones, high-degree B-splines, poles of
 //! spheres, measured on the real-world corpus). [`project_point_along`], for trim-loop
 //! samples only, tries Newton from the hint before truck on non-periodic surfaces.
+//!
+//! For the trim loops only, [`project_closed_form`] answers cylinders, cones and spheres
+//! exactly in truck's parameters and angle ranges (truck's own `acos` formulas lose half the
+//! digits next to the seam and the poles; these use `atan2`), and [`greville_hint`] gives a
+//! B-spline patch a start from its control net. Edge classification and the tracer keep
+//! [`project_point`] unchanged (see [`project_point_along`] for why).
 
 use super::eval::eval_surface;
 use crate::brep::model::Surface;
