@@ -806,7 +806,7 @@ mod tests {
         // ... the axis itself: centre (1, −2, 0.5) placed by the shift.
         let c = DVec3::new(6.0, -2.0, -2.5);
         assert!(project_revolved_line(&s, c).is_none());
-        let mut sheared = pr.clone();
+        let mut sheared = *pr;
         sheared.transform_by(Matrix4::new(
             1.0, 0.0, 0.0, 0.0, 0.5, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
         ));
