@@ -257,7 +257,7 @@ pub fn patch_for_truck(sections: &mut [DataSection]) -> usize {
             continue;
         };
         // truck reads every entity's name as a string; some writers (Rhino) put `$` there.
-        if TRUCK_LABELLED.contains(&record.name.as_str()) {
+        if truck_reads(&record.name) {
             if let Some(first @ Parameter::NotProvided) = list.first_mut() {
                 *first = Parameter::String(String::new());
                 changed += 1;
@@ -336,55 +336,6 @@ pub fn patch_for_truck(sections: &mut [DataSection]) -> usize {
     }
     changed
 }
-
-/// Entities truck reads whose first attribute is a label it insists on reading as a string.
-const TRUCK_LABELLED: &[&str] = &[
-    "CARTESIAN_POINT",
-    "DIRECTION",
-    "VECTOR",
-    "PLACEMENT",
-    "AXIS1_PLACEMENT",
-    "AXIS2_PLACEMENT_2D",
-    "AXIS2_PLACEMENT_3D",
-    "LINE",
-    "POLYLINE",
-    "B_SPLINE_CURVE_WITH_KNOTS",
-    "BEZIER_CURVE",
-    "QUASI_UNIFORM_CURVE",
-    "UNIFORM_CURVE",
-    "CIRCLE",
-    "ELLIPSE",
-    "HYPERBOLA",
-    "PARABOLA",
-    "PCURVE",
-    "SURFACE_CURVE",
-    "SEAM_CURVE",
-    "PLANE",
-    "SPHERICAL_SURFACE",
-    "CYLINDRICAL_SURFACE",
-    "TOROIDAL_SURFACE",
-    "CONICAL_SURFACE",
-    "B_SPLINE_SURFACE_WITH_KNOTS",
-    "UNIFORM_SURFACE",
-    "QUASI_UNIFORM_SURFACE",
-    "BEZIER_SURFACE",
-    "SURFACE_OF_LINEAR_EXTRUSION",
-    "SURFACE_OF_REVOLUTION",
-    "VERTEX_POINT",
-    "EDGE_CURVE",
-    "ORIENTED_EDGE",
-    "EDGE_LOOP",
-    "FACE_BOUND",
-    "FACE_OUTER_BOUND",
-    "FACE_SURFACE",
-    "ADVANCED_FACE",
-    "ORIENTED_FACE",
-    "OPEN_SHELL",
-    "CLOSED_SHELL",
-    "ORIENTED_OPEN_SHELL",
-    "ORIENTED_CLOSED_SHELL",
-    "DEFINITIONAL_REPRESENTATION",
-];
 
 /// Finds a knot vector that is not non-decreasing, or a non-finite real anywhere in a
 /// B-spline record. Returns `(id, entity, reason)` for the first offender.
@@ -631,7 +582,8 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
 }
 
 /// The simple entities truck-stepio 0.3's `Table::push_instance` reads into its tables; it
-/// keeps every other simple entity as a `Dummy` holding the record's `Debug` text.
+/// keeps every other simple entity as a `Dummy` holding the record's `Debug` text. Each one's
+/// first attribute is a label truck insists on reading as a string.
 pub const TRUCK_SIMPLE_ENTITIES: [&str; 45] = [
     "CARTESIAN_POINT",
     "DIRECTION",

@@ -605,6 +605,28 @@ mod tests {
     use truck_geometry::prelude::*;
     use truck_stepio::r#in::alias::ElementarySurface;
 
+    /// Test angles: 400 spread by the golden ratio, then 8 next to the seam and half a turn
+    /// away, where `acos` loses digits.
+    const ANGLES: usize = 408;
+
+    fn angle(k: usize) -> f64 {
+        let near = [
+            1e-10,
+            TAU - 1e-10,
+            PI - 1e-10,
+            PI + 1e-10,
+            1e-6,
+            TAU - 1e-6,
+            0.0,
+            PI,
+        ];
+        if k < 400 {
+            TAU * ((k as f64 * 0.618034) % 1.0)
+        } else {
+            near[k - 400]
+        }
+    }
+
     /// A cylinder (`apex_shift` 0) or cone about `axis`, placed by a rotation, a uniform scale
     /// and a shift, in both orientations: what truck-stepio makes of STEP's cylinders and
     /// cones, placed and scaled to mm.
@@ -648,24 +670,9 @@ mod tests {
             (-0.25, false, -1.1, 0.001),
         ] {
             let s = revolved(apex_shift, inverted, turn, scale);
-            for k in 0..408 {
-                // Near the seam and half a turn away too, where `acos` loses digits.
-                let near = [
-                    1e-10,
-                    TAU - 1e-10,
-                    PI - 1e-10,
-                    PI + 1e-10,
-                    1e-6,
-                    TAU - 1e-6,
-                    0.0,
-                    PI,
-                ];
+            for k in 0..ANGLES {
                 let (a, h, off) = (
-                    if k < 400 {
-                        TAU * ((k as f64 * 0.618034) % 1.0)
-                    } else {
-                        near[k - 400]
-                    },
+                    angle(k),
                     -1.5 + 3.0 * ((k as f64 * 0.414214) % 1.0),
                     0.2 * ((k as f64 * 0.732051) % 1.0) - 0.1,
                 );
@@ -735,22 +742,8 @@ mod tests {
                     * flip,
             );
             let s = Surface::ElementarySurface(Box::new(ElementarySurface::Sphere(s)));
-            for k in 0..408 {
-                let near = [
-                    1e-10,
-                    TAU - 1e-10,
-                    PI - 1e-10,
-                    PI + 1e-10,
-                    1e-6,
-                    TAU - 1e-6,
-                    0.0,
-                    PI,
-                ];
-                let lon = if k < 400 {
-                    TAU * ((k as f64 * 0.618034) % 1.0)
-                } else {
-                    near[k - 400]
-                };
+            for k in 0..ANGLES {
+                let lon = angle(k);
                 let lat = 3.0 * ((k as f64 * 0.414214) % 1.0) - 1.5;
                 let off = 0.2 * ((k as f64 * 0.732051) % 1.0) - 0.1;
                 let (u, v) = if inverted { (lat, lon) } else { (lon, lat) };
