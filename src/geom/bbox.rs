@@ -23,6 +23,11 @@ impl Aabb {
         self.max = self.max.max(p);
     }
 
+    /// True when `p` is in the box (borders included).
+    pub fn contains(&self, p: DVec3) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+
     /// True when nothing was added.
     pub fn is_empty(&self) -> bool {
         self.min.x > self.max.x
@@ -86,7 +91,7 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
                 // Most grid points are inside the box already: test the trim (a walk over
                 // the loops' polygons) only for a point that would grow it.
                 let p = super::eval_surface(&f.surface, u, v).p;
-                if p.cmpge(b.min).all() && p.cmple(b.max).all() {
+                if b.contains(p) {
                     continue;
                 }
                 if f.outer.is_some() && !super::trim::contains(f, glam::DVec2::new(u, v)) {
@@ -103,18 +108,17 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
 /// positive weights) all lie in `b`.
 fn control_points_within(surface: &crate::brep::model::Surface, b: &Aabb) -> bool {
     use crate::brep::model::Surface;
-    let inside = |p: DVec3| p.cmpge(b.min).all() && p.cmple(b.max).all();
     match surface {
         Surface::BSplineSurface(s) => s
             .control_points()
             .iter()
             .flatten()
-            .all(|p| inside(DVec3::new(p.x, p.y, p.z))),
+            .all(|p| b.contains(DVec3::new(p.x, p.y, p.z))),
         Surface::NurbsSurface(s) => s
             .control_points()
             .iter()
             .flatten()
-            .all(|h| h.w > 0.0 && inside(DVec3::new(h.x, h.y, h.z) / h.w)),
+            .all(|h| h.w > 0.0 && b.contains(DVec3::new(h.x, h.y, h.z) / h.w)),
         _ => false,
     }
 }
@@ -125,7 +129,6 @@ fn control_points_within(surface: &crate::brep::model::Surface, b: &Aabb) -> boo
 fn curve_hull_within(curve: &crate::brep::model::Curve3D, b: &Aabb) -> bool {
     use crate::brep::model::Curve3D;
     use truck_stepio::r#in::alias::Conic3D;
-    let inside = |p: DVec3| p.cmpge(b.min).all() && p.cmple(b.max).all();
     match curve {
         Curve3D::Conic(Conic3D::Ellipse(e)) => {
             let m = e.transform();
@@ -139,16 +142,16 @@ fn curve_hull_within(curve: &crate::brep::model::Curve3D, b: &Aabb) -> bool {
                 DVec3::new(m[1][0], m[1][1], m[1][2]),
             );
             let r = u.abs() + v.abs();
-            c.is_finite() && r.is_finite() && inside(c - r) && inside(c + r)
+            c.is_finite() && r.is_finite() && b.contains(c - r) && b.contains(c + r)
         }
         Curve3D::BSplineCurve(c) => c
             .control_points()
             .iter()
-            .all(|p| inside(DVec3::new(p.x, p.y, p.z))),
+            .all(|p| b.contains(DVec3::new(p.x, p.y, p.z))),
         Curve3D::NurbsCurve(c) => c
             .control_points()
             .iter()
-            .all(|h| h.w > 0.0 && inside(DVec3::new(h.x, h.y, h.z) / h.w)),
+            .all(|h| h.w > 0.0 && b.contains(DVec3::new(h.x, h.y, h.z) / h.w)),
         _ => false,
     }
 }
