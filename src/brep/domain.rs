@@ -13,7 +13,7 @@
 //! jumps across the period.
 
 use super::model::{Face, Loop, Model, UvDomain};
-use crate::geom::{eval_curve, eval_surface};
+use crate::geom::{eval_curve, eval_surface, SurfaceDerivs};
 use glam::{DVec2, DVec3};
 
 /// Samples per curved edge when building a loop's UV polygon. Loops are used for
@@ -21,34 +21,56 @@ use glam::{DVec2, DVec3};
 /// a full circle below 0.5 % of its radius.
 pub const SAMPLES_PER_CURVED_EDGE: usize = 32;
 
-/// Projects `p` onto `face`'s surface; `None` unless the foot point is within
-/// `ON_SURFACE_TOL` (relative to the coordinates' size) of `p`.
-/// `periodic`: whether the surface has an angle parameter (truck's `u_period`/`v_period`).
-fn project(face: &Face, p: DVec3, hint: Option<(f64, f64)>, periodic: bool) -> Option<(f64, f64)> {
-    let scale = 1.0 + p.abs().max_element();
-    let on = |uv: &(f64, f64)| {
-        eval_surface(&face.surface, uv.0, uv.1).p.distance(p) <= ON_SURFACE_TOL * scale
-    };
-    // Cylinders, cones and spheres in closed form, in truck's parameters.
-    if let Some(uv) = crate::geom::project::project_closed_form(&face.surface, p).filter(on) {
-        return Some(uv);
+/// Projects points of a loop onto one face's surface: what the closed forms need of the
+/// surface is computed once per loop.
+struct Projector<'a> {
+    face: &'a Face,
+    closed: crate::geom::project::ClosedForm,
+    /// Whether the surface has an angle parameter (truck's `u_period`/`v_period`).
+    periodic: bool,
+}
+
+impl<'a> Projector<'a> {
+    fn new(face: &'a Face, periodic: bool) -> Self {
+        Projector {
+            face,
+            closed: crate::geom::project::ClosedForm::new(&face.surface),
+            periodic,
+        }
     }
-    let along = |h: (f64, f64)| {
-        crate::geom::project::project_point_along(&face.surface, p, h, periodic).filter(on)
-    };
-    // A B-spline patch's own control net gives a hint (the loop's first sample), or another
-    // one (when the previous sample's leads astray: at a pole, or across a closed patch's
-    // seam): several times cheaper than truck's search without a hint, which starts from a
-    // dense grid of surface points (two such searches were 12 % of reading the screw).
-    let net = || {
-        (!periodic)
-            .then(|| crate::geom::project::greville_hint(&face.surface, p))
-            .flatten()
-    };
-    // A hint can lead to a far stationary point (the far side of a sphere): retry without.
-    hint.and_then(along)
-        .or_else(|| net().filter(|n| Some(*n) != hint).and_then(along))
-        .or_else(|| crate::geom::project_point(&face.surface, p, None).filter(on))
+
+    /// The foot of `p` and the surface there; `None` unless the foot point is within
+    /// `ON_SURFACE_TOL` (relative to the coordinates' size) of `p`.
+    fn project(&self, p: DVec3, hint: Option<(f64, f64)>) -> Option<((f64, f64), SurfaceDerivs)> {
+        let (face, periodic) = (self.face, self.periodic);
+        let scale = 1.0 + p.abs().max_element();
+        let on = |uv: (f64, f64)| {
+            let d = eval_surface(&face.surface, uv.0, uv.1);
+            (d.p.distance(p) <= ON_SURFACE_TOL * scale).then_some((uv, d))
+        };
+        // Cylinders, cones and spheres in closed form, in truck's parameters.
+        if let Some(found) = self.closed.project(p).and_then(on) {
+            return Some(found);
+        }
+        let along = |h: (f64, f64)| {
+            crate::geom::project::project_point_along(&face.surface, p, h, periodic).and_then(on)
+        };
+        // A B-spline patch's own control net gives a hint (the loop's first sample), or
+        // another one (when the previous sample's leads astray: at a pole, or across a closed
+        // patch's seam): several times cheaper than truck's search without a hint, which
+        // starts from a dense grid of surface points (two such searches were 12 % of reading
+        // the screw).
+        let net = || {
+            (!periodic)
+                .then(|| crate::geom::project::greville_hint(&face.surface, p))
+                .flatten()
+        };
+        // A hint can lead to a far stationary point (the far side of a sphere): retry
+        // without.
+        hint.and_then(along)
+            .or_else(|| net().filter(|n| Some(*n) != hint).and_then(along))
+            .or_else(|| crate::geom::project_point(&face.surface, p, None).and_then(on))
+    }
 }
 
 /// How far (relative to the size of the coordinates) a boundary point may be from its face's
@@ -56,9 +78,9 @@ fn project(face: &Face, p: DVec3, hint: Option<(f64, f64)>, periodic: bool) -> O
 /// the face.
 pub const ON_SURFACE_TOL: f64 = 1e-3;
 
-/// True where the parametrisation is singular (a pole: `Su × Sv` vanishes).
-fn is_singular(face: &Face, uv: (f64, f64)) -> bool {
-    let d = eval_surface(&face.surface, uv.0, uv.1);
+/// True where the parametrisation is singular (a pole: `Su × Sv` vanishes); `d` is the
+/// surface there.
+fn is_singular(d: &SurfaceDerivs) -> bool {
     let (su, sv) = (d.su, d.sv);
     su.cross(sv).length() <= 1e-9 * (su.length() * sv.length()).max(1e-300)
         || su.length() < 1e-12
@@ -85,7 +107,8 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
     };
     if let Some(v) = lp.vertex {
         let p = model.vertices[v].point;
-        let uv = project(face, p, None, false)
+        let (uv, _) = Projector::new(face, false)
+            .project(p, None)
             .ok_or("vertex loop's vertex is not on the face's surface")?;
         return Ok(vec![DVec2::new(uv.0, uv.1)]);
     }
@@ -123,6 +146,7 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
             samples.push(Sample { p, seam_dir });
         }
     }
+    let projector = Projector::new(face, periodic);
     let mut raw: Vec<Option<(f64, f64)>> = Vec::with_capacity(samples.len());
     let mut singular: Vec<bool> = Vec::with_capacity(samples.len());
     let mut hint: Option<(f64, f64)> = None;
@@ -134,12 +158,13 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
             (Some(h), Some(b)) if !periodic => Some((2.0 * h.0 - b.0, 2.0 * h.1 - b.1)),
             _ => hint,
         };
-        let uv = project(face, s.p, predicted, periodic).or_else(|| {
+        let found = projector.project(s.p, predicted).or_else(|| {
             (predicted != hint)
-                .then(|| project(face, s.p, hint, periodic))
+                .then(|| projector.project(s.p, hint))
                 .flatten()
         });
-        let pole = uv.is_some_and(|uv| is_singular(face, uv));
+        let pole = found.as_ref().is_some_and(|(_, d)| is_singular(d));
+        let uv = found.map(|(uv, _)| uv);
         if let (Some(uv), false) = (uv, pole) {
             before = hint;
             hint = Some(uv);

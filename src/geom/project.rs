@@ -155,9 +155,9 @@ pub fn greville_hint(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
     Some((greville(ku, pu, i)?, greville(kv, pv, j)?))
 }
 
-/// `p` in the local frame of a truck `Processor` whose matrix is a similarity (a rotation,
-/// a uniform scale and a shift map feet to feet); `None` for any other matrix.
-fn local_point(m: &truck_geometry::prelude::Matrix4, p: DVec3) -> Option<DVec3> {
+/// The inverse of a truck `Processor`'s matrix when it is a similarity (a rotation, a
+/// uniform scale and a shift map feet to feet); `None` for any other matrix.
+fn similarity_inverse(m: &truck_geometry::prelude::Matrix4) -> Option<glam::DMat4> {
     let m = glam::DMat4::from_cols_array_2d(&(*m).into());
     let (c0, c1, c2) = (
         m.x_axis.truncate(),
@@ -175,13 +175,13 @@ fn local_point(m: &truck_geometry::prelude::Matrix4, p: DVec3) -> Option<DVec3> 
         && c0.dot(c1).abs() <= 1e-12 * s2
         && c0.dot(c2).abs() <= 1e-12 * s2
         && c1.dot(c2).abs() <= 1e-12 * s2;
-    similar.then(|| m.inverse().transform_point3(p))
+    similar.then(|| m.inverse())
 }
 
 /// The foot of `p` in closed form where there is one: cylinders, cones
 /// ([`project_revolved_line`]) and spheres ([`project_sphere`]), in truck's parameters.
 pub fn project_closed_form(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
-    project_revolved_line(surface, p).or_else(|| project_sphere(surface, p))
+    ClosedForm::new(surface).project(p)
 }
 
 /// The exact foot of `p` on a sphere, in truck's parameters and ranges (longitude in
@@ -190,31 +190,10 @@ pub fn project_closed_form(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
 /// most of its cost. `None` at the centre and at the poles (every longitude is a
 /// foot there), and for a transform that is not a similarity.
 pub fn project_sphere(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
-    use std::f64::consts::PI;
-    let Surface::ElementarySurface(e) = surface else {
-        return None;
-    };
-    let ElementarySurface::Sphere(pr) = e.as_ref() else {
-        return None;
-    };
-    let q = local_point(pr.transform(), p)?;
-    let sphere = pr.entity().0;
-    let c = DVec3::new(sphere.center().x, sphere.center().y, sphere.center().z);
-    let d = (q - c).normalize_or_zero();
-    let sinu = (1.0 - d.z * d.z).sqrt();
-    if d == DVec3::ZERO || sinu <= 1e-12 {
-        return None;
+    match ClosedForm::new(surface) {
+        c @ ClosedForm::Sphere { .. } => c.project(p),
+        _ => None,
     }
-    // truck's `acos` formulas, computed by `atan2` (exact near the poles and the seam).
-    let latitude = d.z.atan2(d.x.hypot(d.y));
-    let longitude = if d.y > 0.0 {
-        d.y.atan2(d.x)
-    } else {
-        // |y|, not −y: at y = +0 on the negative x axis, −y = −0 would give atan2 = −π.
-        2.0 * PI - d.y.abs().atan2(d.x)
-    };
-    let (u, v) = (longitude, latitude);
-    Some(if pr.orientation() { (u, v) } else { (v, u) })
 }
 
 /// The exact foot of `p` on a cylinder or cone (truck's `Processor<RevolutedCurve<Line>,
@@ -226,77 +205,194 @@ pub fn project_sphere(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
 /// similarity (it would not map feet to feet), a line out of the axis's plane, and a point
 /// on the axis (every angle is a foot).
 pub fn project_revolved_line(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
-    let Surface::ElementarySurface(e) = surface else {
-        return None;
-    };
-    let pr = match e.as_ref() {
-        ElementarySurface::CylindricalSurface(pr) | ElementarySurface::ConicalSurface(pr) => pr,
-        _ => return None,
-    };
-    let q = local_point(pr.transform(), p)?;
-    let rev = pr.entity();
-    let o = DVec3::new(rev.origin().x, rev.origin().y, rev.origin().z);
-    let a = DVec3::new(rev.axis().x, rev.axis().y, rev.axis().z);
-    let line = rev.entity_curve();
-    let (la, lb) = (
-        DVec3::new(line.0.x, line.0.y, line.0.z),
-        DVec3::new(line.1.x, line.1.y, line.1.z),
-    );
-    // (axial, radial) coordinates in the meridian half-plane of `e`, the line's side.
-    let split = |x: DVec3| {
-        let r = x - o;
-        let z = r.dot(a);
-        (z, r - a * z)
-    };
-    let ((za, ha), (zb, hb), (zq, hq)) = (split(la), split(lb), split(q));
-    let size = (la - o).length().max((lb - o).length()).max(1e-300);
-    let e = if ha.length() >= hb.length() { ha } else { hb }.normalize_or_zero();
-    if e == DVec3::ZERO
-        || ha.cross(e).length() > 1e-12 * size
-        || hb.cross(e).length() > 1e-12 * size
-        || hq.length() <= 1e-12 * (size + (q - o).length())
-    {
-        return None;
+    match ClosedForm::new(surface) {
+        c @ ClosedForm::RevolvedLine { .. } => c.project(p),
+        _ => None,
     }
-    let (ra, rb, rq) = (ha.dot(e), hb.dot(e), hq.length());
-    let (dz, dr) = (zb - za, rb - ra);
-    let dd = dz * dz + dr * dr;
-    if dd <= 0.0 {
-        return None;
-    }
-    // truck's angle from `e` to `hq`, in [0, 2π]: its `acos`, mirrored when the turn is
-    // negative, computed by `atan2`, which stays exact near 0 and π where `acos` loses half
-    // the digits (truck polishes that with Newton).
-    let hqn = hq / rq;
-    let angle = |from: DVec3| {
-        let (sin, cos) = (from.cross(hqn).dot(a), from.dot(hqn));
-        if sin < 0.0 {
-            2.0 * std::f64::consts::PI + sin.atan2(cos)
-        } else {
-            sin.abs().atan2(cos)
+}
+
+/// What [`project_closed_form`] needs of a surface, computed once: a trim loop projects
+/// dozens of points onto the same face ([`ClosedForm::project`] gives the same answers as
+/// the functions above, bit for bit).
+#[derive(Clone, Debug)]
+pub enum ClosedForm {
+    /// A cylinder or cone: its matrix's inverse, and the line's (axial, radial) ends in the
+    /// meridian half-plane of `e`.
+    RevolvedLine {
+        inverse: glam::DMat4,
+        orientation: bool,
+        o: DVec3,
+        a: DVec3,
+        e: DVec3,
+        size: f64,
+        za: f64,
+        ra: f64,
+        dz: f64,
+        dr: f64,
+        dd: f64,
+    },
+    /// A sphere: its matrix's inverse and its centre.
+    Sphere {
+        inverse: glam::DMat4,
+        orientation: bool,
+        c: DVec3,
+    },
+    /// Any other surface, or a matrix that is not a similarity, or a degenerate line.
+    None,
+}
+
+impl ClosedForm {
+    pub fn new(surface: &Surface) -> Self {
+        let Surface::ElementarySurface(e) = surface else {
+            return ClosedForm::None;
+        };
+        match e.as_ref() {
+            ElementarySurface::CylindricalSurface(pr) | ElementarySurface::ConicalSurface(pr) => {
+                let Some(inverse) = similarity_inverse(pr.transform()) else {
+                    return ClosedForm::None;
+                };
+                let rev = pr.entity();
+                let o = DVec3::new(rev.origin().x, rev.origin().y, rev.origin().z);
+                let a = DVec3::new(rev.axis().x, rev.axis().y, rev.axis().z);
+                let line = rev.entity_curve();
+                let (la, lb) = (
+                    DVec3::new(line.0.x, line.0.y, line.0.z),
+                    DVec3::new(line.1.x, line.1.y, line.1.z),
+                );
+                // (axial, radial) coordinates in the meridian half-plane of `e`, the line's
+                // side.
+                let ((za, ha), (zb, hb)) = (split(o, a, la), split(o, a, lb));
+                let size = (la - o).length().max((lb - o).length()).max(1e-300);
+                let e = if ha.length() >= hb.length() { ha } else { hb }.normalize_or_zero();
+                if e == DVec3::ZERO
+                    || ha.cross(e).length() > 1e-12 * size
+                    || hb.cross(e).length() > 1e-12 * size
+                {
+                    return ClosedForm::None;
+                }
+                let (ra, rb) = (ha.dot(e), hb.dot(e));
+                let (dz, dr) = (zb - za, rb - ra);
+                let dd = dz * dz + dr * dr;
+                if dd <= 0.0 {
+                    return ClosedForm::None;
+                }
+                ClosedForm::RevolvedLine {
+                    inverse,
+                    orientation: pr.orientation(),
+                    o,
+                    a,
+                    e,
+                    size,
+                    za,
+                    ra,
+                    dz,
+                    dr,
+                    dd,
+                }
+            }
+            ElementarySurface::Sphere(pr) => {
+                let Some(inverse) = similarity_inverse(pr.transform()) else {
+                    return ClosedForm::None;
+                };
+                let sphere = pr.entity().0;
+                ClosedForm::Sphere {
+                    inverse,
+                    orientation: pr.orientation(),
+                    c: DVec3::new(sphere.center().x, sphere.center().y, sphere.center().z),
+                }
+            }
+            _ => ClosedForm::None,
         }
-    };
-    // The nearest point of the line in the half-plane of `q` (radius > 0 there) and in the
-    // opposite one (radius < 0: the other nappe, reached by turning half a turn more).
-    let foot = |rq: f64| {
-        let t = ((zq - za) * dz + (rq - ra) * dr) / dd;
-        let (z, r) = (za + t * dz, ra + t * dr);
-        (t, r, (z - zq).hypot(r - rq))
-    };
-    let (t1, r1, d1) = foot(rq);
-    let (t2, r2, d2) = foot(-rq);
-    let (t, theta) = match (r1 > 0.0, r2 < 0.0) {
-        (true, false) => (t1, angle(e)),
-        (false, true) => (t2, angle(-e)),
-        (true, true) if d1 <= d2 => (t1, angle(e)),
-        (true, true) => (t2, angle(-e)),
-        (false, false) => return None,
-    };
-    Some(if pr.orientation() {
-        (t, theta)
-    } else {
-        (theta, t)
-    })
+    }
+
+    /// The foot of `p` (see [`project_revolved_line`] and [`project_sphere`]).
+    pub fn project(&self, p: DVec3) -> Option<(f64, f64)> {
+        use std::f64::consts::PI;
+        match *self {
+            ClosedForm::RevolvedLine {
+                inverse,
+                orientation,
+                o,
+                a,
+                e,
+                size,
+                za,
+                ra,
+                dz,
+                dr,
+                dd,
+            } => {
+                let q = inverse.transform_point3(p);
+                let (zq, hq) = split(o, a, q);
+                if hq.length() <= 1e-12 * (size + (q - o).length()) {
+                    return None;
+                }
+                let rq = hq.length();
+                // truck's angle from `e` to `hq`, in [0, 2π]: its `acos`, mirrored when the
+                // turn is negative, computed by `atan2`, which stays exact near 0 and π where
+                // `acos` loses half the digits (truck polishes that with Newton).
+                let hqn = hq / rq;
+                let angle = |from: DVec3| {
+                    let (sin, cos) = (from.cross(hqn).dot(a), from.dot(hqn));
+                    if sin < 0.0 {
+                        2.0 * PI + sin.atan2(cos)
+                    } else {
+                        sin.abs().atan2(cos)
+                    }
+                };
+                // The nearest point of the line in the half-plane of `q` (radius > 0 there)
+                // and in the opposite one (radius < 0: the other nappe, reached by turning
+                // half a turn more).
+                let foot = |rq: f64| {
+                    let t = ((zq - za) * dz + (rq - ra) * dr) / dd;
+                    let (z, r) = (za + t * dz, ra + t * dr);
+                    (t, r, (z - zq).hypot(r - rq))
+                };
+                let (t1, r1, d1) = foot(rq);
+                let (t2, r2, d2) = foot(-rq);
+                let (t, theta) = match (r1 > 0.0, r2 < 0.0) {
+                    (true, false) => (t1, angle(e)),
+                    (false, true) => (t2, angle(-e)),
+                    (true, true) if d1 <= d2 => (t1, angle(e)),
+                    (true, true) => (t2, angle(-e)),
+                    (false, false) => return None,
+                };
+                Some(if orientation { (t, theta) } else { (theta, t) })
+            }
+            ClosedForm::Sphere {
+                inverse,
+                orientation,
+                c,
+            } => {
+                let q = inverse.transform_point3(p);
+                let d = (q - c).normalize_or_zero();
+                let sinu = (1.0 - d.z * d.z).sqrt();
+                if d == DVec3::ZERO || sinu <= 1e-12 {
+                    return None;
+                }
+                // truck's `acos` formulas, computed by `atan2` (exact near the poles and the
+                // seam).
+                let latitude = d.z.atan2(d.x.hypot(d.y));
+                let longitude = if d.y > 0.0 {
+                    d.y.atan2(d.x)
+                } else {
+                    // |y|, not −y: at y = +0 on the negative x axis, −y = −0 would give
+                    // atan2 = −π.
+                    2.0 * PI - d.y.abs().atan2(d.x)
+                };
+                let (u, v) = (longitude, latitude);
+                Some(if orientation { (u, v) } else { (v, u) })
+            }
+            ClosedForm::None => None,
+        }
+    }
+}
+
+/// `x`'s (axial, radial) coordinates about the axis through `o` along `a`.
+fn split(o: DVec3, a: DVec3, x: DVec3) -> (f64, DVec3) {
+    let r = x - o;
+    let z = r.dot(a);
+    (z, r - a * z)
 }
 
 /// Distance, relative to the size of the coordinates, within which [`project_point_along`]
