@@ -73,23 +73,33 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
     let mut table = Table::default();
     let mut undecodable: HashMap<u64, String> = HashMap::new();
     let contexts = records::definitional_contexts(&recs);
-    for inst in exchange.data.iter().flat_map(|s| &s.entities) {
-        let id = records::instance_id(inst);
-        // What truck does not read it keeps as text, formatted with `Debug` (8 % of reading
-        // the NIST parts, whose styling entities are a large part of the file): skipped, but
-        // for the contexts of definitional representations, which truck looks up there.
-        if let EntityInstance::Simple { record, .. } = inst {
-            if !records::truck_reads(&record.name) && !contexts.contains(&id) {
-                continue;
+    // What truck does not read it keeps as text, formatted with `Debug` (8 % of reading the
+    // NIST parts, whose styling entities are a large part of the file), and the topology is
+    // walked here: both are skipped, but for the contexts of definitional representations,
+    // which truck looks up among its text records.
+    let to_push: Vec<&EntityInstance> = exchange
+        .data
+        .iter()
+        .flat_map(|s| &s.entities)
+        .filter(|inst| match inst {
+            EntityInstance::Simple { id, record } => {
+                records::truck_converts(&record.name) || contexts.contains(id)
             }
-        }
+            EntityInstance::Complex { .. } => true,
+        })
+        .collect();
+    reserve_table(&mut table, &to_push);
+    for inst in to_push {
         match guarded(|| table.push_instance(inst)) {
             Ok(Ok(())) => {}
             Ok(Err(e)) => {
-                undecodable.insert(id, first_line(&e.to_string()));
+                undecodable.insert(records::instance_id(inst), first_line(&e.to_string()));
             }
             Err(p) => {
-                undecodable.insert(id, format!("reader panicked: {p}"));
+                undecodable.insert(
+                    records::instance_id(inst),
+                    format!("reader panicked: {p}"),
+                );
             }
         }
     }
@@ -116,6 +126,38 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
         vertex_map: HashMap::new(),
     }
     .run()
+}
+
+/// Sizes truck's tables for the entities most files are made of, which would otherwise grow
+/// by rehashing (truck's maps hash with SipHash).
+fn reserve_table(table: &mut Table, instances: &[&EntityInstance]) {
+    let mut n = [0usize; 10];
+    for inst in instances {
+        if let EntityInstance::Simple { record, .. } = inst {
+            let k = match record.name.as_str() {
+                "CARTESIAN_POINT" => 0,
+                "DIRECTION" => 1,
+                "VECTOR" => 2,
+                "AXIS2_PLACEMENT_3D" => 3,
+                "LINE" => 4,
+                "CIRCLE" => 5,
+                "B_SPLINE_CURVE_WITH_KNOTS" => 6,
+                "VERTEX_POINT" => 7,
+                "EDGE_CURVE" => 8,
+                _ => 9,
+            };
+            n[k] += 1;
+        }
+    }
+    table.cartesian_point.reserve(n[0]);
+    table.direction.reserve(n[1]);
+    table.vector.reserve(n[2]);
+    table.axis2_placement_3d.reserve(n[3]);
+    table.line.reserve(n[4]);
+    table.circle.reserve(n[5]);
+    table.b_spline_curve_with_knots.reserve(n[6]);
+    table.vertex_point.reserve(n[7]);
+    table.edge_curve.reserve(n[8]);
 }
 
 /// Deepest list nesting accepted. AP203/AP214 need at most 4 or 5 (a rational B-spline
