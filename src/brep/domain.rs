@@ -39,19 +39,23 @@ impl<'a> Projector<'a> {
         }
     }
 
-    /// The foot of `p` and the surface there; `None` unless the foot point is within
-    /// `ON_SURFACE_TOL` (relative to the coordinates' size) of `p`.
-    fn project(&self, p: DVec3, hint: Option<(f64, f64)>) -> Option<((f64, f64), SurfaceDerivs)> {
+    /// The foot of `p`, and whether the parametrisation is singular there (a pole); `None`
+    /// unless the foot point is within `ON_SURFACE_TOL` (relative to the coordinates' size)
+    /// of `p`.
+    fn project(&self, p: DVec3, hint: Option<(f64, f64)>) -> Option<((f64, f64), bool)> {
         let (face, periodic) = (self.face, self.periodic);
-        let scale = 1.0 + p.abs().max_element();
+        let tolerance = ON_SURFACE_TOL * (1.0 + p.abs().max_element());
+        // Cylinders, cones and spheres in closed form, in truck's parameters, with the
+        // distance and the pole test in closed form too.
+        if let Some(foot) = self.closed.foot(p) {
+            if foot.distance <= tolerance {
+                return Some((foot.uv, foot.pole));
+            }
+        }
         let on = |uv: (f64, f64)| {
             let d = eval_surface(&face.surface, uv.0, uv.1);
-            (d.p.distance(p) <= ON_SURFACE_TOL * scale).then_some((uv, d))
+            (d.p.distance(p) <= tolerance).then(|| (uv, is_singular(&d)))
         };
-        // Cylinders, cones and spheres in closed form, in truck's parameters.
-        if let Some(found) = self.closed.project(p).and_then(on) {
-            return Some(found);
-        }
         let along = |h: (f64, f64)| {
             crate::geom::project::project_point_along(&face.surface, p, h, periodic).and_then(on)
         };
@@ -163,7 +167,7 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
                 .then(|| projector.project(s.p, hint))
                 .flatten()
         });
-        let pole = found.as_ref().is_some_and(|(_, d)| is_singular(d));
+        let pole = found.is_some_and(|(_, pole)| pole);
         let uv = found.map(|(uv, _)| uv);
         if let (Some(uv), false) = (uv, pole) {
             before = hint;

@@ -157,7 +157,7 @@ pub fn greville_hint(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
 
 /// The inverse of a truck `Processor`'s matrix when it is a similarity (a rotation, a
 /// uniform scale and a shift map feet to feet); `None` for any other matrix.
-fn similarity_inverse(m: &truck_geometry::prelude::Matrix4) -> Option<glam::DMat4> {
+fn similarity_inverse(m: &truck_geometry::prelude::Matrix4) -> Option<(glam::DMat4, f64)> {
     let m = glam::DMat4::from_cols_array_2d(&(*m).into());
     let (c0, c1, c2) = (
         m.x_axis.truncate(),
@@ -175,7 +175,7 @@ fn similarity_inverse(m: &truck_geometry::prelude::Matrix4) -> Option<glam::DMat
         && c0.dot(c1).abs() <= 1e-12 * s2
         && c0.dot(c2).abs() <= 1e-12 * s2
         && c1.dot(c2).abs() <= 1e-12 * s2;
-    similar.then(|| m.inverse())
+    similar.then(|| (m.inverse(), s2.sqrt()))
 }
 
 /// The foot of `p` in closed form where there is one: cylinders, cones
@@ -220,6 +220,7 @@ pub enum ClosedForm {
     /// meridian half-plane of `e`.
     RevolvedLine {
         inverse: glam::DMat4,
+        scale: f64,
         orientation: bool,
         o: DVec3,
         a: DVec3,
@@ -234,8 +235,10 @@ pub enum ClosedForm {
     /// A sphere: its matrix's inverse and its centre.
     Sphere {
         inverse: glam::DMat4,
+        scale: f64,
         orientation: bool,
         c: DVec3,
+        radius: f64,
     },
     /// Any other surface, or a matrix that is not a similarity, or a degenerate line.
     None,
@@ -248,7 +251,7 @@ impl ClosedForm {
         };
         match e.as_ref() {
             ElementarySurface::CylindricalSurface(pr) | ElementarySurface::ConicalSurface(pr) => {
-                let Some(inverse) = similarity_inverse(pr.transform()) else {
+                let Some((inverse, scale)) = similarity_inverse(pr.transform()) else {
                     return ClosedForm::None;
                 };
                 let rev = pr.entity();
@@ -278,6 +281,7 @@ impl ClosedForm {
                 }
                 ClosedForm::RevolvedLine {
                     inverse,
+                    scale,
                     orientation: pr.orientation(),
                     o,
                     a,
@@ -291,14 +295,16 @@ impl ClosedForm {
                 }
             }
             ElementarySurface::Sphere(pr) => {
-                let Some(inverse) = similarity_inverse(pr.transform()) else {
+                let Some((inverse, scale)) = similarity_inverse(pr.transform()) else {
                     return ClosedForm::None;
                 };
                 let sphere = pr.entity().0;
                 ClosedForm::Sphere {
                     inverse,
+                    scale,
                     orientation: pr.orientation(),
                     c: DVec3::new(sphere.center().x, sphere.center().y, sphere.center().z),
+                    radius: sphere.radius(),
                 }
             }
             _ => ClosedForm::None,
@@ -307,10 +313,17 @@ impl ClosedForm {
 
     /// The foot of `p` (see [`project_revolved_line`] and [`project_sphere`]).
     pub fn project(&self, p: DVec3) -> Option<(f64, f64)> {
+        self.foot(p).map(|f| f.uv)
+    }
+
+    /// The foot of `p`, with its distance from `p` and whether the parametrisation is
+    /// singular there (a cone's apex), without evaluating the surface.
+    pub fn foot(&self, p: DVec3) -> Option<ClosedFoot> {
         use std::f64::consts::PI;
         match *self {
             ClosedForm::RevolvedLine {
                 inverse,
+                scale,
                 orientation,
                 o,
                 a,
@@ -350,19 +363,29 @@ impl ClosedForm {
                 };
                 let (t1, r1, d1) = foot(rq);
                 let (t2, r2, d2) = foot(-rq);
-                let (t, theta) = match (r1 > 0.0, r2 < 0.0) {
-                    (true, false) => (t1, angle(e)),
-                    (false, true) => (t2, angle(-e)),
-                    (true, true) if d1 <= d2 => (t1, angle(e)),
-                    (true, true) => (t2, angle(-e)),
+                let (t, theta, r, d) = match (r1 > 0.0, r2 < 0.0) {
+                    (true, false) => (t1, angle(e), r1, d1),
+                    (false, true) => (t2, angle(-e), r2, d2),
+                    (true, true) if d1 <= d2 => (t1, angle(e), r1, d1),
+                    (true, true) => (t2, angle(-e), r2, d2),
                     (false, false) => return None,
                 };
-                Some(if orientation { (t, theta) } else { (theta, t) })
+                // The angle's derivative is the radius times the axis (times the scale):
+                // singular where it vanishes, as `domain`'s test of `Su × Sv` has it.
+                let along = scale * dd.sqrt();
+                let around = scale * r.abs() * a.length();
+                Some(ClosedFoot {
+                    uv: if orientation { (t, theta) } else { (theta, t) },
+                    distance: scale * d,
+                    pole: around < 1e-12 || along < 1e-12,
+                })
             }
             ClosedForm::Sphere {
                 inverse,
+                scale,
                 orientation,
                 c,
+                radius,
             } => {
                 let q = inverse.transform_point3(p);
                 let d = (q - c).normalize_or_zero();
@@ -381,11 +404,28 @@ impl ClosedForm {
                     2.0 * PI - d.y.abs().atan2(d.x)
                 };
                 let (u, v) = (longitude, latitude);
-                Some(if orientation { (u, v) } else { (v, u) })
+                // The longitude's derivative is the radius times cos(latitude).
+                Some(ClosedFoot {
+                    uv: if orientation { (u, v) } else { (v, u) },
+                    distance: scale * ((q - c).length() - radius.abs()).abs(),
+                    pole: scale * radius.abs() * latitude.cos() < 1e-12
+                        || scale * radius.abs() < 1e-12,
+                })
             }
             ClosedForm::None => None,
         }
     }
+}
+
+/// A foot found by [`ClosedForm::foot`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClosedFoot {
+    /// The foot's parameters, in truck's ranges.
+    pub uv: (f64, f64),
+    /// The distance from the projected point to the foot.
+    pub distance: f64,
+    /// Whether the parametrisation is singular at the foot (a cone's apex, a sphere's pole).
+    pub pole: bool,
 }
 
 /// `x`'s (axial, radial) coordinates about the axis through `o` along `a`.
@@ -751,6 +791,21 @@ mod tests {
         Surface::ElementarySurface(Box::new(e))
     }
 
+    /// [`ClosedForm::foot`]'s distance and pole flag are what evaluating the surface at its
+    /// parameters gives: the distance to 1e-12 of the size, and a regular point.
+    fn assert_foot_is_the_surface_s(s: &Surface, p: DVec3, size: f64) {
+        let foot = ClosedForm::new(s).foot(p).expect("closed form");
+        let d = eval_surface(s, foot.uv.0, foot.uv.1);
+        assert!(
+            (foot.distance - d.p.distance(p)).abs() <= 1e-12 * size,
+            "distance {} vs {}",
+            foot.distance,
+            d.p.distance(p)
+        );
+        let regular = d.su.cross(d.sv).length() > 1e-9 * d.su.length() * d.sv.length();
+        assert_eq!(foot.pole, !regular);
+    }
+
     /// The closed form gives truck's own answer (its search without a hint, which for a
     /// revolved line solves along the line and then takes the angle) for points on and near
     /// cylinders and cones, seam included: a foot at least as near and the same to 1e-7,
@@ -781,6 +836,7 @@ mod tests {
                 let truck = s.search_nearest_parameter(q, None, 100).expect("truck");
                 let foot = |uv: (f64, f64)| eval_surface(&s, uv.0, uv.1).p;
                 let size = scale * 4.0;
+                assert_foot_is_the_surface_s(&s, p, size);
                 // Ours is at least as near as truck's (whose angle is off by up to 1.5e-8
                 // rad next to the seam, where `acos` loses digits), and the same point.
                 assert!(
@@ -848,6 +904,7 @@ mod tests {
                 let p = d.p + n * off * scale;
                 let ours = project_sphere(&s, p).expect("closed form");
                 let foot = |uv: (f64, f64)| eval_surface(&s, uv.0, uv.1).p;
+                assert_foot_is_the_surface_s(&s, p, 3.0 * scale);
                 // The nearest point of a sphere is along the ray from its centre.
                 let centre = DVec3::new(1.0, -2.0, 4.0);
                 let nearest = centre + (p - centre).normalize() * 3.0 * scale;
