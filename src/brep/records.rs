@@ -4,7 +4,8 @@
 //! truck-stepio's `Table` converts geometry well, but it drops or misreads several things
 //! (DESIGN.md, "The truck toolkit"). Here we work on the parsed records directly:
 //! - [`patch_for_truck`] rewrites `SURFACE_CURVE`/`SEAM_CURVE` master representations to
-//!   `.CURVE_3D.` (truck otherwise uses the 2D pcurve and drops the exact 3D curve), and makes
+//!   `.CURVE_3D.` (truck otherwise uses the 2D pcurve and drops the exact 3D curve) and drops
+//!   their pcurves (truck would convert each with its surface, for nothing), and makes
 //!   `EDGE_CURVE`s that point at a `TRIMMED_CURVE` point at its basis curve (the edge's
 //!   vertices trim it anyway; truck does not read `TRIMMED_CURVE`);
 //! - [`check_knots`] rejects unsorted knot vectors, on which truck panics;
@@ -299,6 +300,15 @@ pub fn patch_for_truck(sections: &mut [DataSection]) -> usize {
                 if let Some(Parameter::Enumeration(e)) = list.last_mut() {
                     if e != "CURVE_3D" {
                         *e = "CURVE_3D".into();
+                        changed += 1;
+                    }
+                }
+                // With the 3D curve as the master, truck has no use for the pcurves, but it
+                // would still convert each one with its whole surface (a degree-13 patch
+                // per pcurve: 10 % of reading the M6 screw).
+                if let Some(Parameter::List(associated)) = list.get_mut(2) {
+                    if !associated.is_empty() {
+                        associated.clear();
                         changed += 1;
                     }
                 }
@@ -1091,6 +1101,42 @@ mod tests {
             let mut table = Table::default();
             table.push_instance(&simple(1, name)).expect("a dummy");
             assert_eq!(table.dummy.len(), 1, "{name}");
+        }
+    }
+
+    /// A surface curve's pcurves are dropped and its 3D curve made the master: truck then
+    /// converts the exact line, where it would have taken the pcurve (here a dangling
+    /// reference, which it could not have converted at all).
+    #[test]
+    fn surface_curves_keep_their_3d_curve_and_lose_their_pcurves() {
+        use truck_stepio::r#in::alias::Curve3D;
+        use truck_stepio::r#in::ruststep::ast::Name;
+        use truck_stepio::r#in::ruststep::tables::{IntoOwned, PlaceHolder};
+        use truck_stepio::r#in::CurveAnyHolder;
+        let text = "ISO-10303-21;HEADER;ENDSEC;DATA;
+            #1=CARTESIAN_POINT('',(0.,0.,0.));
+            #2=DIRECTION('',(1.,0.,0.));
+            #3=VECTOR('',#2,2.);
+            #4=LINE('',#1,#3);
+            #5=SURFACE_CURVE('',#4,(#98,#99),.PCURVE_S1.);
+            #6=SEAM_CURVE('',#4,(#98,#99),.PCURVE_S2.);
+            ENDSEC;END-ISO-10303-21;";
+        let mut exchange = crate::brep::p21::parse(text, 16).expect("parses");
+        assert_eq!(patch_for_truck(&mut exchange.data), 4);
+        let mut table = Table::default();
+        for inst in &exchange.data[0].entities {
+            table.push_instance(inst).expect("truck reads it");
+        }
+        for id in [5, 6] {
+            let records = Records::new(&exchange.data);
+            let p = params(records.simple(id).expect("simple"));
+            assert_eq!(p[2], Parameter::List(vec![]));
+            assert_eq!(p[3], Parameter::Enumeration("CURVE_3D".into()));
+            let any = PlaceHolder::<CurveAnyHolder>::Ref(Name::Entity(id))
+                .into_owned(&table)
+                .expect("no pcurve to follow");
+            let curve = Curve3D::try_from(&any).expect("converts");
+            assert!(matches!(curve, Curve3D::Line(_)), "#{id}: {curve:?}");
         }
     }
 }
