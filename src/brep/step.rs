@@ -96,10 +96,7 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
                 undecodable.insert(records::instance_id(inst), first_line(&e.to_string()));
             }
             Err(p) => {
-                undecodable.insert(
-                    records::instance_id(inst),
-                    format!("reader panicked: {p}"),
-                );
+                undecodable.insert(records::instance_id(inst), format!("reader panicked: {p}"));
             }
         }
     }

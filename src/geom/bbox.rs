@@ -84,22 +84,23 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
         if control_points_within(&f.surface, &b) {
             continue;
         }
-        for i in 0..=n {
-            for j in 0..=n {
-                let u = f.domain.u.0 + (f.domain.u.1 - f.domain.u.0) * i as f64 / n as f64;
-                let v = f.domain.v.0 + (f.domain.v.1 - f.domain.v.0) * j as f64 / n as f64;
-                // Most grid points are inside the box already: test the trim (a walk over
-                // the loops' polygons) only for a point that would grow it.
-                let p = super::eval_surface(&f.surface, u, v).p;
-                if b.contains(p) {
-                    continue;
-                }
-                if f.outer.is_some() && !super::trim::contains(f, glam::DVec2::new(u, v)) {
-                    continue;
-                }
-                b.add(p);
+        let us: Vec<f64> = (0..=n)
+            .map(|i| f.domain.u.0 + (f.domain.u.1 - f.domain.u.0) * i as f64 / n as f64)
+            .collect();
+        let vs: Vec<f64> = (0..=n)
+            .map(|j| f.domain.v.0 + (f.domain.v.1 - f.domain.v.0) * j as f64 / n as f64)
+            .collect();
+        super::eval::surface_grid(&f.surface, &us, &vs, |i, j, p| {
+            // Most grid points are inside the box already: test the trim (a walk over the
+            // loops' polygons) only for a point that would grow it.
+            if b.contains(p) {
+                return;
             }
-        }
+            if f.outer.is_some() && !super::trim::contains(f, glam::DVec2::new(us[i], vs[j])) {
+                return;
+            }
+            b.add(p);
+        });
     }
     (b.min, b.max)
 }

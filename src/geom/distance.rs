@@ -561,11 +561,11 @@ fn face_nearest(
         None => project_point(&face.surface, p, Some(from)),
     };
     let mut interior: Option<((f64, f64), DVec3, f64)> = foot.map(|uv| {
-        let x = eval_surface(&face.surface, uv.0, uv.1).p;
+        let x = crate::geom::surface_point(&face.surface, uv.0, uv.1);
         (uv, x, x.distance(p))
     });
     let better = |cand: (f64, f64), cur: &mut Option<((f64, f64), DVec3, f64)>| {
-        let x = eval_surface(&face.surface, cand.0, cand.1).p;
+        let x = crate::geom::surface_point(&face.surface, cand.0, cand.1);
         let d = x.distance(p);
         if cur.is_none_or(|c| d < c.2) {
             *cur = Some((cand, x, d));
@@ -750,7 +750,7 @@ fn grid_seed(face: &Face, p: DVec3) -> Option<(DVec2, f64)> {
                 d.u.0 + (d.u.1 - d.u.0) * i as f64 / SEED_GRID as f64,
                 d.v.0 + (d.v.1 - d.v.0) * j as f64 / SEED_GRID as f64,
             );
-            let dist = eval_surface(&face.surface, uv.x, uv.y).p.distance(p);
+            let dist = crate::geom::surface_point(&face.surface, uv.x, uv.y).distance(p);
             if !dist.is_finite() {
                 continue;
             }
@@ -794,7 +794,7 @@ fn local_minima_seeds(face: &Face, p: DVec3) -> [Option<DVec2>; EXTRA_SEEDS] {
     for i in 0..N {
         for j in 0..N {
             let uv = uv_at(i, j);
-            let x = eval_surface(&face.surface, uv.x, uv.y).p;
+            let x = crate::geom::surface_point(&face.surface, uv.x, uv.y);
             let q = x.distance(p);
             if q.is_finite() {
                 dist[i][j] = q;
@@ -1434,7 +1434,7 @@ impl Boundary {
 /// coordinates' size) from `x` (a hint across a seam or a pole can lead to another foot).
 /// NaN when no projection is found.
 fn surface_params(surface: &Surface, x: DVec3, hint: Option<(f64, f64)>) -> (f64, f64) {
-    let off = |uv: (f64, f64)| eval_surface(surface, uv.0, uv.1).p.distance(x);
+    let off = |uv: (f64, f64)| crate::geom::surface_point(surface, uv.0, uv.1).distance(x);
     let tol = ON_SURFACE * (1.0 + x.abs().max_element());
     let first = project_point(surface, x, hint);
     if let Some(uv) = first {
@@ -1504,7 +1504,7 @@ fn loop_points(face: &Face) -> Vec<(DVec2, DVec3)> {
     face.loops
         .iter()
         .flat_map(|l| l.uv.iter())
-        .map(|&uv| (uv, eval_surface(&face.surface, uv.x, uv.y).p))
+        .map(|&uv| (uv, crate::geom::surface_point(&face.surface, uv.x, uv.y)))
         .collect()
 }
 
@@ -1764,7 +1764,7 @@ fn face_cells(face: &Face, grid: &TrimGrid) -> Vec<Cell> {
             bbox.min -= DVec3::splat(e);
             bbox.max += DVec3::splat(e);
             let uv = grid.node(i, j) + DVec2::new(0.5 * du, 0.5 * dv);
-            let rep = eval_surface(&face.surface, uv.x, uv.y).p;
+            let rep = crate::geom::surface_point(&face.surface, uv.x, uv.y);
             cells.push(Cell { bbox, rep, uv });
         }
     }
@@ -1817,7 +1817,7 @@ pub(crate) mod tests {
         for j in 0..=n {
             for i in 0..=n {
                 let uv = DVec2::new(d.u.0 + du * i as f64, d.v.0 + dv * j as f64);
-                let x = eval_surface(&face.surface, uv.x, uv.y).p;
+                let x = crate::geom::surface_point(&face.surface, uv.x, uv.y);
                 grid[j * (n + 1) + i] = x;
                 if trim::contains(face, uv) {
                     points.push(x);
@@ -1869,7 +1869,7 @@ pub(crate) mod tests {
                     continue;
                 }
                 let mid = (l.uv[k] + l.uv[(k + 1) % n]) * 0.5;
-                let x = eval_surface(&face.surface, mid.x, mid.y).p;
+                let x = crate::geom::surface_point(&face.surface, mid.x, mid.y);
                 let dev = edge_points
                     .iter()
                     .map(|q| q.distance(x))
@@ -1899,7 +1899,7 @@ pub(crate) mod tests {
             (hit.distance - hit.point.distance(p)).abs() <= 1e-12 * scale,
             "{what}: distance"
         );
-        let s = eval_surface(&face.surface, hit.uv.0, hit.uv.1).p;
+        let s = crate::geom::surface_point(&face.surface, hit.uv.0, hit.uv.1);
         // Edge points are on the surface only to the file's precision (≤ 1e-6 of the size
         // in the samples); interior points to rounding.
         match hit.on {
@@ -2384,7 +2384,7 @@ pub(crate) mod tests {
             ];
             let nearest = corners
                 .iter()
-                .map(|&(u, v)| eval_surface(&cap.surface, u, v).p.distance(apex))
+                .map(|&(u, v)| crate::geom::surface_point(&cap.surface, u, v).distance(apex))
                 .fold(f64::INFINITY, f64::min);
             assert!(
                 nearest < 1e-6 * (1.0 + apex.length()),
@@ -2555,7 +2555,11 @@ mod stress_tests {
                                         h.on
                                     );
                                 }
-                                let s = eval_surface(&model.faces[fi].surface, h.uv.0, h.uv.1).p;
+                                let s = crate::geom::surface_point(
+                                    &model.faces[fi].surface,
+                                    h.uv.0,
+                                    h.uv.1,
+                                );
                                 if s.distance(h.point).is_nan()
                                     || s.distance(h.point) > 1e-5 * scale
                                 {

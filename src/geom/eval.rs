@@ -119,6 +119,99 @@ pub fn curve_point(curve: &Curve3D, t: f64) -> DVec3 {
     }
 }
 
+/// The point of `surface` at `(u, v)` alone: B-spline and NURBS patches without their
+/// derivatives (several times cheaper at high degree), bit for bit [`eval_surface`]'s point;
+/// other kinds through [`eval_surface`].
+pub fn surface_point(surface: &Surface, u: f64, v: f64) -> DVec3 {
+    let xyz = |a: [f64; 4]| DVec3::new(a[0], a[1], a[2]);
+    match surface {
+        Surface::BSplineSurface(s) => {
+            let (uk, vk) = s.knot_vecs();
+            let coords = |p: &Point3| [p.x, p.y, p.z, 0.0];
+            bspline_surface_point(uk, vk, s.control_points(), coords, u, v)
+                .map_or(NAN_SURFACE.p, xyz)
+        }
+        Surface::NurbsSurface(s) => {
+            let (uk, vk) = s.knot_vecs();
+            let coords = |p: &Vector4| [p.x, p.y, p.z, p.w];
+            match bspline_surface_point(uk, vk, s.control_points(), coords, u, v) {
+                // As `rational_surface` divides.
+                Some(h) => xyz(h) * (1.0 / h[3]),
+                None => NAN_SURFACE.p,
+            }
+        }
+        _ => eval_surface(surface, u, v).p,
+    }
+}
+
+/// [`surface_point`] over the grid `us × vs`, calling `f(i, j, point)`: a B-spline or NURBS
+/// patch's basis functions are computed once per row and column, not once per point (the
+/// same points, bit for bit).
+pub fn surface_grid(
+    surface: &Surface,
+    us: &[f64],
+    vs: &[f64],
+    mut f: impl FnMut(usize, usize, DVec3),
+) {
+    fn bases(knots: &[f64], n_cp: usize, ts: &[f64]) -> Option<Vec<(usize, usize, Vec<f64>)>> {
+        ts.iter()
+            .map(|&t| with_values(knots, n_cp, t, |p, span, n| (p, span, n.to_vec())))
+            .collect()
+    }
+    fn grid<P, const D: usize>(
+        (uk, vk): (&[f64], &[f64]),
+        cps: &[Vec<P>],
+        coords: impl Fn(&P) -> [f64; D],
+        us: &[f64],
+        vs: &[f64],
+        mut f: impl FnMut(usize, usize, Option<[f64; D]>),
+    ) {
+        let n_v = cps.first().map_or(0, |r| r.len());
+        let (Some(bu), Some(bv)) = (bases(uk, cps.len(), us), bases(vk, n_v, vs)) else {
+            for i in 0..us.len() {
+                for j in 0..vs.len() {
+                    f(i, j, None);
+                }
+            }
+            return;
+        };
+        for (i, (p, uspan, nu)) in bu.iter().enumerate() {
+            let rows = &cps[uspan - p..uspan + 1];
+            for (j, (q, vspan, nv)) in bv.iter().enumerate() {
+                f(
+                    i,
+                    j,
+                    Some(tensor_point(rows, nu, (*q, *vspan, nv), &coords)),
+                );
+            }
+        }
+    }
+    let xyz = |a: [f64; 4]| DVec3::new(a[0], a[1], a[2]);
+    match surface {
+        Surface::BSplineSurface(s) => {
+            let (uk, vk) = s.knot_vecs();
+            let coords = |p: &Point3| [p.x, p.y, p.z, 0.0];
+            grid((uk, vk), s.control_points(), coords, us, vs, |i, j, h| {
+                f(i, j, h.map_or(NAN_SURFACE.p, xyz))
+            });
+        }
+        Surface::NurbsSurface(s) => {
+            let (uk, vk) = s.knot_vecs();
+            let coords = |p: &Vector4| [p.x, p.y, p.z, p.w];
+            grid((uk, vk), s.control_points(), coords, us, vs, |i, j, h| {
+                f(i, j, h.map_or(NAN_SURFACE.p, |h| xyz(h) * (1.0 / h[3])))
+            });
+        }
+        _ => {
+            for (i, &u) in us.iter().enumerate() {
+                for (j, &v) in vs.iter().enumerate() {
+                    f(i, j, eval_surface(surface, u, v).p);
+                }
+            }
+        }
+    }
+}
+
 /// Evaluates a B-spline surface (our code, not truck's `uuder`/`vvder`).
 pub fn eval_bspline_surface(s: &BSplineSurface<Point3>, u: f64, v: f64) -> SurfaceDerivs {
     let (uk, vk) = s.knot_vecs();
@@ -746,6 +839,88 @@ fn bspline_surface_ders<P, const D: usize>(
     .flatten()
 }
 
+/// The `p + 1` basis functions non-zero on span `span` without derivatives: A2.2 alone, the
+/// same arithmetic as [`basis_ders`]' `n`. `buf` needs `3·(p + 1)` entries.
+fn basis_values<'a>(knots: &[f64], p: usize, span: usize, t: f64, buf: &'a mut [f64]) -> &'a [f64] {
+    let m = p + 1;
+    let (n, rest) = buf.split_at_mut(m);
+    let (left, right) = rest.split_at_mut(m);
+    n[0] = 1.0;
+    if p == 0 {
+        return n;
+    }
+    let w = &knots[span + 1 - p..span + 1 + p];
+    for j in 1..m {
+        left[j] = t - w[p - j];
+        right[j] = w[p - 1 + j] - t;
+        let mut saved = 0.0;
+        for r in 0..j {
+            let temp = n[r] * inv_or_zero(right[r + 1] + left[j - r]);
+            n[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        n[j] = saved;
+    }
+    n
+}
+
+/// [`with_basis`] for [`basis_values`].
+#[inline]
+fn with_values<R>(
+    knots: &[f64],
+    n_cp: usize,
+    t: f64,
+    f: impl FnOnce(usize, usize, &[f64]) -> R,
+) -> Option<R> {
+    let p = knots.len().checked_sub(n_cp + 1)?;
+    let span = find_span(knots, p, n_cp, t)?;
+    if p < STACK_ORDER {
+        let mut buf = [0.0; 3 * STACK_ORDER];
+        Some(f(p, span, basis_values(knots, p, span, t, &mut buf)))
+    } else {
+        let mut buf = vec![0.0; 3 * (p + 1)];
+        Some(f(p, span, basis_values(knots, p, span, t, &mut buf)))
+    }
+}
+
+/// `S` of a (homogeneous) tensor-product B-spline surface: [`bspline_surface_ders`]' first
+/// row, summed in the same order.
+fn bspline_surface_point<P, const D: usize>(
+    uknots: &[f64],
+    vknots: &[f64],
+    cps: &[Vec<P>],
+    coords: impl Fn(&P) -> [f64; D],
+    u: f64,
+    v: f64,
+) -> Option<[f64; D]> {
+    let n_v = cps.first()?.len();
+    with_values(uknots, cps.len(), u, |p, uspan, nu| {
+        with_values(vknots, n_v, v, |q, vspan, nv| {
+            tensor_point(&cps[uspan - p..uspan + 1], nu, (q, vspan, nv), &coords)
+        })
+    })
+    .flatten()
+}
+
+/// `Σᵢ nu[i] · Σⱼ nv[j] · coords(rows[i][vspan − q + j])`, in [`bspline_surface_ders`]' order.
+#[inline]
+fn tensor_point<P, const D: usize>(
+    rows: &[Vec<P>],
+    nu: &[f64],
+    (q, vspan, nv): (usize, usize, &[f64]),
+    coords: impl Fn(&P) -> [f64; D],
+) -> [f64; D] {
+    let mut s = [0.0; D];
+    for (row, &n) in rows.iter().zip(nu) {
+        let mut t0 = [0.0; D];
+        for (cp, &m) in row[vspan - q..vspan + 1].iter().zip(nv) {
+            axpy(&mut t0, m, &coords(cp));
+        }
+        axpy(&mut s, n, &t0);
+    }
+    s
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     //! Every surface and curve kind against central finite differences, our B-spline values
@@ -1206,6 +1381,44 @@ pub(crate) mod tests {
                         "B-spline {p}×{q} derivative {k} at ({u}, {v}): {ours:?} vs {theirs:?}"
                     );
                 }
+            }
+        }
+    }
+
+    /// `surface_point` and `surface_grid` are bit for bit `eval_surface`'s point, for
+    /// B-splines and NURBS of
+    /// every degree pair (the high ones beyond the stack buffers), at knots, inside and
+    /// beyond the range.
+    #[test]
+    fn surface_points_are_the_evaluation_s_bit_for_bit() {
+        let mut ts: Vec<(f64, f64)> = grid((-1.0, 2.5), (0.0, 1.0), 9, &[], &[]);
+        ts.extend(u_knots(3).iter().map(|&u| (u, 0.5)));
+        let mut pairs = DEGREE_PAIRS.to_vec();
+        pairs.push((STACK_ORDER, 2));
+        pairs.push((1, STACK_ORDER + 2));
+        for (p, q) in pairs {
+            let b = Surface::BSplineSurface(Box::new(bspline_surface(p, q)));
+            let n = Surface::NurbsSurface(Box::new(nurbs_surface(p, q)));
+            let bits = |x: DVec3| x.to_array().map(f64::to_bits);
+            for s in [b, n] {
+                for &(u, v) in &ts {
+                    let (ours, full) = (surface_point(&s, u, v), eval_surface(&s, u, v).p);
+                    assert!(
+                        bits(ours) == bits(full),
+                        "{p}×{q} at ({u}, {v}): {ours} vs {full}"
+                    );
+                }
+                let us: Vec<f64> = ts.iter().map(|t| t.0).collect();
+                let vs: Vec<f64> = ts.iter().map(|t| t.1).collect();
+                let mut seen = 0;
+                surface_grid(&s, &us, &vs, |i, j, x| {
+                    assert!(
+                        bits(x) == bits(eval_surface(&s, us[i], vs[j]).p),
+                        "{p}×{q} grid"
+                    );
+                    seen += 1;
+                });
+                assert_eq!(seen, us.len() * vs.len());
             }
         }
     }

@@ -16,7 +16,7 @@ pub use bbox::{model_bounding_box, Aabb};
 pub use bvh::Bvh;
 pub use curvature::{principal_curvatures, unit_normal, Curvature};
 pub use distance::{nearest_on_edge, nearest_on_face, Boundary, FaceHit, Feature};
-pub use eval::{eval_curve, eval_surface, CurveDerivs, SurfaceDerivs};
+pub use eval::{eval_curve, eval_surface, surface_point, CurveDerivs, SurfaceDerivs};
 pub use project::project_point;
 
 use crate::brep::model::Surface;
@@ -71,7 +71,7 @@ pub fn surface_periods(surface: &Surface) -> (Option<f64>, Option<f64>) {
     // Closed when the two border curves coincide at CLOSED_SAMPLES points, to 1e-9 of the
     // patch's size (rounding of control points written to ~13 digits).
     const CLOSED_SAMPLES: usize = 9;
-    let at = |u: f64, v: f64| eval_surface(surface, u, v).p;
+    let at = |u: f64, v: f64| crate::geom::surface_point(surface, u, v);
     let size = at(u0, v0)
         .distance(at(u1, v1))
         .max(at(u0, v1).distance(at(u1, v0)));

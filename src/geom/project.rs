@@ -92,8 +92,9 @@ pub fn project_point_along(
         // rounding leaves `is_foot`'s angle test (1e-6 rad) out of reach: a foot within
         // `ON_SURFACE` of the point is taken as it is.
         let scale = 1.0 + p.abs().max_element();
-        let on =
-            |uv: &(f64, f64)| eval_surface(surface, uv.0, uv.1).p.distance(p) <= ON_SURFACE * scale;
+        let on = |uv: &(f64, f64)| {
+            super::surface_point(surface, uv.0, uv.1).distance(p) <= ON_SURFACE * scale
+        };
         if let Some(uv) = newton(surface, p, hint).filter(|uv| on(uv) || is_foot(surface, p, *uv)) {
             return Some(uv);
         }
@@ -475,17 +476,22 @@ fn seeded(
     let mut scored: Vec<(f64, (f64, f64))> = us
         .iter()
         .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
-        .map(|(u, v)| (eval_surface(surface, u, v).p.distance_squared(p), (u, v)))
+        .map(|(u, v)| {
+            (
+                super::surface_point(surface, u, v).distance_squared(p),
+                (u, v),
+            )
+        })
         .filter(|(d, _)| d.is_finite())
         .collect();
     scored.sort_by(|a, b| a.0.total_cmp(&b.0));
     // Without a hint, truck's answer is only one candidate: it can stop at a local minimum.
     let mut best: Option<(f64, (f64, f64))> = truck
         .filter(|_| hint.is_none())
-        .map(|uv| (eval_surface(surface, uv.0, uv.1).p.distance(p), uv));
+        .map(|uv| (super::surface_point(surface, uv.0, uv.1).distance(p), uv));
     for (_, seed) in scored.into_iter().take(NEWTON_SEEDS) {
         if let Some(uv) = newton(surface, p, seed) {
-            let d = eval_surface(surface, uv.0, uv.1).p.distance(p);
+            let d = super::surface_point(surface, uv.0, uv.1).distance(p);
             if best.is_none_or(|b| d < b.0) {
                 best = Some((d, uv));
             }

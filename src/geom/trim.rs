@@ -688,7 +688,7 @@ mod tests {
     /// UV of a 3D point on `face`'s surface.
     fn uv_of(face: &Face, p: DVec3) -> DVec2 {
         let uv = crate::geom::project_point(&face.surface, p, None).expect("projects");
-        let q = crate::geom::eval_surface(&face.surface, uv.0, uv.1).p;
+        let q = crate::geom::surface_point(&face.surface, uv.0, uv.1);
         assert!(q.distance(p) < 1e-9, "{p} is not on the surface ({q})");
         DVec2::new(uv.0, uv.1)
     }

@@ -2326,7 +2326,7 @@ mod tests {
             let middle_z = |f: usize| {
                 let d = m.faces[f].domain;
                 let (u, v) = (0.5 * (d.u.0 + d.u.1), 0.5 * (d.v.0 + d.v.1));
-                crate::geom::eval_surface(&m.faces[f].surface, u, v).p.z
+                crate::geom::surface_point(&m.faces[f].surface, u, v).z
             };
             let top = (0..m.faces.len())
                 .filter(|&f| f != lat)

@@ -465,7 +465,8 @@ fn silhouettes(model: &Model, grids: &[FaceGrid], view: &View) -> Vec<Vec<DVec3>
                     // tested a hair inside it: the trimming test may leave the border out.
                     let inner = DVec2::new(nudge_inside(uv.x, grid.u), nudge_inside(uv.y, grid.v));
                     if crate::geom::trim::contains(face, inner) {
-                        crossing[2 * a + dir] = Some(eval_surface(&face.surface, uv.x, uv.y).p);
+                        crossing[2 * a + dir] =
+                            Some(crate::geom::surface_point(&face.surface, uv.x, uv.y));
                     }
                 }
             }

@@ -428,7 +428,7 @@ fn nest_voids(model: &mut Model) {
             let d = face.domain;
             let (u, v) = (0.5 * (d.u.0 + d.u.1), 0.5 * (d.v.0 + d.v.1));
             if crate::geom::trim::contains(face, glam::DVec2::new(u, v)) {
-                crate::geom::eval_surface(&face.surface, u, v).p
+                crate::geom::surface_point(&face.surface, u, v)
             } else {
                 face.loops
                     .iter()
