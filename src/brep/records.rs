@@ -21,13 +21,41 @@ use truck_stepio::r#in::ruststep;
 
 /// Index of the records of a data section by STEP id.
 pub struct Records<'a> {
-    /// Each id's position in the file and instance (ids are dense integers: Fx hashing).
-    by_id: FxHashMap<u64, (usize, &'a EntityInstance)>,
+    /// Each id's position in the file and instance.
+    by_id: ById<'a>,
     /// Every id, in file order.
     order: Vec<u64>,
     /// Instances in the file, repeated ids included.
     count: usize,
 }
+
+/// Ids are usually dense integers from 1: then a table indexed by id, which every lookup of
+/// the reader (a few per reference) finds without hashing; a hash map otherwise.
+enum ById<'a> {
+    Dense(Vec<Option<(usize, &'a EntityInstance)>>),
+    Sparse(FxHashMap<u64, (usize, &'a EntityInstance)>),
+}
+
+impl<'a> ById<'a> {
+    fn get(&self, id: u64) -> Option<(usize, &'a EntityInstance)> {
+        match self {
+            ById::Dense(v) => usize::try_from(id).ok().and_then(|k| v.get(k).copied().flatten()),
+            ById::Sparse(m) => m.get(&id).copied(),
+        }
+    }
+
+    /// Sets `id`'s entry; true when `id` had none.
+    fn insert(&mut self, id: u64, entry: (usize, &'a EntityInstance)) -> bool {
+        match self {
+            ById::Dense(v) => v[id as usize].replace(entry).is_none(),
+            ById::Sparse(m) => m.insert(id, entry).is_none(),
+        }
+    }
+}
+
+/// A table indexed by id is used when the largest id is below this many times the number of
+/// instances (plus a little): at most a few empty entries per instance.
+const DENSE_IDS_PER_INSTANCE: usize = 4;
 
 /// A 4×4 rigid (or scaling) transform, row-major, acting on column vectors.
 pub type Mat4 = [[f64; 4]; 4];
@@ -44,12 +72,18 @@ impl<'a> Records<'a> {
     /// Indexes every instance of `sections`.
     pub fn new(sections: &'a [DataSection]) -> Self {
         let n = sections.iter().map(|s| s.entities.len()).sum();
-        let mut by_id = FxHashMap::with_capacity_and_hasher(n, Default::default());
+        let instances = || sections.iter().flat_map(|s| &s.entities);
+        let max_id = instances().map(instance_id).max().unwrap_or(0);
+        let mut by_id = if max_id < (DENSE_IDS_PER_INSTANCE * n + 1024) as u64 {
+            ById::Dense(vec![None; max_id as usize + 1])
+        } else {
+            ById::Sparse(FxHashMap::with_capacity_and_hasher(n, Default::default()))
+        };
         let mut order = Vec::with_capacity(n);
-        for (i, inst) in sections.iter().flat_map(|s| &s.entities).enumerate() {
+        for (i, inst) in instances().enumerate() {
             let id = instance_id(inst);
             // A repeated id: the last definition wins, as in the index.
-            if by_id.insert(id, (i, inst)).is_none() {
+            if by_id.insert(id, (i, inst)) {
                 order.push(id);
             }
         }
@@ -67,7 +101,7 @@ impl<'a> Records<'a> {
 
     /// Position of an instance in the file (0-based), for numbering in file order.
     pub fn position(&self, id: u64) -> usize {
-        self.by_id.get(&id).map_or(usize::MAX, |&(i, _)| i)
+        self.by_id.get(id).map_or(usize::MAX, |(i, _)| i)
     }
 
     /// The number of instances in the file, repeated ids included (positions are below it).
@@ -77,12 +111,12 @@ impl<'a> Records<'a> {
 
     /// The position and instance of this id.
     pub fn get_indexed(&self, id: u64) -> Option<(usize, &'a EntityInstance)> {
-        self.by_id.get(&id).copied()
+        self.by_id.get(id)
     }
 
     /// The instance with this id.
     pub fn get(&self, id: u64) -> Option<&'a EntityInstance> {
-        self.by_id.get(&id).map(|&(_, inst)| inst)
+        self.by_id.get(id).map(|(_, inst)| inst)
     }
 
     /// The record of a simple instance.
@@ -1059,7 +1093,7 @@ pub fn placements(rep: u64, links: &[(u64, u64, Mat4)]) -> Vec<Mat4> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use truck_stepio::r#in::ruststep::ast::{EntityInstance, Parameter, Record};
+    use truck_stepio::r#in::ruststep::ast::{DataSection, EntityInstance, Parameter, Record};
     use truck_stepio::r#in::Table;
 
     fn simple(id: u64, name: &str) -> EntityInstance {
@@ -1101,6 +1135,32 @@ mod tests {
             let mut table = Table::default();
             table.push_instance(&simple(1, name)).expect("a dummy");
             assert_eq!(table.dummy.len(), 1, "{name}");
+        }
+    }
+
+    /// Dense and sparse ids index alike: every id is found with its file position, a
+    /// repeated id gives its last definition (listed once, where first defined), and an id
+    /// never defined is not found.
+    #[test]
+    fn records_index_dense_and_sparse_ids() {
+        for ids in [vec![3, 1, 2, 3], vec![7, 1_000_000_000_000, 5, 7]] {
+            let section = DataSection {
+                meta: vec![],
+                entities: ids.iter().map(|&id| simple(id, "CARTESIAN_POINT")).collect(),
+            };
+            let sections = [section];
+            let records = Records::new(&sections);
+            let dense = matches!(records.by_id, ById::Dense(_));
+            assert_eq!(dense, ids[1] < 1000, "{ids:?}");
+            assert_eq!(
+                records.ids_in_order().collect::<Vec<_>>(),
+                ids[..3].to_vec()
+            );
+            assert_eq!(records.position(ids[0]), 3, "the last definition");
+            assert_eq!(records.position(ids[1]), 1);
+            assert_eq!(records.position(ids[2]), 2);
+            assert!(records.get(4).is_none() && records.get(u64::MAX).is_none());
+            assert_eq!(records.positions(), 4);
         }
     }
 
