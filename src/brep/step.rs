@@ -16,7 +16,7 @@ use super::records::{self, as_bool, as_ref, as_refs, params, LengthUnit, Mat4, R
 use crate::error::{Error, Result};
 use glam::DVec3;
 use rayon::prelude::*;
-use std::collections::HashMap;
+use rustc_hash::{FxHashMap as HashMap, FxHashSet};
 use std::path::{Path, PathBuf};
 use truck_geometry::prelude::Point3;
 use truck_stepio::r#in::ruststep::ast::{EntityInstance, Name, Parameter};
@@ -71,7 +71,7 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
         return Err(entity_err(path, id, entity, reason));
     }
     let mut table = Table::default();
-    let mut undecodable: HashMap<u64, String> = HashMap::new();
+    let mut undecodable: HashMap<u64, String> = HashMap::default();
     let contexts = records::definitional_contexts(&recs);
     // What truck does not read it keeps as text, formatted with `Debug` (8 % of reading the
     // NIST parts, whose styling entities are a large part of the file), and the topology is
@@ -119,8 +119,8 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
             vertices: vec![],
             bbox: (DVec3::ZERO, DVec3::ZERO),
         },
-        edge_map: HashMap::new(),
-        vertex_map: HashMap::new(),
+        edge_map: HashMap::default(),
+        vertex_map: HashMap::default(),
     }
     .run()
 }
@@ -777,11 +777,11 @@ impl Ingest<'_> {
     /// Compares what the file defines with what the model holds: every `ADVANCED_FACE`,
     /// `EDGE_CURVE` and `VERTEX_POINT` in the file must belong to a solid.
     fn check_everything_used(&self) -> Result<()> {
-        let used_faces: std::collections::HashSet<u64> =
+        let used_faces: FxHashSet<u64> =
             self.model.faces.iter().map(|f| f.step_id).collect();
-        let used_edges: std::collections::HashSet<u64> =
+        let used_edges: FxHashSet<u64> =
             self.model.edges.iter().map(|e| e.step_id).collect();
-        let used_vertices: std::collections::HashSet<u64> =
+        let used_vertices: FxHashSet<u64> =
             self.model.vertices.iter().map(|v| v.step_id).collect();
         for id in self.recs.ids_in_order() {
             let Some(rec) = self.recs.simple(id) else {
@@ -891,7 +891,7 @@ fn valid_knot_range(knots: &truck_geometry::prelude::KnotVec, degree: usize) -> 
 }
 
 fn order_keys(ids: impl Iterator<Item = u64>, recs: &Records) -> Vec<(usize, usize)> {
-    let mut seen: HashMap<u64, usize> = HashMap::new();
+    let mut seen: HashMap<u64, usize> = HashMap::default();
     ids.map(|id| {
         let k = seen.entry(id).or_insert(0);
         let inst = *k;
