@@ -45,8 +45,8 @@ impl<'a> Projector<'a> {
     fn project(&self, p: DVec3, hint: Option<(f64, f64)>) -> Option<((f64, f64), bool)> {
         let (face, periodic) = (self.face, self.periodic);
         let tolerance = ON_SURFACE_TOL * (1.0 + p.abs().max_element());
-        // Cylinders, cones and spheres in closed form, in truck's parameters, with the
-        // distance and the pole test in closed form too.
+        // Planes, cylinders, cones and spheres in closed form, in truck's parameters, with
+        // the distance and the pole test in closed form too.
         if let Some(foot) = self.closed.foot(p) {
             if foot.distance <= tolerance {
                 return Some((foot.uv, foot.pole));
@@ -121,8 +121,8 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
         p: DVec3,
         seam_dir: Option<DVec3>, // 3D direction of travel along a seam edge
     }
-    let mut samples: Vec<Sample> = Vec::new();
-    for oe in &lp.edges {
+    // Samples per edge: two on a line that is not a seam.
+    let count = |oe: &super::model::OrientedEdge| {
         let edge = &model.edges[oe.edge];
         let seam = edge.faces.iter().filter(|&&f| f == face_index).count() >= 2;
         let straight = matches!(edge.curve, super::model::Curve3D::Line(_));
@@ -131,6 +131,13 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
         } else {
             SAMPLES_PER_CURVED_EDGE
         };
+        (seam, n)
+    };
+    let mut samples: Vec<Sample> =
+        Vec::with_capacity(lp.edges.iter().map(|oe| count(oe).1).sum());
+    for oe in &lp.edges {
+        let edge = &model.edges[oe.edge];
+        let (seam, n) = count(oe);
         let (t0, t1) = if oe.forward {
             edge.range
         } else {

@@ -9,7 +9,7 @@
 //! spheres, measured on the real-world corpus). [`project_point_along`], for trim-loop
 //! samples only, tries Newton from the hint before truck on non-periodic surfaces.
 //!
-//! For the trim loops only, [`project_closed_form`] answers cylinders, cones and spheres
+//! For the trim loops only, [`ClosedForm`] answers planes, cylinders, cones and spheres
 //! exactly in truck's parameters and angle ranges (truck's own `acos` formulas lose half the
 //! digits next to the seam and the poles; these use `atan2`), and [`greville_hint`] gives a
 //! B-spline patch a start from its control net. Edge classification and the tracer keep
@@ -179,12 +179,6 @@ fn similarity_inverse(m: &truck_geometry::prelude::Matrix4) -> Option<(glam::DMa
     similar.then(|| (m.inverse(), s2.sqrt()))
 }
 
-/// The foot of `p` in closed form where there is one: cylinders, cones
-/// ([`project_revolved_line`]) and spheres ([`project_sphere`]), in truck's parameters.
-pub fn project_closed_form(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
-    ClosedForm::new(surface).project(p)
-}
-
 /// The exact foot of `p` on a sphere, in truck's parameters and ranges (longitude in
 /// `[0, 2π]`, `2π` on the seam's lower side as truck's mirrored `acos` gives it; latitude),
 /// without the Newton polish truck's `Processor` adds after its `acos` formulas, which is
@@ -212,9 +206,10 @@ pub fn project_revolved_line(surface: &Surface, p: DVec3) -> Option<(f64, f64)> 
     }
 }
 
-/// What [`project_closed_form`] needs of a surface, computed once: a trim loop projects
-/// dozens of points onto the same face ([`ClosedForm::project`] gives the same answers as
-/// the functions above, bit for bit).
+/// The foot of a point in closed form where there is one, and what that needs of the
+/// surface, computed once: a trim loop projects dozens of points onto the same face.
+/// Planes as [`project_plane`], cylinders and cones as [`project_revolved_line`], spheres as
+/// [`project_sphere`], bit for bit, in truck's parameters.
 #[derive(Clone, Debug)]
 pub enum ClosedForm {
     /// A cylinder or cone: its matrix's inverse, and the line's (axial, radial) ends in the
@@ -233,6 +228,8 @@ pub enum ClosedForm {
         dr: f64,
         dd: f64,
     },
+    /// A plane `o + u·a + v·b`.
+    Plane { frame: (DVec3, DVec3, DVec3) },
     /// A sphere: its matrix's inverse and its centre.
     Sphere {
         inverse: glam::DMat4,
@@ -247,6 +244,9 @@ pub enum ClosedForm {
 
 impl ClosedForm {
     pub fn new(surface: &Surface) -> Self {
+        if let Some(frame) = plane_frame(surface) {
+            return ClosedForm::Plane { frame };
+        }
         let Surface::ElementarySurface(e) = surface else {
             return ClosedForm::None;
         };
@@ -322,6 +322,18 @@ impl ClosedForm {
     pub fn foot(&self, p: DVec3) -> Option<ClosedFoot> {
         use std::f64::consts::PI;
         match *self {
+            ClosedForm::Plane { frame } => {
+                let (o, a, b) = frame;
+                let (u, v) = project_plane(frame, p);
+                Some(ClosedFoot {
+                    uv: (u, v),
+                    // The plane's point as `eval_surface` computes it.
+                    distance: (o + a * u + b * v).distance(p),
+                    pole: a.cross(b).length() <= 1e-9 * (a.length() * b.length()).max(1e-300)
+                        || a.length() < 1e-12
+                        || b.length() < 1e-12,
+                })
+            }
             ClosedForm::RevolvedLine {
                 inverse,
                 scale,
@@ -940,6 +952,28 @@ mod tests {
             }
         }
         assert!(compared >= 1200, "truck answered {compared} of 1600");
+    }
+
+    /// A plane's closed form is `project_point`'s foot, bit for bit, with the distance and
+    /// pole flag of evaluating it.
+    #[test]
+    fn plane_feet_are_project_point_s() {
+        let plane = Surface::ElementarySurface(Box::new(ElementarySurface::Plane(Plane::new(
+            Point3::new(1.0, 2.0, -3.0),
+            Point3::new(4.0, 2.5, -3.0),
+            Point3::new(1.0, 2.0, 5.0),
+        ))));
+        assert!(matches!(ClosedForm::new(&plane), ClosedForm::Plane { .. }));
+        for k in 0..ANGLES {
+            let p = DVec3::new(
+                10.0 * ((k as f64 * 0.618034) % 1.0) - 5.0,
+                10.0 * ((k as f64 * 0.414214) % 1.0) - 5.0,
+                10.0 * ((k as f64 * 0.732051) % 1.0) - 5.0,
+            );
+            let foot = ClosedForm::new(&plane).foot(p).expect("a foot");
+            assert_eq!(Some(foot.uv), project_point(&plane, p, None));
+            assert_foot_is_the_surface_s(&plane, p, 10.0);
+        }
     }
 
     /// A point on the axis has every angle as a foot, and a shear is not a similarity: both
