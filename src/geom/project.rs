@@ -350,10 +350,10 @@ impl ClosedForm {
             } => {
                 let q = inverse.transform_point3(p);
                 let (zq, hq) = split(o, a, q);
-                if hq.length() <= 1e-12 * (size + (q - o).length()) {
+                let rq = hq.length();
+                if rq <= 1e-12 * (size + (q - o).length()) {
                     return None;
                 }
-                let rq = hq.length();
                 // truck's angle from `e` to `hq`, in [0, 2π]: its `acos`, mirrored when the
                 // turn is negative, computed by `atan2`, which stays exact near 0 and π where
                 // `acos` loses half the digits (truck polishes that with Newton).
@@ -369,10 +369,11 @@ impl ClosedForm {
                 // The nearest point of the line in the half-plane of `q` (radius > 0 there)
                 // and in the opposite one (radius < 0: the other nappe, reached by turning
                 // half a turn more).
+                // (Squared distances: `hypot` was a fifth of this function's time.)
                 let foot = |rq: f64| {
                     let t = ((zq - za) * dz + (rq - ra) * dr) / dd;
                     let (z, r) = (za + t * dz, ra + t * dr);
-                    (t, r, (z - zq).hypot(r - rq))
+                    (t, r, (z - zq) * (z - zq) + (r - rq) * (r - rq))
                 };
                 let (t1, r1, d1) = foot(rq);
                 let (t2, r2, d2) = foot(-rq);
@@ -389,7 +390,7 @@ impl ClosedForm {
                 let around = scale * r.abs() * a.length();
                 Some(ClosedFoot {
                     uv: if orientation { (t, theta) } else { (theta, t) },
-                    distance: scale * d,
+                    distance: scale * d.sqrt(),
                     pole: around < 1e-12 || along < 1e-12,
                 })
             }
