@@ -25,8 +25,8 @@ pub struct Records<'a> {
     by_id: ById<'a>,
     /// Every id, in file order.
     order: Vec<u64>,
-    /// Instances in the file, repeated ids included.
-    count: usize,
+    /// Every instance by its position in the file, repeated ids included.
+    by_position: Vec<&'a EntityInstance>,
 }
 
 /// Ids are usually dense integers from 1: then a table indexed by id, which every lookup of
@@ -80,6 +80,7 @@ impl<'a> Records<'a> {
             ById::Sparse(FxHashMap::with_capacity_and_hasher(n, Default::default()))
         };
         let mut order = Vec::with_capacity(n);
+        let by_position: Vec<&EntityInstance> = instances().collect();
         for (i, inst) in instances().enumerate() {
             let id = instance_id(inst);
             // A repeated id: the last definition wins, as in the index.
@@ -90,7 +91,7 @@ impl<'a> Records<'a> {
         Records {
             by_id,
             order,
-            count: n,
+            by_position,
         }
     }
 
@@ -106,7 +107,7 @@ impl<'a> Records<'a> {
 
     /// The number of instances in the file, repeated ids included (positions are below it).
     pub fn positions(&self) -> usize {
-        self.count
+        self.by_position.len()
     }
 
     /// The position and instance of this id.
@@ -574,21 +575,37 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
             format!("refers to {name}: constant and value-instance names are not supported"),
         ))
     };
+    // Every instance's references, gathered in file order (the parsed records lie in memory
+    // about in that order; the search below would visit them out of order): `refs[k]` for
+    // the instance at position `k` is `flat[first[k]..first[k + 1]]`.
+    let n = records.positions();
+    let mut first = Vec::with_capacity(n + 1);
+    let mut flat: Vec<u64> = Vec::with_capacity(4 * n);
+    let mut other: rustc_hash::FxHashMap<usize, String> = Default::default();
+    first.push(0);
+    for (pos, inst) in records.by_position.iter().enumerate() {
+        if let Some(name) = refs_of(inst, &mut flat) {
+            other.insert(pos, name);
+        }
+        first.push(flat.len());
+    }
+    let refs = |pos: usize| &flat[first[pos]..first[pos + 1]];
     // Iterative three-colour depth-first search. Colours are kept by file position (dense);
     // the children still to visit of every node on the path share one stack.
-    let mut state = vec![0u8; records.positions()]; // 0 = new, 1 = on the path, 2 = done
+    let mut state = vec![0u8; n]; // 0 = new, 1 = on the path, 2 = done
     let mut path: Vec<(u64, usize, usize)> = Vec::new(); // (id, position, children start)
     let mut pending: Vec<u64> = Vec::new();
     for root in records.ids_in_order() {
-        let (pos, inst) = records.get_indexed(root)?;
+        let (pos, _) = records.get_indexed(root)?;
         if state[pos] != 0 {
             continue;
         }
         state[pos] = 1;
-        path.push((root, pos, pending.len()));
-        if let Some(name) = refs_of(inst, &mut pending) {
-            return unsupported(root, name);
+        if let Some(name) = other.get(&pos) {
+            return unsupported(root, name.clone());
         }
+        path.push((root, pos, pending.len()));
+        pending.extend_from_slice(refs(pos));
         while let Some(&(id, pos, start)) = path.last() {
             if pending.len() == start {
                 state[pos] = 2;
@@ -596,7 +613,7 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
                 continue;
             }
             let child = pending.pop().expect("a pending child");
-            let Some((cpos, inst)) = records.get_indexed(child) else {
+            let Some((cpos, _)) = records.get_indexed(child) else {
                 return Some((
                     id,
                     records.name(id),
@@ -614,10 +631,11 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
                 }
                 _ => {
                     state[cpos] = 1;
-                    path.push((child, cpos, pending.len()));
-                    if let Some(name) = refs_of(inst, &mut pending) {
-                        return unsupported(child, name);
+                    if let Some(name) = other.get(&cpos) {
+                        return unsupported(child, name.clone());
                     }
+                    path.push((child, cpos, pending.len()));
+                    pending.extend_from_slice(refs(cpos));
                 }
             }
         }
