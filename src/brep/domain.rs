@@ -133,8 +133,7 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
         };
         (seam, n)
     };
-    let mut samples: Vec<Sample> =
-        Vec::with_capacity(lp.edges.iter().map(|oe| count(oe).1).sum());
+    let mut samples: Vec<Sample> = Vec::with_capacity(lp.edges.iter().map(|oe| count(oe).1).sum());
     for oe in &lp.edges {
         let edge = &model.edges[oe.edge];
         let (seam, n) = count(oe);

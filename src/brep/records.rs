@@ -39,7 +39,9 @@ enum ById<'a> {
 impl<'a> ById<'a> {
     fn get(&self, id: u64) -> Option<(usize, &'a EntityInstance)> {
         match self {
-            ById::Dense(v) => usize::try_from(id).ok().and_then(|k| v.get(k).copied().flatten()),
+            ById::Dense(v) => usize::try_from(id)
+                .ok()
+                .and_then(|k| v.get(k).copied().flatten()),
             ById::Sparse(m) => m.get(&id).copied(),
         }
     }
@@ -250,40 +252,45 @@ fn plane_angle_factor(sections: &[DataSection]) -> f64 {
 /// Rewrites what truck misreads (see the module docs). Returns the number of records changed.
 pub fn patch_for_truck(sections: &mut [DataSection]) -> usize {
     let angle = plane_angle_factor(sections);
-    // Directions, to repair placements whose implicit x axis is degenerate (only collected
-    // when some placement leaves its x axis out).
-    let implicit_x = sections.iter().flat_map(|s| &s.entities).any(|inst| {
-        matches!(inst, EntityInstance::Simple { record, .. }
-            if record.name == "AXIS2_PLACEMENT_3D"
-                && matches!(params(record).get(3), Some(Parameter::NotProvided)))
-    });
-    let mut directions: HashMap<u64, [f64; 3]> = HashMap::new();
+    // One pass for what the rewriting needs to know: the largest id, the basis curve of every
+    // TRIMMED_CURVE, and whether some placement leaves its x axis out.
     let mut max_id = 0;
+    let mut trimmed_basis: HashMap<u64, u64> = HashMap::new();
+    let mut implicit_x = false;
     for inst in sections.iter().flat_map(|s| &s.entities) {
         max_id = max_id.max(instance_id(inst));
         if let EntityInstance::Simple { id, record } = inst {
-            if implicit_x && record.name == "DIRECTION" {
-                if let Some(Parameter::List(l)) = params(record).get(1) {
-                    let c: Vec<f64> = l.iter().filter_map(as_real).collect();
-                    if c.len() == 3 {
-                        directions.insert(*id, [c[0], c[1], c[2]]);
+            match record.name.as_str() {
+                "TRIMMED_CURVE" => {
+                    if let Some(basis) = params(record).get(1).and_then(as_ref) {
+                        trimmed_basis.insert(*id, basis);
+                    }
+                }
+                "AXIS2_PLACEMENT_3D" => {
+                    implicit_x |= matches!(params(record).get(3), Some(Parameter::NotProvided));
+                }
+                _ => {}
+            }
+        }
+    }
+    // Directions, to repair placements whose implicit x axis is degenerate (only collected
+    // when some placement leaves its x axis out).
+    let mut directions: HashMap<u64, [f64; 3]> = HashMap::new();
+    if implicit_x {
+        for inst in sections.iter().flat_map(|s| &s.entities) {
+            if let EntityInstance::Simple { id, record } = inst {
+                if record.name == "DIRECTION" {
+                    if let Some(Parameter::List(l)) = params(record).get(1) {
+                        let c: Vec<f64> = l.iter().filter_map(as_real).collect();
+                        if c.len() == 3 {
+                            directions.insert(*id, [c[0], c[1], c[2]]);
+                        }
                     }
                 }
             }
         }
     }
     let mut new_directions: Vec<(u64, [f64; 3])> = Vec::new();
-    // Which ids are TRIMMED_CURVEs, and their basis curves.
-    let mut trimmed_basis: HashMap<u64, u64> = HashMap::new();
-    for inst in sections.iter().flat_map(|s| &s.entities) {
-        if let EntityInstance::Simple { id, record } = inst {
-            if record.name == "TRIMMED_CURVE" {
-                if let Some(basis) = params(record).get(1).and_then(as_ref) {
-                    trimmed_basis.insert(*id, basis);
-                }
-            }
-        }
-    }
     let mut changed = 0;
     for inst in sections.iter_mut().flat_map(|s| &mut s.entities) {
         let EntityInstance::Simple { record, .. } = inst else {
@@ -1164,7 +1171,10 @@ mod tests {
         for ids in [vec![3, 1, 2, 3], vec![7, 1_000_000_000_000, 5, 7]] {
             let section = DataSection {
                 meta: vec![],
-                entities: ids.iter().map(|&id| simple(id, "CARTESIAN_POINT")).collect(),
+                entities: ids
+                    .iter()
+                    .map(|&id| simple(id, "CARTESIAN_POINT"))
+                    .collect(),
             };
             let sections = [section];
             let records = Records::new(&sections);
@@ -1180,6 +1190,32 @@ mod tests {
             assert!(records.get(4).is_none() && records.get(u64::MAX).is_none());
             assert_eq!(records.positions(), 4);
         }
+    }
+
+    /// A placement whose axis is ±x and whose x axis is left out gets an explicit x axis, a
+    /// new DIRECTION after the largest id (ISO's default x would be degenerate); one along
+    /// z keeps the default.
+    #[test]
+    fn placements_along_x_get_an_explicit_x_axis() {
+        let text = "ISO-10303-21;HEADER;ENDSEC;DATA;
+            #1=CARTESIAN_POINT('',(0.,0.,0.));
+            #2=DIRECTION('',(-2.,0.,0.));
+            #3=DIRECTION('',(0.,0.,1.));
+            #9=AXIS2_PLACEMENT_3D('',#1,#2,$);
+            #5=AXIS2_PLACEMENT_3D('',#1,#3,$);
+            ENDSEC;END-ISO-10303-21;";
+        let mut exchange = crate::brep::p21::parse(text, 16).expect("parses");
+        assert_eq!(patch_for_truck(&mut exchange.data), 1);
+        let records = Records::new(&exchange.data);
+        let x = |id: u64| params(records.simple(id).expect("a placement"))[3].clone();
+        assert_eq!(x(9), Parameter::Ref(Name::Entity(10)));
+        assert_eq!(x(5), Parameter::NotProvided);
+        let new = params(records.simple(10).expect("the new direction"));
+        let c: Vec<f64> = match &new[1] {
+            Parameter::List(l) => l.iter().filter_map(as_real).collect(),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(c, vec![0.0, 0.0, -1.0]);
     }
 
     /// A surface curve's pcurves are dropped and its 3D curve made the master: truck then

@@ -777,12 +777,9 @@ impl Ingest<'_> {
     /// Compares what the file defines with what the model holds: every `ADVANCED_FACE`,
     /// `EDGE_CURVE` and `VERTEX_POINT` in the file must belong to a solid.
     fn check_everything_used(&self) -> Result<()> {
-        let used_faces: FxHashSet<u64> =
-            self.model.faces.iter().map(|f| f.step_id).collect();
-        let used_edges: FxHashSet<u64> =
-            self.model.edges.iter().map(|e| e.step_id).collect();
-        let used_vertices: FxHashSet<u64> =
-            self.model.vertices.iter().map(|v| v.step_id).collect();
+        let used_faces: FxHashSet<u64> = self.model.faces.iter().map(|f| f.step_id).collect();
+        let used_edges: FxHashSet<u64> = self.model.edges.iter().map(|e| e.step_id).collect();
+        let used_vertices: FxHashSet<u64> = self.model.vertices.iter().map(|v| v.step_id).collect();
         for id in self.recs.ids_in_order() {
             let Some(rec) = self.recs.simple(id) else {
                 continue;
