@@ -4,11 +4,11 @@
 //! `cargo bench --bench ingest`; figures are recorded in the README.
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use std::path::PathBuf;
 
 /// The binary's allocator (`src/main.rs`), so that the figures are the command line's.
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
-use std::path::PathBuf;
 
 fn files() -> Vec<PathBuf> {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));

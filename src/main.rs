@@ -7,8 +7,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// mimalloc: reading a STEP file allocates tens of thousands of small objects (the parsed
-/// records, truck's tables) and frees them again; with mimalloc instead of glibc's allocator
-/// reading the NIST parts takes 8–20 % less time (README, "Benchmarks").
+/// records, truck's tables) and frees them again. With mimalloc instead of glibc's allocator,
+/// repeated reads of the NIST parts in one process take 8–20 % less time; a single read in a
+/// fresh process takes about the same (README, "Benchmarks").
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 

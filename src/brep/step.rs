@@ -128,7 +128,7 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
 /// Sizes truck's tables for the entities most files are made of, which would otherwise grow
 /// by rehashing (truck's maps hash with SipHash).
 fn reserve_table(table: &mut Table, instances: &[&EntityInstance]) {
-    let mut n = [0usize; 10];
+    let mut n = [0usize; 9];
     for inst in instances {
         if let EntityInstance::Simple { record, .. } = inst {
             let k = match record.name.as_str() {
@@ -141,7 +141,7 @@ fn reserve_table(table: &mut Table, instances: &[&EntityInstance]) {
                 "B_SPLINE_CURVE_WITH_KNOTS" => 6,
                 "VERTEX_POINT" => 7,
                 "EDGE_CURVE" => 8,
-                _ => 9,
+                _ => continue,
             };
             n[k] += 1;
         }
