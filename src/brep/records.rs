@@ -650,10 +650,12 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
     None
 }
 
-/// The simple entities truck-stepio 0.3's `Table::push_instance` reads into its tables; it
-/// keeps every other simple entity as a `Dummy` holding the record's `Debug` text. Each one's
-/// first attribute is a label truck insists on reading as a string.
-pub const TRUCK_SIMPLE_ENTITIES: [&str; 45] = [
+/// The simple entities truck-stepio 0.3's `Table::push_instance` reads into its tables are
+/// these and [`WALKED_TOPOLOGY`] (see [`truck_reads`]); it keeps every other simple entity as
+/// a `Dummy` holding the record's `Debug` text. Each one's first attribute is a label truck
+/// insists on reading as a string. These are the ones the reader has truck convert (the
+/// geometry, with the vertices and edge curves that trim it, and the 2D curves' contexts).
+pub const TRUCK_CONVERTED: [&str; 34] = [
     "CARTESIAN_POINT",
     "DIRECTION",
     "VECTOR",
@@ -687,26 +689,8 @@ pub const TRUCK_SIMPLE_ENTITIES: [&str; 45] = [
     "SURFACE_OF_REVOLUTION",
     "VERTEX_POINT",
     "EDGE_CURVE",
-    "ORIENTED_EDGE",
-    "EDGE_LOOP",
-    "FACE_BOUND",
-    "FACE_OUTER_BOUND",
-    "FACE_SURFACE",
-    "ADVANCED_FACE",
-    "ORIENTED_FACE",
-    "OPEN_SHELL",
-    "CLOSED_SHELL",
-    "ORIENTED_OPEN_SHELL",
-    "ORIENTED_CLOSED_SHELL",
     "DEFINITIONAL_REPRESENTATION",
 ];
-
-/// True for the simple entities truck reads (see [`TRUCK_SIMPLE_ENTITIES`]).
-pub fn truck_reads(name: &str) -> bool {
-    static READS: std::sync::LazyLock<rustc_hash::FxHashSet<&'static str>> =
-        std::sync::LazyLock::new(|| TRUCK_SIMPLE_ENTITIES.into_iter().collect());
-    READS.contains(name)
-}
 
 /// The topology truck reads but the reader never asks it for: [`super::step`] walks faces,
 /// loops and shells itself and converts only surfaces and edge curves (with their vertices)
@@ -726,16 +710,17 @@ pub const WALKED_TOPOLOGY: [&str; 11] = [
     "ORIENTED_CLOSED_SHELL",
 ];
 
-/// True for the simple entities the reader has truck convert: those truck reads, but for
-/// [`WALKED_TOPOLOGY`].
+/// True for the simple entities truck reads: [`TRUCK_CONVERTED`] and [`WALKED_TOPOLOGY`].
+pub fn truck_reads(name: &str) -> bool {
+    static READS: std::sync::LazyLock<rustc_hash::FxHashSet<&'static str>> =
+        std::sync::LazyLock::new(|| TRUCK_CONVERTED.into_iter().chain(WALKED_TOPOLOGY).collect());
+    READS.contains(name)
+}
+
+/// True for the simple entities the reader has truck convert ([`TRUCK_CONVERTED`]).
 pub fn truck_converts(name: &str) -> bool {
     static CONVERTS: std::sync::LazyLock<rustc_hash::FxHashSet<&'static str>> =
-        std::sync::LazyLock::new(|| {
-            TRUCK_SIMPLE_ENTITIES
-                .into_iter()
-                .filter(|n| !WALKED_TOPOLOGY.contains(n))
-                .collect()
-        });
+        std::sync::LazyLock::new(|| TRUCK_CONVERTED.into_iter().collect());
     CONVERTS.contains(name)
 }
 
@@ -1138,17 +1123,22 @@ mod tests {
     /// sample and real-world tests read every kind of entity the corpus has.
     #[test]
     fn truck_simple_entities_are_the_ones_truck_does_not_keep_as_dummies() {
-        for (k, name) in TRUCK_SIMPLE_ENTITIES.iter().enumerate() {
+        for (k, name) in TRUCK_CONVERTED.iter().chain(&WALKED_TOPOLOGY).enumerate() {
             let mut table = Table::default();
             let _ = table.push_instance(&simple(k as u64 + 1, name));
             assert!(table.dummy.is_empty(), "truck keeps {name} as a dummy");
         }
+        assert_eq!(
+            TRUCK_CONVERTED.len() + WALKED_TOPOLOGY.len(),
+            45,
+            "truck reads 45 kinds"
+        );
         for name in WALKED_TOPOLOGY {
             assert!(truck_reads(name) && !truck_converts(name), "{name}");
+            assert!(!TRUCK_CONVERTED.contains(&name), "{name} on both lists");
         }
-        for name in TRUCK_SIMPLE_ENTITIES {
-            assert!(truck_reads(name), "{name}");
-            assert_eq!(truck_converts(name), !WALKED_TOPOLOGY.contains(&name));
+        for name in TRUCK_CONVERTED {
+            assert!(truck_reads(name) && truck_converts(name), "{name}");
         }
         for name in [
             "STYLED_ITEM",

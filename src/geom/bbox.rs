@@ -2,6 +2,7 @@
 
 use crate::brep::Model;
 use glam::DVec3;
+use truck_geometry::prelude::{Point3, Vector4};
 
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -110,16 +111,8 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
 fn control_points_within(surface: &crate::brep::model::Surface, b: &Aabb) -> bool {
     use crate::brep::model::Surface;
     match surface {
-        Surface::BSplineSurface(s) => s
-            .control_points()
-            .iter()
-            .flatten()
-            .all(|p| b.contains(DVec3::new(p.x, p.y, p.z))),
-        Surface::NurbsSurface(s) => s
-            .control_points()
-            .iter()
-            .flatten()
-            .all(|h| h.w > 0.0 && b.contains(DVec3::new(h.x, h.y, h.z) / h.w)),
+        Surface::BSplineSurface(s) => points_within(s.control_points().iter().flatten(), b),
+        Surface::NurbsSurface(s) => weighted_within(s.control_points().iter().flatten(), b),
         _ => false,
     }
 }
@@ -145,16 +138,24 @@ fn curve_hull_within(curve: &crate::brep::model::Curve3D, b: &Aabb) -> bool {
             let r = u.abs() + v.abs();
             c.is_finite() && r.is_finite() && b.contains(c - r) && b.contains(c + r)
         }
-        Curve3D::BSplineCurve(c) => c
-            .control_points()
-            .iter()
-            .all(|p| b.contains(DVec3::new(p.x, p.y, p.z))),
-        Curve3D::NurbsCurve(c) => c
-            .control_points()
-            .iter()
-            .all(|h| h.w > 0.0 && b.contains(DVec3::new(h.x, h.y, h.z) / h.w)),
+        Curve3D::BSplineCurve(c) => points_within(c.control_points(), b),
+        Curve3D::NurbsCurve(c) => weighted_within(c.control_points(), b),
         _ => false,
     }
+}
+
+/// True when every control point lies in `b`.
+fn points_within<'a>(points: impl IntoIterator<Item = &'a Point3>, b: &Aabb) -> bool {
+    points
+        .into_iter()
+        .all(|p| b.contains(DVec3::new(p.x, p.y, p.z)))
+}
+
+/// True when every homogeneous control point has a positive weight and lies in `b`.
+fn weighted_within<'a>(points: impl IntoIterator<Item = &'a Vector4>, b: &Aabb) -> bool {
+    points
+        .into_iter()
+        .all(|h| h.w > 0.0 && b.contains(DVec3::new(h.x, h.y, h.z) / h.w))
 }
 
 #[cfg(test)]
