@@ -9,14 +9,137 @@
 //!
 //! This reader makes one pass over the bytes, allocates only the AST, nests at most
 //! `max_nesting` parentheses deep, and reports errors with line and column.
+//!
+//! Points and directions, most of a B-rep file (four in five instances of a part made of
+//! B-spline patches), are kept compact when written in their usual form
+//! `CARTESIAN_POINT('label',(x,y,z))`: a [`CompactPoint`] instead of a record with three
+//! heap-allocated lists and names. [`Item::to_instance`] gives the record ruststep would
+//! have read.
 //! Semantics otherwise follow ruststep (the tests compare both on every sample): keywords as
 //! written (a user-defined `!NAME` loses its `!`), `.T.` is an enumeration, strings are kept
 //! undecoded but for `''` → `'`, and `ANCHOR`, `REFERENCE` and `SIGNATURE` sections are read
 //! over and dropped (truck reads none of them).
 
 use truck_stepio::r#in::ruststep::ast::{
-    DataSection, EntityInstance, Exchange, Name, Parameter, Record, SubSuperRecord,
+    DataSection, EntityInstance, Name, Parameter, Record, SubSuperRecord,
 };
+
+/// A parsed exchange structure: the header records and the data sections, in file order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parsed {
+    pub header: Vec<Record>,
+    pub data: Vec<Section>,
+}
+
+/// A data section: its parameters (`DATA(…);`) and its instances in file order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Section {
+    pub meta: Vec<Parameter>,
+    pub entities: Vec<Item>,
+}
+
+/// One instance of a data section.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Item {
+    /// Any instance, as ruststep's AST.
+    Instance(EntityInstance),
+    /// A point or direction in its usual form, kept compact.
+    Point(CompactPoint),
+}
+
+/// Which entity a [`CompactPoint`] is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PointKind {
+    CartesianPoint,
+    Direction,
+}
+
+impl PointKind {
+    /// The entity name.
+    pub fn name(self) -> &'static str {
+        match self {
+            PointKind::CartesianPoint => "CARTESIAN_POINT",
+            PointKind::Direction => "DIRECTION",
+        }
+    }
+}
+
+/// `#id = CARTESIAN_POINT('label', (x, y, z));` (or `DIRECTION`) with one to three reals.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompactPoint {
+    pub id: u64,
+    pub kind: PointKind,
+    pub label: String,
+    coords: [f64; 3],
+    len: u8,
+}
+
+impl CompactPoint {
+    /// A point or direction with one to three coordinates.
+    pub fn new(id: u64, kind: PointKind, label: String, coords: &[f64]) -> Self {
+        assert!((1..=3).contains(&coords.len()), "1 to 3 coordinates");
+        let mut c = [0.0; 3];
+        c[..coords.len()].copy_from_slice(coords);
+        CompactPoint {
+            id,
+            kind,
+            label,
+            coords: c,
+            len: coords.len() as u8,
+        }
+    }
+
+    /// The coordinates (direction ratios), as written.
+    pub fn coords(&self) -> &[f64] {
+        &self.coords[..usize::from(self.len)]
+    }
+
+    /// The record ruststep reads for it.
+    pub fn to_record(&self) -> Record {
+        Record {
+            name: self.kind.name().into(),
+            parameter: Parameter::List(vec![
+                Parameter::String(self.label.clone()),
+                Parameter::List(self.coords().iter().map(|&x| Parameter::Real(x)).collect()),
+            ]),
+        }
+    }
+}
+
+impl Item {
+    /// The instance's id.
+    pub fn id(&self) -> u64 {
+        match self {
+            Item::Instance(EntityInstance::Simple { id, .. })
+            | Item::Instance(EntityInstance::Complex { id, .. }) => *id,
+            Item::Point(p) => p.id,
+        }
+    }
+
+    /// The instance as ruststep's AST.
+    pub fn to_instance(&self) -> EntityInstance {
+        match self {
+            Item::Instance(inst) => inst.clone(),
+            Item::Point(p) => EntityInstance::Simple {
+                id: p.id,
+                record: p.to_record(),
+            },
+        }
+    }
+}
+
+impl Parsed {
+    /// The data sections as ruststep's AST (compact points expanded).
+    pub fn data_sections(&self) -> Vec<DataSection> {
+        self.data
+            .iter()
+            .map(|s| DataSection {
+                meta: s.meta.clone(),
+                entities: s.entities.iter().map(Item::to_instance).collect(),
+            })
+            .collect()
+    }
+}
 
 /// Where and why the text is not a valid exchange structure.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,7 +162,7 @@ impl std::fmt::Display for SyntaxError {
 }
 
 /// Parses a whole exchange file. `max_nesting` bounds parenthesis depth (records count).
-pub fn parse(text: &str, max_nesting: usize) -> Result<Exchange, SyntaxError> {
+pub fn parse(text: &str, max_nesting: usize) -> Result<Parsed, SyntaxError> {
     let mut p = Parser {
         text,
         b: text.as_bytes(),
@@ -207,7 +330,7 @@ impl<'a> Parser<'a> {
         Ok(())
     }
 
-    fn exchange(&mut self) -> R<Exchange> {
+    fn exchange(&mut self) -> R<Parsed> {
         if self.text.starts_with('\u{feff}') {
             self.i = '\u{feff}'.len_utf8();
         }
@@ -215,12 +338,9 @@ impl<'a> Parser<'a> {
             return Err(self.error_at(0, "does not start with ISO-10303-21; (not a STEP file)"));
         }
         self.expect(b';', || "after ISO-10303-21")?;
-        let mut ex = Exchange {
+        let mut ex = Parsed {
             header: vec![],
-            anchor: vec![],
-            reference: vec![],
             data: vec![],
-            signature: vec![],
         };
         let mut seen_header = false;
         loop {
@@ -267,7 +387,7 @@ impl<'a> Parser<'a> {
                         }
                     }
                     self.end_section()?;
-                    ex.data.push(DataSection { meta, entities });
+                    ex.data.push(Section { meta, entities });
                 }
                 "ANCHOR" | "REFERENCE" | "SIGNATURE" => self.skip_section(w)?,
                 "END-ISO-10303-21" => {
@@ -325,13 +445,16 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn instance(&mut self) -> R<EntityInstance> {
+    fn instance(&mut self) -> R<Item> {
         let at = self.i;
         self.i += 1; // '#'
         let id = self
             .digits_u64()?
             .ok_or_else(|| self.expected("an entity id after '#'"))?;
         self.expect(b'=', || format!("after #{id}"))?;
+        if let Some(point) = self.compact_point(id)? {
+            return Ok(Item::Point(point));
+        }
         let inst = if self.peek()? == Some(b'(') {
             self.i += 1;
             self.open()?;
@@ -354,7 +477,87 @@ impl<'a> Parser<'a> {
             }
         };
         self.expect(b';', || format!("at the end of #{id}"))?;
-        Ok(inst)
+        Ok(Item::Instance(inst))
+    }
+
+    /// After `#id =`: a `CARTESIAN_POINT` or `DIRECTION` of the form `('label', (reals));`
+    /// with one to three reals, read to its `;`. Anything else (another entity, `$` for the
+    /// label, integers, a comment inside) leaves the cursor where it was and gives `None`,
+    /// for the general reader, which also gives the same errors as for any other record.
+    fn compact_point(&mut self, id: u64) -> R<Option<CompactPoint>> {
+        self.ws()?;
+        let start = self.i;
+        let kind = if self.b[start..].starts_with(b"CARTESIAN_POINT") {
+            PointKind::CartesianPoint
+        } else if self.b[start..].starts_with(b"DIRECTION") {
+            PointKind::Direction
+        } else {
+            return Ok(None);
+        };
+        // The record's list and the coordinate list: two levels.
+        if self.depth + 2 > self.max_nesting {
+            return Ok(None);
+        }
+        self.i += kind.name().len();
+        let point = self.compact_point_body(id, kind);
+        if point.is_none() {
+            self.i = start;
+        }
+        Ok(point)
+    }
+
+    /// The rest of [`Self::compact_point`], after the keyword; `None` on any deviation.
+    fn compact_point_body(&mut self, id: u64, kind: PointKind) -> Option<CompactPoint> {
+        // White space between tokens; a comment or anything unusual goes the general way
+        // (which also reports its errors).
+        fn skip(p: &mut Parser<'_>) {
+            while p.b.get(p.i).is_some_and(|c| c.is_ascii_whitespace()) {
+                p.i += 1;
+            }
+        }
+        fn token(p: &mut Parser<'_>, c: u8) -> bool {
+            skip(p);
+            let ok = p.b.get(p.i) == Some(&c);
+            p.i += usize::from(ok);
+            ok
+        }
+        if !token(self, b'(') {
+            return None;
+        }
+        skip(self);
+        if self.b.get(self.i) != Some(&b'\'') {
+            return None;
+        }
+        let label = self.string().ok()?;
+        if !token(self, b',') || !token(self, b'(') {
+            return None;
+        }
+        let mut coords = [0.0; 3];
+        let mut n = 0;
+        loop {
+            skip(self);
+            if n == 3 || !matches!(self.b.get(self.i), Some(b'+' | b'-' | b'.' | b'0'..=b'9')) {
+                return None;
+            }
+            let Ok(Parameter::Real(x)) = self.number() else {
+                return None;
+            };
+            coords[n] = x;
+            n += 1;
+            skip(self);
+            match self.b.get(self.i) {
+                Some(b',') => self.i += 1,
+                Some(b')') => {
+                    self.i += 1;
+                    break;
+                }
+                _ => return None,
+            }
+        }
+        if !token(self, b')') || !token(self, b';') {
+            return None;
+        }
+        Some(CompactPoint::new(id, kind, label, &coords[..n]))
     }
 
     /// `KEYWORD ( parameters )`; the parameters become one list parameter, as in ruststep.
@@ -488,6 +691,7 @@ impl<'a> Parser<'a> {
     fn number(&mut self) -> R<Parameter> {
         let start = self.i;
         let mut spaced = false;
+        let negative = self.b[self.i] == b'-';
         if matches!(self.b[self.i], b'+' | b'-') {
             self.i += 1;
             spaced |= self.spaces();
@@ -496,27 +700,42 @@ impl<'a> Parser<'a> {
         self.digits();
         let int_digits = self.i - int_start;
         let mut real = false;
+        // The fraction's digits and the exponent, for the fast path below.
+        let (mut frac, mut exp) = (int_start..int_start, 0..0);
+        let mut exp_negative = false;
         if self.b.get(self.i) == Some(&b'.') {
             real = true;
             self.i += 1;
+            let frac_start = self.i;
             if int_digits == 0 && self.digits() == 0 {
                 return Err(self.error_at(start, "a number without digits"));
             }
             self.digits();
+            frac = frac_start..self.i;
             if matches!(self.b.get(self.i), Some(b'E' | b'e')) {
                 let e = self.i;
                 self.i += 1;
                 spaced |= self.spaces();
                 if matches!(self.b.get(self.i), Some(b'+' | b'-')) {
+                    exp_negative = self.b[self.i] == b'-';
                     self.i += 1;
                     spaced |= self.spaces();
                 }
+                let exp_start = self.i;
                 if self.digits() == 0 {
                     return Err(self.error_at(e, "an exponent without digits"));
                 }
+                exp = exp_start..self.i;
             }
         } else if int_digits == 0 {
             return Err(self.error_at(start, "a sign without a number"));
+        }
+        if real && !spaced {
+            let int = &self.b[int_start..int_start + int_digits];
+            let fast = fast_real(negative, int, &self.b[frac], exp_negative, &self.b[exp]);
+            if let Some(x) = fast {
+                return Ok(Parameter::Real(x));
+            }
         }
         let raw = &self.text[start..self.i];
         let squeezed: String;
@@ -596,6 +815,53 @@ impl<'a> Parser<'a> {
     }
 }
 
+/// A decimal real whose digits (at most 19, leading zeros included) make an integer `w` of
+/// at most 2⁵³ and whose power of ten `e` (exponent less the fraction's digits) is within
+/// ±22: then `w` and `10^|e|` are exact doubles and `w · 10^e` or `w / 10^−e` rounds once,
+/// to the correctly rounded value that `str::parse` gives (Clinger's fast path, which
+/// `str::parse` also takes, after more checks). `None` for any other real. The slices are
+/// ASCII digits.
+fn fast_real(
+    negative: bool,
+    int: &[u8],
+    frac: &[u8],
+    exp_negative: bool,
+    exp: &[u8],
+) -> Option<f64> {
+    const POW10: [f64; 23] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+        1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+    ];
+    if int.len() + frac.len() > 19 || exp.len() > 4 {
+        return None;
+    }
+    let mut w: u64 = 0;
+    for &c in int.iter().chain(frac) {
+        w = w * 10 + u64::from(c - b'0');
+    }
+    if w > 1 << 53 {
+        return None;
+    }
+    let mut e: i32 = 0;
+    for &c in exp {
+        e = e * 10 + i32::from(c - b'0');
+    }
+    if exp_negative {
+        e = -e;
+    }
+    let e = e - frac.len() as i32;
+    let x = if w == 0 {
+        0.0
+    } else if (0..=22).contains(&e) {
+        w as f64 * POW10[e as usize]
+    } else if (-22..0).contains(&e) {
+        w as f64 / POW10[(-e) as usize]
+    } else {
+        return None;
+    };
+    Some(if negative { -x } else { x })
+}
+
 fn memchr_quote(b: &[u8]) -> Option<usize> {
     b.iter().position(|&c| c == b'\'')
 }
@@ -612,7 +878,11 @@ mod tests {
     }
 
     fn entities(data: &str) -> Vec<EntityInstance> {
-        parse(&head(data), 64).unwrap().data.remove(0).entities
+        parse(&head(data), 64)
+            .unwrap()
+            .data_sections()
+            .remove(0)
+            .entities
     }
 
     fn err(text: &str) -> SyntaxError {
@@ -639,8 +909,150 @@ mod tests {
             let ours = parse(&text, 64).unwrap_or_else(|e| panic!("{f:?}: {e}"));
             let theirs = ruststep::parser::parse(&text).unwrap();
             assert_eq!(ours.header, theirs.header, "{f:?}");
-            assert_eq!(ours.data, theirs.data, "{f:?}");
+            assert_eq!(ours.data_sections(), theirs.data, "{f:?}");
         }
+    }
+
+    /// Points and directions in the usual form are kept compact; every other form goes the
+    /// general way. Either way the records are ruststep's.
+    #[test]
+    fn points_in_the_usual_form_are_compact() {
+        let data = "#1=CARTESIAN_POINT('',(1.,-2.5,3.E1));
+            #2 = DIRECTION ( 'a b' , ( 0. , 1. ) ) ;
+            #3=CARTESIAN_POINT('',(-0.5));
+            #4=CARTESIAN_POINT($,(1.,2.,3.));
+            #5=CARTESIAN_POINT('',(1,2,3));
+            #6=CARTESIAN_POINT('',(1.,2.,3.,4.));
+            #7=CARTESIAN_POINT('',/* c */(1.,2.,3.));
+            #8=DIRECTION('',(1.,
+                0.,0.));
+            #9=DIRECTIONS('',(1.,0.,0.));
+            #10=CARTESIAN_POINT('',(.T.));
+            #11=CARTESIAN_POINT('',(1.,#2,3.));
+            #12=(CARTESIAN_POINT('',(1.,2.,3.)));
+            #13=CARTESIAN_POINT('',(1.,2.,3.))/* c */;";
+        let text = head(data);
+        let parsed = parse(&text, 64).unwrap();
+        let compact: Vec<u64> = parsed.data[0]
+            .entities
+            .iter()
+            .filter(|item| matches!(item, Item::Point(_)))
+            .map(Item::id)
+            .collect();
+        assert_eq!(compact, vec![1, 2, 3, 8]);
+        let Item::Point(p) = &parsed.data[0].entities[1] else {
+            panic!()
+        };
+        assert_eq!(
+            (p.kind, p.label.as_str(), p.coords()),
+            (PointKind::Direction, "a b", &[0.0, 1.0][..])
+        );
+        let theirs = ruststep::parser::parse(&text).unwrap();
+        assert_eq!(parsed.data_sections(), theirs.data);
+        // ruststep refuses `''`, which the standard allows.
+        let e = entities("#1=CARTESIAN_POINT('it''s',(1.));");
+        assert_eq!(
+            e[0],
+            Item::Point(CompactPoint::new(
+                1,
+                PointKind::CartesianPoint,
+                "it's".into(),
+                &[1.0]
+            ))
+            .to_instance()
+        );
+        // Too little nesting allowed for the coordinate list: the general reader's error.
+        let text =
+            "ISO-10303-21;HEADER;ENDSEC;DATA;#1=CARTESIAN_POINT('',(1.));ENDSEC;END-ISO-10303-21;";
+        let e = parse(text, 1).unwrap_err();
+        assert!(e.message.contains("nested more than 1"), "{e}");
+        assert!(parse(text, 2).is_ok());
+        // A malformed point gets the general reader's message.
+        let e = err(&head("#1=CARTESIAN_POINT('',(1.,2.,3.)"));
+        assert!(e.message.contains("expected ',' or ')'"), "{e}");
+        let e = err(&head("#1=CARTESIAN_POINT('',(1.,2.,3.))"));
+        assert!(e.message.contains("at the end of #1"), "{e}");
+        let e = err(&head("#1=CARTESIAN_POINT('',(1.,2.E,3.));"));
+        assert!(e.message.contains("exponent without digits"), "{e}");
+    }
+
+    /// The fast path for reals gives `str::parse`'s double, bit for bit, where it answers;
+    /// it answers for the usual CAD literals.
+    #[test]
+    fn fast_reals_are_parse_s_reals() {
+        let check = |lit: &str| -> bool {
+            let negative = lit.starts_with('-');
+            let body = lit.trim_start_matches(['+', '-']);
+            let (mantissa, exp) = body.split_once(['E', 'e']).unwrap_or((body, ""));
+            let (exp_negative, exp) = match exp.strip_prefix('-') {
+                Some(e) => (true, e),
+                None => (false, exp.trim_start_matches('+')),
+            };
+            let (int, frac) = mantissa.split_once('.').expect("a real");
+            let fast = fast_real(
+                negative,
+                int.as_bytes(),
+                frac.as_bytes(),
+                exp_negative,
+                exp.as_bytes(),
+            );
+            if let Some(x) = fast {
+                let std: f64 = lit.parse().expect("std parses it");
+                assert_eq!(x.to_bits(), std.to_bits(), "{lit}");
+            }
+            fast.is_some()
+        };
+        for lit in [
+            "4.886817528445",
+            "-0.",
+            "0.E0",
+            "-3.25E0",
+            "1.E-22",
+            "1.E22",
+            "123.456E-7",
+            "9007199254740992.",
+            "-.5",
+        ] {
+            assert!(check(lit), "{lit} takes the fast path");
+        }
+        for lit in [
+            "9007199254740993.",
+            "1.E23",
+            "1.E-23",
+            "0.12345678901234567890",
+            "1.E99999",
+            "1.7976931348623157E308",
+        ] {
+            assert!(!check(lit), "{lit} does not");
+        }
+        // A deterministic spread of literals: sign, digits before and after the point,
+        // exponent.
+        let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = |n: u64| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) % n
+        };
+        let mut fast = 0;
+        for _ in 0..200_000 {
+            let digits = |n: u64, next: &mut dyn FnMut(u64) -> u64| -> String {
+                (0..n).map(|_| char::from(b'0' + next(10) as u8)).collect()
+            };
+            let sign = ["", "-", "+"][next(3) as usize];
+            let int = digits(next(12), &mut next);
+            let frac = digits(next(12), &mut next);
+            let exp = match next(3) {
+                0 => String::new(),
+                _ => format!("E{}", next(61) as i64 - 30),
+            };
+            let lit = format!("{sign}{int}.{frac}{exp}");
+            if int.is_empty() && frac.is_empty() {
+                continue;
+            }
+            fast += usize::from(check(&lit));
+        }
+        assert!(fast > 50_000, "{fast}");
     }
 
     #[test]

@@ -12,9 +12,10 @@
 //! - [`check_acyclic`] rejects reference cycles, on which any recursive reader overflows;
 //! - [`length_units`] and [`placements`] recover units and assembly transforms.
 
+use super::p21::{CompactPoint, Item, PointKind, Section};
 use glam::DVec3;
 use rustc_hash::FxHashMap;
-use ruststep::ast::{DataSection, EntityInstance, Name, Parameter, Record};
+use ruststep::ast::{EntityInstance, Name, Parameter, Record};
 use std::collections::HashMap;
 use truck_geometry::prelude::{Matrix4, Transformed};
 use truck_stepio::r#in::ruststep;
@@ -26,18 +27,18 @@ pub struct Records<'a> {
     /// Every id, in file order.
     order: Vec<u64>,
     /// Every instance by its position in the file, repeated ids included.
-    by_position: Vec<&'a EntityInstance>,
+    by_position: Vec<&'a Item>,
 }
 
 /// Ids are usually dense integers from 1: then a table indexed by id, which every lookup of
 /// the reader (a few per reference) finds without hashing; a hash map otherwise.
 enum ById<'a> {
-    Dense(Vec<Option<(usize, &'a EntityInstance)>>),
-    Sparse(FxHashMap<u64, (usize, &'a EntityInstance)>),
+    Dense(Vec<Option<(usize, &'a Item)>>),
+    Sparse(FxHashMap<u64, (usize, &'a Item)>),
 }
 
 impl<'a> ById<'a> {
-    fn get(&self, id: u64) -> Option<(usize, &'a EntityInstance)> {
+    fn get(&self, id: u64) -> Option<(usize, &'a Item)> {
         match self {
             ById::Dense(v) => usize::try_from(id)
                 .ok()
@@ -47,7 +48,7 @@ impl<'a> ById<'a> {
     }
 
     /// Sets `id`'s entry; true when `id` had none.
-    fn insert(&mut self, id: u64, entry: (usize, &'a EntityInstance)) -> bool {
+    fn insert(&mut self, id: u64, entry: (usize, &'a Item)) -> bool {
         match self {
             ById::Dense(v) => v[id as usize].replace(entry).is_none(),
             ById::Sparse(m) => m.insert(id, entry).is_none(),
@@ -72,21 +73,21 @@ pub const IDENTITY: Mat4 = [
 
 impl<'a> Records<'a> {
     /// Indexes every instance of `sections`.
-    pub fn new(sections: &'a [DataSection]) -> Self {
+    pub fn new(sections: &'a [Section]) -> Self {
         let n = sections.iter().map(|s| s.entities.len()).sum();
-        let instances = || sections.iter().flat_map(|s| &s.entities);
-        let max_id = instances().map(instance_id).max().unwrap_or(0);
+        let items = || sections.iter().flat_map(|s| &s.entities);
+        let max_id = items().map(Item::id).max().unwrap_or(0);
         let mut by_id = if max_id < (DENSE_IDS_PER_INSTANCE * n + 1024) as u64 {
             ById::Dense(vec![None; max_id as usize + 1])
         } else {
             ById::Sparse(FxHashMap::with_capacity_and_hasher(n, Default::default()))
         };
         let mut order = Vec::with_capacity(n);
-        let by_position: Vec<&EntityInstance> = instances().collect();
-        for (i, inst) in instances().enumerate() {
-            let id = instance_id(inst);
+        let by_position: Vec<&Item> = items().collect();
+        for (i, item) in items().enumerate() {
+            let id = item.id();
             // A repeated id: the last definition wins, as in the index.
-            if by_id.insert(id, (i, inst)) {
+            if by_id.insert(id, (i, item)) {
                 order.push(id);
             }
         }
@@ -113,13 +114,31 @@ impl<'a> Records<'a> {
     }
 
     /// The position and instance of this id.
-    pub fn get_indexed(&self, id: u64) -> Option<(usize, &'a EntityInstance)> {
+    pub fn get_indexed(&self, id: u64) -> Option<(usize, &'a Item)> {
         self.by_id.get(id)
     }
 
-    /// The instance with this id.
+    /// The instance with this id, unless it is a compact point (see [`Self::point`]).
     pub fn get(&self, id: u64) -> Option<&'a EntityInstance> {
-        self.by_id.get(id).map(|(_, inst)| inst)
+        match self.by_id.get(id)?.1 {
+            Item::Instance(inst) => Some(inst),
+            Item::Point(_) => None,
+        }
+    }
+
+    /// The coordinates of the point (or direction, as `kind` says) with this id, compact or
+    /// not; `None` when `id` is not one. Coordinates that are not numbers are left out.
+    pub fn coordinates(&self, id: u64, kind: PointKind) -> Option<Vec<f64>> {
+        match self.by_id.get(id)?.1 {
+            Item::Point(p) => (p.kind == kind).then(|| p.coords().to_vec()),
+            Item::Instance(EntityInstance::Simple { record, .. }) if record.name == kind.name() => {
+                match params(record).get(1) {
+                    Some(Parameter::List(l)) => Some(l.iter().filter_map(as_real).collect()),
+                    _ => Some(vec![]),
+                }
+            }
+            Item::Instance(_) => None,
+        }
     }
 
     /// The record of a simple instance.
@@ -133,12 +152,13 @@ impl<'a> Records<'a> {
     /// The entity name of an instance (`"ADVANCED_FACE"`; a complex instance gives its parts
     /// joined, `"(BOUNDED_SURFACE B_SPLINE_SURFACE ...)"`), or `"<missing>"`.
     pub fn name(&self, id: u64) -> String {
-        match self.get(id) {
-            Some(EntityInstance::Simple { record, .. }) => record.name.clone(),
-            Some(EntityInstance::Complex { subsuper, .. }) => {
+        match self.by_id.get(id).map(|(_, item)| item) {
+            Some(Item::Instance(EntityInstance::Simple { record, .. })) => record.name.clone(),
+            Some(Item::Instance(EntityInstance::Complex { subsuper, .. })) => {
                 let parts: Vec<&str> = subsuper.0.iter().map(|r| r.name.as_str()).collect();
                 format!("({})", parts.join(" "))
             }
+            Some(Item::Point(p)) => p.kind.name().into(),
             None => "<missing>".into(),
         }
     }
@@ -225,7 +245,7 @@ pub fn as_string(p: &Parameter) -> String {
 
 /// Radians per unit of the file's plane-angle unit (`CONVERSION_BASED_UNIT('DEGREE', …)`
 /// gives π/180); 1 when the file uses radians or says nothing.
-fn plane_angle_factor(sections: &[DataSection]) -> f64 {
+fn plane_angle_factor(sections: &[Section]) -> f64 {
     let records = Records::new(sections);
     for id in records.ids_in_order() {
         if !records.is(id, "PLANE_ANGLE_UNIT") {
@@ -250,16 +270,16 @@ fn plane_angle_factor(sections: &[DataSection]) -> f64 {
 }
 
 /// Rewrites what truck misreads (see the module docs). Returns the number of records changed.
-pub fn patch_for_truck(sections: &mut [DataSection]) -> usize {
+pub fn patch_for_truck(sections: &mut [Section]) -> usize {
     let angle = plane_angle_factor(sections);
     // One pass for what the rewriting needs to know: the largest id, the basis curve of every
     // TRIMMED_CURVE, and whether some placement leaves its x axis out.
     let mut max_id = 0;
     let mut trimmed_basis: HashMap<u64, u64> = HashMap::new();
     let mut implicit_x = false;
-    for inst in sections.iter().flat_map(|s| &s.entities) {
-        max_id = max_id.max(instance_id(inst));
-        if let EntityInstance::Simple { id, record } = inst {
+    for item in sections.iter().flat_map(|s| &s.entities) {
+        max_id = max_id.max(item.id());
+        if let Item::Instance(EntityInstance::Simple { id, record }) = item {
             match record.name.as_str() {
                 "TRIMMED_CURVE" => {
                     if let Some(basis) = params(record).get(1).and_then(as_ref) {
@@ -277,23 +297,19 @@ pub fn patch_for_truck(sections: &mut [DataSection]) -> usize {
     // when some placement leaves its x axis out).
     let mut directions: HashMap<u64, [f64; 3]> = HashMap::new();
     if implicit_x {
-        for inst in sections.iter().flat_map(|s| &s.entities) {
-            if let EntityInstance::Simple { id, record } = inst {
-                if record.name == "DIRECTION" {
-                    if let Some(Parameter::List(l)) = params(record).get(1) {
-                        let c: Vec<f64> = l.iter().filter_map(as_real).collect();
-                        if c.len() == 3 {
-                            directions.insert(*id, [c[0], c[1], c[2]]);
-                        }
-                    }
+        let records = Records::new(sections);
+        for id in records.ids_in_order() {
+            if let Some(c) = records.coordinates(id, PointKind::Direction) {
+                if c.len() == 3 {
+                    directions.insert(id, [c[0], c[1], c[2]]);
                 }
             }
         }
     }
     let mut new_directions: Vec<(u64, [f64; 3])> = Vec::new();
     let mut changed = 0;
-    for inst in sections.iter_mut().flat_map(|s| &mut s.entities) {
-        let EntityInstance::Simple { record, .. } = inst else {
+    for item in sections.iter_mut().flat_map(|s| &mut s.entities) {
+        let Item::Instance(EntityInstance::Simple { record, .. }) = item else {
             continue;
         };
         let Parameter::List(list) = &mut record.parameter else {
@@ -374,16 +390,12 @@ pub fn patch_for_truck(sections: &mut [DataSection]) -> usize {
     }
     if let Some(section) = sections.first_mut() {
         for (id, x) in new_directions {
-            section.entities.push(EntityInstance::Simple {
+            section.entities.push(Item::Point(CompactPoint::new(
                 id,
-                record: Record {
-                    name: "DIRECTION".into(),
-                    parameter: Parameter::List(vec![
-                        Parameter::String(String::new()),
-                        Parameter::List(x.iter().map(|c| Parameter::Real(*c)).collect()),
-                    ]),
-                },
-            });
+                PointKind::Direction,
+                String::new(),
+                &x,
+            )));
         }
     }
     changed
@@ -393,7 +405,9 @@ pub fn patch_for_truck(sections: &mut [DataSection]) -> usize {
 /// B-spline record. Returns `(id, entity, reason)` for the first offender.
 pub fn check_knots(records: &Records) -> Option<(u64, String, String)> {
     for id in records.ids_in_order() {
-        let inst = records.get(id)?;
+        let Some(inst) = records.get(id) else {
+            continue;
+        };
         for rec in parts_of(inst) {
             if !rec.name.contains("WITH_KNOTS") {
                 continue;
@@ -449,7 +463,9 @@ pub fn check_bspline_degrees(records: &Records) -> Option<(u64, String, String)>
         _ => None,
     };
     for id in records.ids_in_order() {
-        let inst = records.get(id)?;
+        let Some(inst) = records.get(id) else {
+            continue;
+        };
         if !parts_of(inst)
             .iter()
             .any(|r| r.name.starts_with("B_SPLINE_"))
@@ -552,7 +568,7 @@ pub fn check_bspline_degrees(records: &Records) -> Option<(u64, String, String)>
 pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
     /// Pushes the entity references of `inst`; the first reference to something else (a
     /// constant `#NAME` or a value instance `@3`, on which truck panics) is returned.
-    fn refs_of(inst: &EntityInstance, out: &mut Vec<u64>) -> Option<String> {
+    fn refs_of(item: &Item, out: &mut Vec<u64>) -> Option<String> {
         fn walk(p: &Parameter, out: &mut Vec<u64>, other: &mut Option<String>) {
             match p {
                 Parameter::Ref(Name::Entity(id)) => out.push(*id),
@@ -570,8 +586,10 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
             }
         }
         let mut other = None;
-        for r in parts_of(inst) {
-            walk(&r.parameter, out, &mut other);
+        if let Item::Instance(inst) = item {
+            for r in parts_of(inst) {
+                walk(&r.parameter, out, &mut other);
+            }
         }
         other
     }
@@ -590,8 +608,8 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
     let mut flat: Vec<u64> = Vec::with_capacity(4 * n);
     let mut other: rustc_hash::FxHashMap<usize, String> = Default::default();
     first.push(0);
-    for (pos, inst) in records.by_position.iter().enumerate() {
-        if let Some(name) = refs_of(inst, &mut flat) {
+    for (pos, item) in records.by_position.iter().enumerate() {
+        if let Some(name) = refs_of(item, &mut flat) {
             other.insert(pos, name);
         }
         first.push(flat.len());
@@ -848,17 +866,15 @@ pub fn axis2_placement(records: &Records, id: u64) -> Result<Mat4, String> {
         .filter(|r| r.name == "AXIS2_PLACEMENT_3D")
         .ok_or_else(|| format!("#{id} is not an AXIS2_PLACEMENT_3D"))?;
     let p = params(rec);
-    let point = |id: u64| -> Result<[f64; 3], String> {
-        let r = records.simple(id).ok_or_else(|| format!("#{id} missing"))?;
-        let c: Vec<f64> = params(r)
-            .get(1)
-            .and_then(|l| match l {
-                Parameter::List(l) => Some(l.iter().filter_map(as_real).collect()),
-                _ => None,
-            })
-            .ok_or_else(|| format!("#{id} {}: no coordinates", r.name))?;
+    let point = |id: u64, kind: PointKind| -> Result<[f64; 3], String> {
+        let c = records
+            .coordinates(id, kind)
+            .ok_or_else(|| format!("#{id} is not a {}", kind.name()))?;
         if c.len() != 3 || c.iter().any(|x| !x.is_finite()) {
-            return Err(format!("#{id} {}: needs three finite coordinates", r.name));
+            return Err(format!(
+                "#{id} {}: needs three finite coordinates",
+                kind.name()
+            ));
         }
         Ok([c[0], c[1], c[2]])
     };
@@ -866,13 +882,14 @@ pub fn axis2_placement(records: &Records, id: u64) -> Result<Mat4, String> {
         p.get(1)
             .and_then(as_ref)
             .ok_or("placement without location")?,
+        PointKind::CartesianPoint,
     )?;
     let z = match p.get(2).and_then(as_ref) {
-        Some(d) => normalize(point(d)?).ok_or("zero axis direction")?,
+        Some(d) => normalize(point(d, PointKind::Direction)?).ok_or("zero axis direction")?,
         None => [0.0, 0.0, 1.0],
     };
     let xref = match p.get(3).and_then(as_ref) {
-        Some(d) => point(d)?,
+        Some(d) => point(d, PointKind::Direction)?,
         None => [1.0, 0.0, 0.0],
     };
     // x = ref_direction made orthogonal to z (ISO 10303-42 first_proj_axis).
@@ -1103,7 +1120,7 @@ pub fn placements(rep: u64, links: &[(u64, u64, Mat4)]) -> Vec<Mat4> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use truck_stepio::r#in::ruststep::ast::{DataSection, EntityInstance, Parameter, Record};
+    use truck_stepio::r#in::ruststep::ast::{EntityInstance, Parameter, Record};
     use truck_stepio::r#in::Table;
 
     fn simple(id: u64, name: &str) -> EntityInstance {
@@ -1159,11 +1176,11 @@ mod tests {
     #[test]
     fn records_index_dense_and_sparse_ids() {
         for ids in [vec![3, 1, 2, 3], vec![7, 1_000_000_000_000, 5, 7]] {
-            let section = DataSection {
+            let section = Section {
                 meta: vec![],
                 entities: ids
                     .iter()
-                    .map(|&id| simple(id, "CARTESIAN_POINT"))
+                    .map(|&id| Item::Instance(simple(id, "CARTESIAN_POINT")))
                     .collect(),
             };
             let sections = [section];
@@ -1200,12 +1217,8 @@ mod tests {
         let x = |id: u64| params(records.simple(id).expect("a placement"))[3].clone();
         assert_eq!(x(9), Parameter::Ref(Name::Entity(10)));
         assert_eq!(x(5), Parameter::NotProvided);
-        let new = params(records.simple(10).expect("the new direction"));
-        let c: Vec<f64> = match &new[1] {
-            Parameter::List(l) => l.iter().filter_map(as_real).collect(),
-            other => panic!("{other:?}"),
-        };
-        assert_eq!(c, vec![0.0, 0.0, -1.0]);
+        let c = records.coordinates(10, PointKind::Direction);
+        assert_eq!(c, Some(vec![0.0, 0.0, -1.0]), "the new direction");
     }
 
     /// A surface curve's pcurves are dropped and its 3D curve made the master: truck then
@@ -1228,8 +1241,10 @@ mod tests {
         let mut exchange = crate::brep::p21::parse(text, 16).expect("parses");
         assert_eq!(patch_for_truck(&mut exchange.data), 4);
         let mut table = Table::default();
-        for inst in &exchange.data[0].entities {
-            table.push_instance(inst).expect("truck reads it");
+        for item in &exchange.data[0].entities {
+            table
+                .push_instance(&item.to_instance())
+                .expect("truck reads it");
         }
         for id in [5, 6] {
             let records = Records::new(&exchange.data);

@@ -11,7 +11,7 @@
 
 use super::domain::{align_loops, face_domain, loop_uv};
 use super::model::*;
-use super::p21;
+use super::p21::{self, Item, PointKind};
 use super::records::{self, as_bool, as_ref, as_refs, params, LengthUnit, Mat4, Records};
 use crate::error::{Error, Result};
 use glam::DVec3;
@@ -21,7 +21,9 @@ use std::path::{Path, PathBuf};
 use truck_geometry::prelude::Point3;
 use truck_stepio::r#in::ruststep::ast::{EntityInstance, Name, Parameter};
 use truck_stepio::r#in::ruststep::tables::{IntoOwned, PlaceHolder};
-use truck_stepio::r#in::{EdgeCurveHolder, SurfaceAnyHolder, Table};
+use truck_stepio::r#in::{
+    CartesianPointHolder, DirectionHolder, EdgeCurveHolder, SurfaceAnyHolder, Table,
+};
 
 /// Files larger than this are refused before parsing (the parser keeps the whole structure in
 /// memory, several times the file size).
@@ -77,19 +79,26 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
     // NIST parts, whose styling entities are a large part of the file), and the topology is
     // walked here: both are skipped, but for the contexts of definitional representations,
     // which truck looks up among its text records.
-    let to_push: Vec<&EntityInstance> = exchange
+    let to_push: Vec<&Item> = exchange
         .data
         .iter()
         .flat_map(|s| &s.entities)
-        .filter(|inst| match inst {
-            EntityInstance::Simple { id, record } => {
+        .filter(|item| match item {
+            Item::Instance(EntityInstance::Simple { id, record }) => {
                 records::truck_converts(&record.name) || contexts.contains(id)
             }
-            EntityInstance::Complex { .. } => true,
+            Item::Instance(EntityInstance::Complex { .. }) | Item::Point(_) => true,
         })
         .collect();
     reserve_table(&mut table, &to_push);
-    for inst in to_push {
+    for item in to_push {
+        let inst = match item {
+            Item::Point(p) => {
+                push_point(&mut table, p);
+                continue;
+            }
+            Item::Instance(inst) => inst,
+        };
         match guarded(|| table.push_instance(inst)) {
             Ok(Ok(())) => {}
             Ok(Err(e)) => {
@@ -125,13 +134,39 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
     .run()
 }
 
+/// Puts a compact point or direction into truck's table: the holder truck's reader makes of
+/// its record (`push_instance`), without the record or the deserializer.
+fn push_point(table: &mut Table, p: &p21::CompactPoint) {
+    let (label, coords) = (p.label.clone(), p.coords().to_vec());
+    match p.kind {
+        PointKind::CartesianPoint => {
+            let holder = CartesianPointHolder {
+                label,
+                coordinates: coords,
+            };
+            table.cartesian_point.insert(p.id, holder);
+        }
+        PointKind::Direction => {
+            let holder = DirectionHolder {
+                label,
+                direction_ratios: coords,
+            };
+            table.direction.insert(p.id, holder);
+        }
+    }
+}
+
 /// Sizes truck's tables for the entities most files are made of, which would otherwise grow
 /// by rehashing (truck's maps hash with SipHash).
-fn reserve_table(table: &mut Table, instances: &[&EntityInstance]) {
+fn reserve_table(table: &mut Table, items: &[&Item]) {
     let mut n = [0usize; 9];
-    for inst in instances {
-        if let EntityInstance::Simple { record, .. } = inst {
-            let k = match record.name.as_str() {
+    for item in items {
+        let k = match item {
+            Item::Point(p) => match p.kind {
+                PointKind::CartesianPoint => 0,
+                PointKind::Direction => 1,
+            },
+            Item::Instance(EntityInstance::Simple { record, .. }) => match record.name.as_str() {
                 "CARTESIAN_POINT" => 0,
                 "DIRECTION" => 1,
                 "VECTOR" => 2,
@@ -142,9 +177,10 @@ fn reserve_table(table: &mut Table, instances: &[&EntityInstance]) {
                 "VERTEX_POINT" => 7,
                 "EDGE_CURVE" => 8,
                 _ => continue,
-            };
-            n[k] += 1;
-        }
+            },
+            Item::Instance(EntityInstance::Complex { .. }) => continue,
+        };
+        n[k] += 1;
     }
     table.cartesian_point.reserve(n[0]);
     table.direction.reserve(n[1]);
@@ -586,14 +622,9 @@ impl Ingest<'_> {
             .filter(|r| r.name == "VERTEX_POINT")
             .ok_or_else(|| self.err(id, "expected VERTEX_POINT"))?;
         let pid = self.param(id, params(rec), 1, as_ref, "point missing")?;
-        let prec = recs
-            .simple(pid)
-            .filter(|r| r.name == "CARTESIAN_POINT")
+        let c = recs
+            .coordinates(pid, PointKind::CartesianPoint)
             .ok_or_else(|| self.err(pid, "expected CARTESIAN_POINT"))?;
-        let c: Vec<f64> = match params(prec).get(1) {
-            Some(Parameter::List(l)) => l.iter().filter_map(records::as_real).collect(),
-            _ => vec![],
-        };
         if c.len() != 3 || c.iter().any(|x| !x.is_finite()) {
             return Err(self.err(pid, "needs three finite coordinates"));
         }
@@ -902,4 +933,37 @@ fn permutation(keys: &[(usize, usize)]) -> Vec<usize> {
     let mut perm: Vec<usize> = (0..keys.len()).collect();
     perm.sort_by_key(|&i| keys[i]);
     perm
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A compact point or direction gives truck's table the holder truck's own reader makes
+    /// of the full record, for every form the parser keeps compact.
+    #[test]
+    fn compact_points_make_truck_s_holders() {
+        let text = "ISO-10303-21;HEADER;ENDSEC;DATA;
+            #1=CARTESIAN_POINT('',(1.,-2.5,3.E1));
+            #2=CARTESIAN_POINT('a''b',(0.5,-0.));
+            #3=CARTESIAN_POINT('x',(7.));
+            #4=DIRECTION('',(0.,0.,1.));
+            #5=DIRECTION('d',(1.E-300,-1.));
+            ENDSEC;END-ISO-10303-21;";
+        let parsed = p21::parse(text, 8).expect("parses");
+        let (mut ours, mut truck) = (Table::default(), Table::default());
+        for item in &parsed.data[0].entities {
+            let Item::Point(p) = item else {
+                panic!("{item:?} is not compact")
+            };
+            push_point(&mut ours, p);
+            truck
+                .push_instance(&item.to_instance())
+                .expect("truck reads it");
+        }
+        assert_eq!(ours.cartesian_point.len(), 3);
+        assert_eq!(ours.direction.len(), 2);
+        assert_eq!(ours.cartesian_point, truck.cartesian_point);
+        assert_eq!(ours.direction, truck.direction);
+    }
 }
