@@ -173,6 +173,10 @@ pub fn parse(text: &str, max_nesting: usize) -> Result<Parsed, SyntaxError> {
     p.exchange()
 }
 
+/// A record's parameter list is allocated for this many parameters: most B-rep records have
+/// 2 to 6, and a list grown from empty would be allocated for 4 and again for 8.
+const RECORD_CAPACITY: usize = 6;
+
 struct Parser<'a> {
     text: &'a str,
     b: &'a [u8],
@@ -369,7 +373,7 @@ impl<'a> Parser<'a> {
                     }
                     let meta = if self.eat(b'(')? {
                         self.open()?;
-                        let list = self.list_items()?;
+                        let list = self.list_items(0)?;
                         self.depth -= 1;
                         list
                     } else {
@@ -565,7 +569,7 @@ impl<'a> Parser<'a> {
         let name = self.keyword()?;
         self.expect(b'(', || format!("after {name}"))?;
         self.open()?;
-        let params = self.list_items()?;
+        let params = self.list_items(RECORD_CAPACITY)?;
         self.depth -= 1;
         Ok(Record {
             name,
@@ -574,11 +578,12 @@ impl<'a> Parser<'a> {
     }
 
     /// Comma-separated parameters up to and including the closing ')'. The '(' is read.
-    fn list_items(&mut self) -> R<Vec<Parameter>> {
-        let mut items = Vec::new();
+    /// `capacity` is what the list is allocated with when not empty.
+    fn list_items(&mut self, capacity: usize) -> R<Vec<Parameter>> {
         if self.eat(b')')? {
-            return Ok(items);
+            return Ok(Vec::new());
         }
+        let mut items = Vec::with_capacity(capacity);
         loop {
             items.push(self.parameter()?);
             match self.peek()? {
@@ -613,7 +618,7 @@ impl<'a> Parser<'a> {
             b'(' => {
                 self.i += 1;
                 self.open()?;
-                let items = self.list_items()?;
+                let items = self.list_items(0)?;
                 self.depth -= 1;
                 Parameter::List(items)
             }

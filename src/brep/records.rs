@@ -10,7 +10,8 @@
 //!   vertices trim it anyway; truck does not read `TRIMMED_CURVE`);
 //! - [`check_knots`] rejects unsorted knot vectors, on which truck panics;
 //! - [`check_acyclic`] rejects reference cycles, on which any recursive reader overflows;
-//! - [`length_units`] and [`placements`] recover units and assembly transforms.
+//! - [`length_units`] and [`placements`] recover units and assembly transforms, and
+//!   [`plane_angle_factor`] the angle unit (truck reads cones' semi-angles as radians).
 
 use super::p21::{CompactPoint, Item, PointKind, Section};
 use glam::DVec3;
@@ -245,8 +246,7 @@ pub fn as_string(p: &Parameter) -> String {
 
 /// Radians per unit of the file's plane-angle unit (`CONVERSION_BASED_UNIT('DEGREE', …)`
 /// gives π/180); 1 when the file uses radians or says nothing.
-fn plane_angle_factor(sections: &[Section]) -> f64 {
-    let records = Records::new(sections);
+pub fn plane_angle_factor(records: &Records) -> f64 {
     for id in records.ids_in_order() {
         if !records.is(id, "PLANE_ANGLE_UNIT") {
             continue;
@@ -271,7 +271,6 @@ fn plane_angle_factor(sections: &[Section]) -> f64 {
 
 /// Rewrites what truck misreads (see the module docs). Returns the number of records changed.
 pub fn patch_for_truck(sections: &mut [Section]) -> usize {
-    let angle = plane_angle_factor(sections);
     // One pass for what the rewriting needs to know: the largest id, the basis curve of every
     // TRIMMED_CURVE, and whether some placement leaves its x axis out.
     let mut max_id = 0;
@@ -316,20 +315,13 @@ pub fn patch_for_truck(sections: &mut [Section]) -> usize {
             continue;
         };
         // truck reads every entity's name as a string; some writers (Rhino) put `$` there.
-        if truck_reads(&record.name) {
-            if let Some(first @ Parameter::NotProvided) = list.first_mut() {
+        if let Some(first @ Parameter::NotProvided) = list.first_mut() {
+            if truck_reads(&record.name) {
                 *first = Parameter::String(String::new());
                 changed += 1;
             }
         }
         match record.name.as_str() {
-            // truck takes the semi-angle in radians whatever the file's angle unit.
-            "CONICAL_SURFACE" if angle != 1.0 => {
-                if let Some(Parameter::Real(x)) = list.get_mut(3) {
-                    *x *= angle;
-                    changed += 1;
-                }
-            }
             // ISO 10303-42 takes x = (1,0,0) when ref_direction is omitted, which is
             // degenerate when the axis is ±x; truck then builds NaN frames. Give such
             // placements OCCT's choice of x axis explicitly.

@@ -109,6 +109,7 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
             }
         }
     }
+    cone_angles_in_radians(&mut table, &recs);
     Ingest {
         path: path.into(),
         recs: &recs,
@@ -152,6 +153,17 @@ fn push_point(table: &mut Table, p: &p21::CompactPoint) {
                 direction_ratios: coords,
             };
             table.direction.insert(p.id, holder);
+        }
+    }
+}
+
+/// truck takes a cone's semi-angle in radians whatever the file's plane-angle unit: the
+/// angles in its table are converted.
+fn cone_angles_in_radians(table: &mut Table, recs: &Records) {
+    let angle = records::plane_angle_factor(recs);
+    if angle != 1.0 {
+        for cone in table.conical_surface.values_mut() {
+            cone.semi_angle *= angle;
         }
     }
 }
@@ -965,5 +977,33 @@ mod tests {
         assert_eq!(ours.direction.len(), 2);
         assert_eq!(ours.cartesian_point, truck.cartesian_point);
         assert_eq!(ours.direction, truck.direction);
+    }
+
+    /// A cone's semi-angle in degrees reaches truck in radians; in a file in radians it is
+    /// left as it is.
+    #[test]
+    fn cone_angles_reach_truck_in_radians() {
+        let cone = "#1=CARTESIAN_POINT('',(0.,0.,0.));
+            #2=DIRECTION('',(0.,0.,1.));
+            #3=DIRECTION('',(1.,0.,0.));
+            #4=AXIS2_PLACEMENT_3D('',#1,#2,#3);
+            #5=CONICAL_SURFACE('',#4,2.,30.);
+            #8=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));";
+        let degree = "#6=(CONVERSION_BASED_UNIT('DEGREE',#7)NAMED_UNIT(*)PLANE_ANGLE_UNIT());
+            #7=PLANE_ANGLE_MEASURE_WITH_UNIT(PLANE_ANGLE_MEASURE(0.0174532925),#8);";
+        for (units, expected) in [("", 30.0), (degree, 30.0 * 0.0174532925)] {
+            let text =
+                format!("ISO-10303-21;HEADER;ENDSEC;DATA;{cone}{units}ENDSEC;END-ISO-10303-21;");
+            let parsed = p21::parse(&text, 8).expect("parses");
+            let recs = Records::new(&parsed.data);
+            let mut table = Table::default();
+            for item in &parsed.data[0].entities {
+                table
+                    .push_instance(&item.to_instance())
+                    .expect("truck reads it");
+            }
+            cone_angles_in_radians(&mut table, &recs);
+            assert_eq!(table.conical_surface[&5].semi_angle, expected, "{units}");
+        }
     }
 }
