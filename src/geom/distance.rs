@@ -633,12 +633,17 @@ fn face_nearest(
                 let ts = &c.boundary.edge_t[range(&ec.samples)];
                 let ps = &c.boundary.edge_p[range(&ec.samples)];
                 if !matches!(e.curve, Curve3D::Line(_)) {
-                    let near = ps
-                        .iter()
-                        .map(|x| x.distance_squared(p))
-                        .fold(f64::INFINITY, f64::min)
-                        .sqrt();
-                    if near - ec.cover >= *best_d {
+                    // Skip the edge when its nearest sample, less the cover radius, is not
+                    // nearer than `best_d`. The same test on each sample, stopping at the
+                    // first that passes, decides alike (sqrt and subtraction are monotone,
+                    // so the nearest sample passes if any does); the squared prefilter is
+                    // wider than the test by far more than rounding.
+                    let reach = (*best_d + ec.cover) * (1.0 + 1e-9);
+                    let near_enough = ps.iter().any(|x| {
+                        let d2 = x.distance_squared(p);
+                        d2 <= reach * reach && d2.sqrt() - ec.cover < *best_d
+                    });
+                    if !near_enough {
                         return;
                     }
                 }
