@@ -380,7 +380,11 @@ impl<'a> Parser<'a> {
                         vec![]
                     };
                     self.expect(b';', || "after DATA")?;
-                    let mut entities = Vec::new();
+                    // At most one instance per ';' to come: counting them (memchr, vectorised)
+                    // is far cheaper than growing a list of large items by doubling (6 % of
+                    // parsing FTC 09).
+                    let bound = memchr::memchr_iter(b';', &self.b[self.i..]).count();
+                    let mut entities = Vec::with_capacity(bound);
                     loop {
                         match self.peek()? {
                             Some(b'#') => entities.push(self.instance()?),
