@@ -173,6 +173,9 @@ pub fn parse(text: &str, max_nesting: usize) -> Result<Parsed, SyntaxError> {
     p.exchange()
 }
 
+/// The most instances a data section's list is allocated for before it is read (about 5 MB).
+const MAX_RESERVED_INSTANCES: usize = 1 << 16;
+
 /// A record's parameter list is allocated for this many parameters: most B-rep records have
 /// 2 to 6, and a list grown from empty would be allocated for 4 and again for 8.
 const RECORD_CAPACITY: usize = 6;
@@ -382,9 +385,12 @@ impl<'a> Parser<'a> {
                     self.expect(b';', || "after DATA")?;
                     // At most one instance per ';' to come: counting them (memchr, vectorised)
                     // is far cheaper than growing a list of large items by doubling (6 % of
-                    // parsing FTC 09).
-                    let bound = memchr::memchr_iter(b';', &self.b[self.i..]).count();
-                    let mut entities = Vec::with_capacity(bound);
+                    // parsing FTC 09). Capped, so that a file of semicolons in a comment
+                    // cannot reserve gigabytes; larger sections grow as they are read.
+                    let rest = &self.b[self.i..];
+                    let bound = memchr::memchr_iter(b';', rest).count();
+                    let mut entities =
+                        Vec::with_capacity(bound.min(rest.len() / 8).min(MAX_RESERVED_INSTANCES));
                     loop {
                         match self.peek()? {
                             Some(b'#') => entities.push(self.instance()?),
