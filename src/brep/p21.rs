@@ -1178,6 +1178,23 @@ mod tests {
         assert_eq!((e.line, e.column), (8, 10), "{e}");
     }
 
+    /// The instance list is sized from the semicolons to come, but not beyond the cap: a
+    /// comment full of them reserves no more than that.
+    #[test]
+    fn the_instance_list_reservation_is_capped() {
+        let text = head(&format!("/* {} */ #1=A(1);", ";".repeat(4_000_000)));
+        let parsed = parse(&text, 64).unwrap();
+        let entities = &parsed.data[0].entities;
+        assert_eq!(entities.len(), 1);
+        assert!(
+            entities.capacity() <= MAX_RESERVED_INSTANCES,
+            "{}",
+            entities.capacity()
+        );
+        let few = parse(&head("#1=A(1);#2=A(2);"), 64).unwrap();
+        assert!(few.data[0].entities.capacity() <= 4);
+    }
+
     #[test]
     fn nesting_is_bounded_without_recursion_overflow() {
         let deep = format!("#1=A({}1{});", "(".repeat(100_000), ")".repeat(100_000));
