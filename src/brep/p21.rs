@@ -882,7 +882,7 @@ fn memchr_quote(b: &[u8]) -> Option<usize> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use truck_stepio::r#in::ruststep;
 
@@ -904,9 +904,8 @@ mod tests {
         parse(text, 64).unwrap_err()
     }
 
-    /// Every sample and real-world STEP file gives the same AST as ruststep's own parser.
-    #[test]
-    fn same_ast_as_ruststep_on_every_file() {
+    /// The STEP files of `samples/` and `../shared/realworld/` (at least 30).
+    pub(crate) fn corpus_step_files() -> Vec<std::path::PathBuf> {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
         let mut files = vec![];
         for dir in [root.join("samples"), root.join("../shared/realworld")] {
@@ -919,7 +918,13 @@ mod tests {
             }
         }
         assert!(files.len() >= 30, "found only {} files", files.len());
-        for f in files {
+        files
+    }
+
+    /// Every sample and real-world STEP file gives the same AST as ruststep's own parser.
+    #[test]
+    fn same_ast_as_ruststep_on_every_file() {
+        for f in corpus_step_files() {
             let text = std::fs::read_to_string(&f).unwrap();
             let ours = parse(&text, 64).unwrap_or_else(|e| panic!("{f:?}: {e}"));
             let theirs = ruststep::parser::parse(&text).unwrap();

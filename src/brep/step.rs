@@ -186,81 +186,92 @@ fn push_direct(table: &mut Table, id: u64, record: &Record) -> bool {
         Parameter::Real(x) => Some(*x),
         _ => None,
     };
-    let done = |pushed: Option<()>| pushed.is_some();
+    /// Puts the holder, if the record gave one, under `id`.
+    fn put<H>(map: &mut std::collections::HashMap<u64, H>, id: u64, holder: Option<H>) -> bool {
+        holder.map(|h| map.insert(id, h)).is_some()
+    }
     match (record.name.as_str(), params(record)) {
-        ("VECTOR", [l, o, m]) => done((|| {
-            let holder = VectorHolder {
-                label: label(l)?,
-                orientation: r(o)?,
-                magnitude: real(m)?,
+        ("VECTOR", [l, o, m]) => {
+            let holder = || {
+                Some(VectorHolder {
+                    label: label(l)?,
+                    orientation: r(o)?,
+                    magnitude: real(m)?,
+                })
             };
-            table.vector.insert(id, holder);
-            Some(())
-        })()),
-        ("AXIS2_PLACEMENT_3D", [l, loc, axis, x]) => done((|| {
-            let holder = Axis2Placement3dHolder {
-                label: label(l)?,
-                location: r(loc)?,
-                axis: opt_r(axis)?,
-                ref_direction: opt_r(x)?,
+            put(&mut table.vector, id, holder())
+        }
+        ("AXIS2_PLACEMENT_3D", [l, loc, axis, x]) => {
+            let holder = || {
+                Some(Axis2Placement3dHolder {
+                    label: label(l)?,
+                    location: r(loc)?,
+                    axis: opt_r(axis)?,
+                    ref_direction: opt_r(x)?,
+                })
             };
-            table.axis2_placement_3d.insert(id, holder);
-            Some(())
-        })()),
-        ("LINE", [l, pnt, dir]) => done((|| {
-            let holder = LineHolder {
-                label: label(l)?,
-                pnt: r(pnt)?,
-                dir: r(dir)?,
+            put(&mut table.axis2_placement_3d, id, holder())
+        }
+        ("LINE", [l, pnt, dir]) => {
+            let holder = || {
+                Some(LineHolder {
+                    label: label(l)?,
+                    pnt: r(pnt)?,
+                    dir: r(dir)?,
+                })
             };
-            table.line.insert(id, holder);
-            Some(())
-        })()),
-        ("CIRCLE", [l, position, radius]) => done((|| {
-            let holder = CircleHolder {
-                label: label(l)?,
-                position: r(position)?,
-                radius: real(radius)?,
+            put(&mut table.line, id, holder())
+        }
+        ("CIRCLE", [l, position, radius]) => {
+            let holder = || {
+                Some(CircleHolder {
+                    label: label(l)?,
+                    position: r(position)?,
+                    radius: real(radius)?,
+                })
             };
-            table.circle.insert(id, holder);
-            Some(())
-        })()),
-        ("PLANE", [l, position]) => done((|| {
-            let holder = PlaneHolder {
-                label: label(l)?,
-                position: r(position)?,
+            put(&mut table.circle, id, holder())
+        }
+        ("PLANE", [l, position]) => {
+            let holder = || {
+                Some(PlaneHolder {
+                    label: label(l)?,
+                    position: r(position)?,
+                })
             };
-            table.plane.insert(id, holder);
-            Some(())
-        })()),
-        ("CYLINDRICAL_SURFACE", [l, position, radius]) => done((|| {
-            let holder = CylindricalSurfaceHolder {
-                label: label(l)?,
-                position: r(position)?,
-                radius: real(radius)?,
+            put(&mut table.plane, id, holder())
+        }
+        ("CYLINDRICAL_SURFACE", [l, position, radius]) => {
+            let holder = || {
+                Some(CylindricalSurfaceHolder {
+                    label: label(l)?,
+                    position: r(position)?,
+                    radius: real(radius)?,
+                })
             };
-            table.cylindrical_surface.insert(id, holder);
-            Some(())
-        })()),
-        ("VERTEX_POINT", [l, point]) => done((|| {
-            let holder = VertexPointHolder {
-                label: label(l)?,
-                vertex_geometry: r(point)?,
+            put(&mut table.cylindrical_surface, id, holder())
+        }
+        ("VERTEX_POINT", [l, point]) => {
+            let holder = || {
+                Some(VertexPointHolder {
+                    label: label(l)?,
+                    vertex_geometry: r(point)?,
+                })
             };
-            table.vertex_point.insert(id, holder);
-            Some(())
-        })()),
-        ("EDGE_CURVE", [l, start, end, geometry, sense]) => done((|| {
-            let holder = EdgeCurveHolder {
-                label: label(l)?,
-                edge_start: r(start)?,
-                edge_end: r(end)?,
-                edge_geometry: r(geometry)?,
-                same_sense: as_bool(sense)?,
+            put(&mut table.vertex_point, id, holder())
+        }
+        ("EDGE_CURVE", [l, start, end, geometry, sense]) => {
+            let holder = || {
+                Some(EdgeCurveHolder {
+                    label: label(l)?,
+                    edge_start: r(start)?,
+                    edge_end: r(end)?,
+                    edge_geometry: r(geometry)?,
+                    same_sense: as_bool(sense)?,
+                })
             };
-            table.edge_curve.insert(id, holder);
-            Some(())
-        })()),
+            put(&mut table.edge_curve, id, holder())
+        }
         _ => false,
     }
 }
@@ -1091,20 +1102,8 @@ mod tests {
     /// holder truck's reader makes of it; it takes nearly all records of its kinds.
     #[test]
     fn direct_holders_are_truck_s_on_every_file() {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let mut files = vec![];
-        for dir in [root.join("samples"), root.join("../shared/realworld")] {
-            for e in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
-                let p = e.path();
-                let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
-                if ["step", "stp", "STEP", "STP"].contains(&ext) {
-                    files.push(p);
-                }
-            }
-        }
-        assert!(files.len() >= 30, "found only {} files", files.len());
         let (mut direct, mut kinds) = (0, 0);
-        for f in files {
+        for f in p21::tests::corpus_step_files() {
             let text = std::fs::read_to_string(&f).unwrap();
             let mut parsed = p21::parse(&text, MAX_NESTING).unwrap();
             records::patch_for_truck(&mut parsed.data);
