@@ -1,7 +1,9 @@
 //! STEP (ISO 10303-21) ingestion into our [`Model`].
 //!
-//! The file is parsed with ruststep (through truck-stepio), patched where truck misreads it
-//! ([`super::records`]), and then walked by hand: `MANIFOLD_SOLID_BREP` / `BREP_WITH_VOIDS` →
+//! The file is parsed into ruststep's AST by [`super::p21`] (points and directions kept
+//! compact), patched where truck misreads it ([`super::records`]), put into truck's table
+//! (the common records as holders built here, the rest through truck's reader), and then
+//! walked by hand: `MANIFOLD_SOLID_BREP` / `BREP_WITH_VOIDS` →
 //! `CLOSED_SHELL` / `ORIENTED_CLOSED_SHELL` → `ADVANCED_FACE` (or `ORIENTED_FACE`) →
 //! `FACE_BOUND` → `EDGE_LOOP` / `VERTEX_LOOP` → `ORIENTED_EDGE` → `EDGE_CURVE` → `VERTEX_POINT`.
 //! Only the geometry (surfaces, edge curves) is converted by truck, one entity at a time, so a
