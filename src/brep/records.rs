@@ -119,7 +119,7 @@ impl<'a> Records<'a> {
         self.by_id.get(id)
     }
 
-    /// The instance with this id, unless it is a compact point (see [`Self::point`]).
+    /// The instance with this id, unless it is a compact point (see [`Self::coordinates`]).
     pub fn get(&self, id: u64) -> Option<&'a EntityInstance> {
         match self.by_id.get(id)?.1 {
             Item::Instance(inst) => Some(inst),
