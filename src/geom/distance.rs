@@ -528,22 +528,10 @@ fn face_nearest(
     let mut seed: Option<(DVec2, f64)> = None;
     if plane.is_none() {
         match &cache {
-            Some(c) => {
-                let fc = &c.boundary.faces[fi];
-                let mut lb = f64::INFINITY;
-                let mut best = f64::INFINITY;
-                for cell in &c.boundary.cells[range(&fc.cells)] {
-                    lb = lb.min(box_distance_squared(&cell.bbox, p));
-                    let d2 = cell.rep.distance_squared(p);
-                    if d2 < best {
-                        best = d2;
-                        seed = Some((cell.uv, d2.sqrt()));
-                    }
-                }
-                if fc.cells.end > fc.cells.start && lb >= bound * bound {
-                    return None;
-                }
-            }
+            Some(c) => match c.boundary.cell_seed(fi, p, bound) {
+                Some(s) => seed = s,
+                None => return None,
+            },
             None if hint.is_none() => seed = grid_seed(face, p),
             None => {}
         }
@@ -904,6 +892,20 @@ struct Cell {
     uv: DVec2,
 }
 
+/// Up to [`CELL_BLOCK`] consecutive cells of one face, with a box around their centres and
+/// one around their boxes: a query skips a block that can hold neither a nearer centre nor a
+/// box within its bound (the distance to a box is at most that to anything in it, rounding
+/// included: subtraction, squaring and the sum are monotone).
+#[derive(Clone, Debug)]
+struct CellBlock {
+    reps: Aabb,
+    boxes: Aabb,
+    cells: Range<u32>,
+}
+
+/// Cells per [`CellBlock`] (a row of the finest face grid).
+const CELL_BLOCK: usize = MAX_FACE_GRID;
+
 #[derive(Clone, Debug)]
 struct FaceCache {
     /// `(origin, Su, Sv)` of a planar face.
@@ -911,6 +913,8 @@ struct FaceCache {
     /// [`closed_periods`] of the surface.
     closed: (bool, bool),
     cells: Range<u32>,
+    /// The cells in blocks, into `Boundary::blocks`.
+    blocks: Range<u32>,
     /// Fast inside/outside lookup for the trim ([`TRIM_GRID`] cells along the longer side).
     trim: Option<TrimGrid>,
     /// The loops prepared for the exact test where the grid cannot tell.
@@ -939,6 +943,7 @@ pub struct Boundary {
     bvh: Bvh,
     faces: Vec<FaceCache>,
     cells: Vec<Cell>,
+    blocks: Vec<CellBlock>,
     face_edges: Vec<u32>,
     edges: Vec<EdgeCache>,
     edge_t: Vec<f64>,
@@ -957,6 +962,7 @@ impl Boundary {
             bvh: Bvh::new(&[]),
             faces: Vec::with_capacity(model.faces.len()),
             cells: Vec::new(),
+            blocks: Vec::new(),
             face_edges: Vec::new(),
             edges: Vec::with_capacity(model.edges.len()),
             edge_t: Vec::new(),
@@ -1116,16 +1122,71 @@ impl Boundary {
                 };
             }
         }
+        let blocks_start = self.blocks.len() as u32;
+        let cells_end = self.cells.len() as u32;
+        for start in (cells_start..cells_end).step_by(CELL_BLOCK) {
+            let cells = start..cells_end.min(start + CELL_BLOCK as u32);
+            let (mut reps, mut boxes) = (Aabb::EMPTY, Aabb::EMPTY);
+            let mut finite = true;
+            for cell in &self.cells[range(&cells)] {
+                reps.add(cell.rep);
+                boxes = union(&boxes, &cell.bbox);
+                finite &= cell.rep.is_finite() && cell.bbox.min.is_finite();
+                finite &= cell.bbox.max.is_finite();
+            }
+            if !finite {
+                // A NaN would be left out of the boxes (min and max skip it) but not out of
+                // the cell's own distance: such a block is never skipped.
+                let all = Aabb {
+                    min: DVec3::NEG_INFINITY,
+                    max: DVec3::INFINITY,
+                };
+                (reps, boxes) = (all, all);
+            }
+            self.blocks.push(CellBlock { reps, boxes, cells });
+        }
         self.faces.push(FaceCache {
             plane,
             trim,
             loops: trim::Trim::new(face),
             closed: closed_periods(&face.surface),
-            cells: cells_start..self.cells.len() as u32,
+            cells: cells_start..cells_end,
+            blocks: blocks_start..self.blocks.len() as u32,
             edges,
             bbox,
         });
         debug_assert_eq!(self.faces.len(), fi + 1);
+    }
+
+    /// Face `fi`'s cell centre nearest to `p` (its UV and distance; the first of equals in
+    /// cell order), or `None` when the face has cells and none of their boxes is within
+    /// `bound` of `p` (the face holds no point nearer than `bound`). Blocks that can change
+    /// neither answer are skipped (see [`CellBlock`]); the answer is the linear scan's.
+    fn cell_seed(&self, fi: usize, p: DVec3, bound: f64) -> Option<Option<(DVec2, f64)>> {
+        let fc = &self.faces[fi];
+        let bound2 = bound * bound;
+        let mut within = false;
+        let mut best = f64::INFINITY;
+        let mut seed = None;
+        for block in &self.blocks[range(&fc.blocks)] {
+            let nearer = box_distance_squared(&block.reps, p) < best;
+            if !nearer && (within || box_distance_squared(&block.boxes, p) >= bound2) {
+                continue;
+            }
+            for cell in &self.cells[range(&block.cells)] {
+                within |= box_distance_squared(&cell.bbox, p) < bound2;
+                let d2 = cell.rep.distance_squared(p);
+                if d2 < best {
+                    best = d2;
+                    seed = Some((cell.uv, d2.sqrt()));
+                }
+            }
+        }
+        // As `min over the cells of their box distance >= bound²` decided it.
+        if fc.cells.end > fc.cells.start && !within && !bound2.is_nan() {
+            return None;
+        }
+        Some(seed)
     }
 
     /// Angle-weighted pseudo-normals at the vertices (see the module docs).
@@ -1786,6 +1847,63 @@ pub(crate) mod tests {
             .join("samples")
             .join(name);
         crate::read_model(&path).expect("sample reads")
+    }
+
+    /// The blocked cell scan answers as the linear scan over every cell did: the same seed,
+    /// bit for bit, and the same rejection, for points in and around curved parts and
+    /// bounds from zero to infinity.
+    #[test]
+    fn blocked_cell_scan_is_the_linear_scan() {
+        let linear = |b: &Boundary, fi: usize, p: DVec3, bound: f64| {
+            let fc = &b.faces[fi];
+            let (mut lb, mut best, mut seed) = (f64::INFINITY, f64::INFINITY, None);
+            for cell in &b.cells[range(&fc.cells)] {
+                lb = lb.min(box_distance_squared(&cell.bbox, p));
+                let d2 = cell.rep.distance_squared(p);
+                if d2 < best {
+                    best = d2;
+                    seed = Some((cell.uv, d2.sqrt()));
+                }
+            }
+            if fc.cells.end > fc.cells.start && lb >= bound * bound {
+                return None;
+            }
+            Some(seed)
+        };
+        let mut rng = Lcg(7);
+        let mut rejected = 0;
+        for name in [
+            "filleted_box.step",
+            "sphere.step",
+            "torus.step",
+            "box_bspline_top.step",
+        ] {
+            let model = sample(name);
+            let b = Boundary::new(&model);
+            let (lo, hi) = model.bbox;
+            let size = (hi - lo).length();
+            for _ in 0..4000 {
+                let t = DVec3::new(rng.next(), rng.next(), rng.next()) * 1.4 - 0.2;
+                let p = lo + (hi - lo) * t;
+                let bound = match rng.next() {
+                    x if x < 0.1 => f64::INFINITY,
+                    x => x * x * size,
+                };
+                for fi in 0..model.faces.len() {
+                    let (ours, theirs) = (b.cell_seed(fi, p, bound), linear(&b, fi, p, bound));
+                    let bits = |s: Option<Option<(DVec2, f64)>>| {
+                        s.map(|s| s.map(|(uv, d)| (uv.x.to_bits(), uv.y.to_bits(), d.to_bits())))
+                    };
+                    assert_eq!(
+                        bits(ours),
+                        bits(theirs),
+                        "{name} face {fi} at {p} within {bound}"
+                    );
+                    rejected += usize::from(ours.is_none());
+                }
+            }
+        }
+        assert!(rejected > 1000, "{rejected}");
     }
 
     /// Deterministic uniform numbers in [0, 1) (a 64-bit LCG, high bits).
