@@ -18,6 +18,12 @@ impl Aabb {
         max: DVec3::splat(f64::NEG_INFINITY),
     };
 
+    /// The box of all space: every query reaches it, at distance 0.
+    pub const UNBOUNDED: Aabb = Aabb {
+        min: DVec3::NEG_INFINITY,
+        max: DVec3::INFINITY,
+    };
+
     /// Grows the box to contain `p`.
     pub fn add(&mut self, p: DVec3) {
         self.min = self.min.min(p);

@@ -261,10 +261,7 @@ mod tests {
     #[test]
     fn unbounded_box_is_always_visited() {
         let mut bs = boxes(50, 3);
-        bs.push(Aabb {
-            min: DVec3::NEG_INFINITY,
-            max: DVec3::INFINITY,
-        });
+        bs.push(Aabb::UNBOUNDED);
         let bvh = Bvh::new(&bs);
         for k in 0..20 {
             let p = DVec3::new(k as f64 * 13.0 - 50.0, 20.0, k as f64 * 3.0);

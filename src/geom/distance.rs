@@ -1116,10 +1116,7 @@ impl Boundary {
             if self.cells.len() == cells_start as usize {
                 // No cell bounds the face (a degenerate domain this module cannot widen): an
                 // unbounded box keeps it in every query rather than losing it.
-                bbox = Aabb {
-                    min: DVec3::NEG_INFINITY,
-                    max: DVec3::INFINITY,
-                };
+                bbox = Aabb::UNBOUNDED;
             }
         }
         let blocks_start = self.blocks.len() as u32;
@@ -1131,17 +1128,15 @@ impl Boundary {
             for cell in &self.cells[range(&cells)] {
                 reps.add(cell.rep);
                 boxes = union(&boxes, &cell.bbox);
-                finite &= cell.rep.is_finite() && cell.bbox.min.is_finite();
-                finite &= cell.bbox.max.is_finite();
+                finite &= [cell.rep, cell.bbox.min, cell.bbox.max]
+                    .iter()
+                    .all(|v| v.is_finite());
             }
             if !finite {
                 // A NaN would be left out of the boxes (min and max skip it) but not out of
-                // the cell's own distance: such a block is never skipped.
-                let all = Aabb {
-                    min: DVec3::NEG_INFINITY,
-                    max: DVec3::INFINITY,
-                };
-                (reps, boxes) = (all, all);
+                // the cell's own distance: a block with any non-finite coordinate is never
+                // skipped.
+                (reps, boxes) = (Aabb::UNBOUNDED, Aabb::UNBOUNDED);
             }
             self.blocks.push(CellBlock { reps, boxes, cells });
         }
