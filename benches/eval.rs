@@ -4,8 +4,8 @@
 //! 10 × 10 control points, the same net as a NURBS, and two analytic surfaces.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use matrace::brep::model::Surface;
 use matrace::geom::eval_surface;
+use matrace::model::Surface;
 use truck_geometry::prelude::*;
 use truck_stepio::r#in::alias::{ElementarySurface, Sphere as StepSphere};
 

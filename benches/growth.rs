@@ -47,8 +47,9 @@ fn bench(c: &mut Criterion) {
     for teeth in [1, 2, 4, 8, 16, 32] {
         let text = comb_step(teeth);
         let name = format!("comb_{teeth}.step");
-        let m = matrace::brep::read_model_from_bytes(std::path::Path::new(&name), text.as_bytes())
-            .expect("truck's STEP reads");
+        let m =
+            matrace::ingest::read_model_from_bytes(std::path::Path::new(&name), text.as_bytes())
+                .expect("truck's STEP reads");
         let class = matrace::classify(&m, &Default::default());
         let opts = matrace::medial::TraceOptions::for_model(&m);
         let boundary = matrace::geom::Boundary::new(&m);

@@ -21,6 +21,7 @@ identical. Needs only Python 3 (no third-party modules).
 
 import argparse
 import concurrent.futures
+import hashlib
 import json
 import os
 import re
@@ -168,6 +169,17 @@ def first_difference(a: bytes, b: bytes) -> str:
     return f" ({len(la)} vs {len(lb)} lines)"
 
 
+def digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def corpus_digest(parts: list[Path]) -> str:
+    h = hashlib.sha256()
+    for p in parts:
+        h.update(str(p).encode() + b"\0" + digest(p).encode())
+    return h.hexdigest()
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("old")
@@ -179,11 +191,20 @@ def main() -> int:
     args = ap.parse_args()
     parts = corpus()
     work = args.work or Path(tempfile.mkdtemp(prefix="matrace-compare-"))
-    for side in ["old", "new"]:
-        shutil.rmtree(work / side, ignore_errors=True)
+    work.mkdir(parents=True, exist_ok=True)
     for side, binary in [("old", args.old), ("new", args.new)]:
+        # With --work, the old side's outputs are kept and reused while the binary and the
+        # corpus are the same (the stamp holds both's hashes).
+        stamp = work / f"{side}.stamp"
+        key = f"{digest(Path(binary))} {corpus_digest(parts)}"
+        if side == "old" and stamp.is_file() and stamp.read_text() == key:
+            print(f"reusing {side} outputs ({binary} unchanged)", file=sys.stderr)
+            continue
+        shutil.rmtree(work / side, ignore_errors=True)
+        stamp.unlink(missing_ok=True)
         print(f"running {side} ({binary}) on {len(parts)} parts", file=sys.stderr)
         run_all(str(Path(binary).resolve()), parts, work / side, args.jobs)
+        stamp.write_text(key)
     diffs = compare(work / "old", work / "new", args.ignore)
     for d in diffs:
         print(d)

@@ -21,7 +21,7 @@
 //! The library does not print: progress goes to a callback ([`Progress`]).
 
 use crate::error::{Error, Result};
-pub use crate::run::PartOptions;
+pub use crate::pipeline::PartOptions;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
@@ -848,8 +848,8 @@ pub fn write_summary(summary: &Summary, out_dir: &Path, shard: Option<Shard>) ->
         path: json_path.clone(),
         source: std::io::Error::other(e),
     })?;
-    crate::output::write_atomic(&out_dir.join(name("csv")), summary_csv(summary).as_bytes())?;
-    crate::output::write_atomic(&json_path, (json + "\n").as_bytes())?;
+    crate::export::write_atomic(&out_dir.join(name("csv")), summary_csv(summary).as_bytes())?;
+    crate::export::write_atomic(&json_path, (json + "\n").as_bytes())?;
     Ok(json_path)
 }
 

@@ -17,8 +17,8 @@
 //! a smooth region); three or more → convex if all are convex, reflex if all are reflex,
 //! mixed otherwise (the corners the paper's tracer starts from are the convex ones).
 
-use crate::brep::Model;
 use crate::geom::{eval_surface, project_point};
+use crate::model::Model;
 use glam::DVec3;
 use truck_geometry::prelude::ParametricCurve;
 

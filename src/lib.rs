@@ -8,16 +8,18 @@
 #![forbid(unsafe_code)]
 
 pub mod batch;
-pub mod brep;
 pub mod classify;
 pub mod error;
+pub mod export;
+pub mod fit;
 pub mod geom;
+pub mod ingest;
 pub mod medial;
-pub mod output;
+pub mod model;
 pub mod panic_guard;
-pub mod report;
-pub mod run;
+pub mod pipeline;
 
-pub use brep::{read_model, Model};
 pub use classify::{classify, Classification, ClassifyOptions, EdgeKind, VertexKind};
 pub use error::{Error, Result};
+pub use ingest::read_model;
+pub use model::Model;

@@ -149,11 +149,11 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 ..Default::default()
             };
             let class = matrace::classify(&model, &opts);
-            let report = matrace::report::Report::new(&model, &class);
+            let report = matrace::export::report::Report::new(&model, &class);
             if json {
                 emit(&format!("{}\n", serde_json::to_string_pretty(&report)?));
             } else {
-                emit(&matrace::report::render_table(&report));
+                emit(&matrace::export::report::render_table(&report));
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -164,11 +164,11 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             stem,
         } => {
             trace.check()?;
-            let opts = matrace::run::RunOptions {
+            let opts = matrace::pipeline::RunOptions {
                 stem,
-                ..matrace::run::RunOptions::new(out, trace.part_options())
+                ..matrace::pipeline::RunOptions::new(out, trace.part_options())
             };
-            let outcome = matrace::run::trace_part(&part, &opts)?;
+            let outcome = matrace::pipeline::trace_part(&part, &opts)?;
             emit(&summary(&part, &outcome));
             if outcome.verification_failed() {
                 let v = outcome.report.stats.verification.as_ref().unwrap();
@@ -258,8 +258,8 @@ impl TraceArgs {
     }
 
     /// The library's per-part options.
-    fn part_options(&self) -> matrace::run::PartOptions {
-        matrace::run::PartOptions {
+    fn part_options(&self) -> matrace::pipeline::PartOptions {
+        matrace::pipeline::PartOptions {
             tol: self.tol,
             fit_tol: self.fit_tol,
             verify: self.verify,
@@ -350,7 +350,7 @@ fn emit(text: &str) {
 }
 
 /// The human summary of a traced part (stdout).
-fn summary(part: &std::path::Path, outcome: &matrace::run::PartOutcome) -> String {
+fn summary(part: &std::path::Path, outcome: &matrace::pipeline::PartOutcome) -> String {
     use std::fmt::Write;
     let r = &outcome.report;
     let st = &r.stats;

@@ -9,7 +9,7 @@ fuzz_target!(|data: &[u8]| {
     // libFuzzer's hook aborts on any panic; panics that matrace's guard turns into errors
     // (truck's, ruststep's) are expected, only escaping ones are findings.
     matrace::panic_guard::install_quiet_hook();
-    if let Ok(model) = matrace::brep::read_model_from_bytes(Path::new("fuzz.step"), data) {
+    if let Ok(model) = matrace::ingest::read_model_from_bytes(Path::new("fuzz.step"), data) {
         // A model that reads must classify.
         let _ = matrace::classify(&model, &Default::default());
     }

@@ -12,7 +12,7 @@ fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    let ours = matrace::brep::p21::parse(text, 64);
+    let ours = matrace::ingest::p21::parse(text, 64);
     // ruststep recurses per nested list and panics on integer overflow: only compare where
     // it can answer.
     if text.bytes().filter(|&b| b == b'(').count() > 64 {

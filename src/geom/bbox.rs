@@ -1,6 +1,6 @@
 //! Axis-aligned bounding boxes.
 
-use crate::brep::Model;
+use crate::model::Model;
 use glam::DVec3;
 use truck_geometry::prelude::{Point3, Vector4};
 
@@ -63,7 +63,7 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
         if curve_hull_within(&e.curve, &b) {
             continue;
         }
-        let n = if matches!(e.curve, crate::brep::model::Curve3D::Line(_)) {
+        let n = if matches!(e.curve, crate::model::Curve3D::Line(_)) {
             1
         } else {
             BBOX_EDGE_SAMPLES
@@ -114,8 +114,8 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
 
 /// True when `surface` is a B-spline or NURBS patch whose control points (NURBS: with
 /// positive weights) all lie in `b`.
-fn control_points_within(surface: &crate::brep::model::Surface, b: &Aabb) -> bool {
-    use crate::brep::model::Surface;
+fn control_points_within(surface: &crate::model::Surface, b: &Aabb) -> bool {
+    use crate::model::Surface;
     match surface {
         Surface::BSplineSurface(s) => points_within(s.control_points().iter().flatten(), b),
         Surface::NurbsSurface(s) => weighted_within(s.control_points().iter().flatten(), b),
@@ -126,8 +126,8 @@ fn control_points_within(surface: &crate::brep::model::Surface, b: &Aabb) -> boo
 /// True when a box around the whole of `curve` (not just its trimmed range) lies in `b`: an
 /// ellipse's `centre ± (|a| + |b|)` per axis, a B-spline's or NURBS curve's (positive
 /// weights) control points.
-fn curve_hull_within(curve: &crate::brep::model::Curve3D, b: &Aabb) -> bool {
-    use crate::brep::model::Curve3D;
+fn curve_hull_within(curve: &crate::model::Curve3D, b: &Aabb) -> bool {
+    use crate::model::Curve3D;
     use truck_stepio::r#in::alias::Conic3D;
     match curve {
         Curve3D::Conic(Conic3D::Ellipse(e)) => {
@@ -167,7 +167,7 @@ fn weighted_within<'a>(points: impl IntoIterator<Item = &'a Vector4>, b: &Aabb) 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::brep::model::Curve3D;
+    use crate::model::Curve3D;
     use truck_geometry::prelude::*;
     use truck_stepio::r#in::alias::Conic3D;
 

@@ -7,7 +7,7 @@
 //! `−n`: `k(t) = II(t, t)/I(t, t)` with `II = ⟨S_xy, −n⟩`.
 //!
 //! The outward normal is `n = sign·(Su × Sv)/‖Su × Sv‖`, `sign = ±1` telling whether `Su × Sv`
-//! points out of the material (the face's orientation, [`crate::brep::model`]).
+//! points out of the material (the face's orientation, [`crate::model`]).
 //!
 //! Method (do Carmo, *Differential Geometry of Curves and Surfaces*, §3.3): build the
 //! orthonormal tangent frame `e1 = Su/‖Su‖`, `e2 = n × e1`, express the second fundamental form
@@ -107,9 +107,9 @@ mod tests {
     //! scale; 1e-12 relative leaves ~10³ ulps of margin.
 
     use super::*;
-    use crate::brep::model::Surface;
     use crate::geom::eval::eval_surface;
     use crate::geom::eval::tests::{cylinder, plane, sphere, torus};
+    use crate::model::Surface;
     use std::f64::consts::PI;
     use truck_geometry::prelude::{BSplineSurface, KnotVec, NurbsSurface, Point3, Vector4};
 

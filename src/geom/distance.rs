@@ -62,7 +62,7 @@
 //! nearest point is `q` on a closed, oriented, manifold boundary (the theorem of the paper,
 //! which carries over to curved faces because only the tangent cones at `q` matter). Voids
 //! need nothing special: a void shell's faces have their outward normals pointing into the
-//! void ([`crate::brep::model::Face::sign`]).
+//! void ([`crate::model::Face::sign`]).
 //!
 //! **Limits.**
 //! - The trim is the loops' UV polygons (`brep::domain`, 32 samples per curved edge): a foot
@@ -87,7 +87,7 @@ use super::eval::{eval_curve, eval_surface};
 use super::project::{plane_frame, project_plane};
 use super::trim::{clamp_ranges, covered_domain};
 use super::{project_point, trim, unit_normal};
-use crate::brep::model::{Curve3D, Edge, Face, Model, Surface};
+use crate::model::{Curve3D, Edge, Face, Model, Surface};
 use glam::{DVec2, DVec3};
 use std::ops::Range;
 
@@ -730,7 +730,7 @@ fn range(r: &Range<u32>) -> Range<usize> {
 /// trim: `(uv, distance)`.
 fn grid_seed(face: &Face, p: DVec3) -> Option<(DVec2, f64)> {
     let (u, v) = covered_domain(face);
-    let d = &crate::brep::model::UvDomain {
+    let d = &crate::model::UvDomain {
         u,
         v,
         ..face.domain
@@ -770,7 +770,7 @@ pub const EXTRA_SEED_GRID: usize = 24;
 fn local_minima_seeds(face: &Face, p: DVec3) -> [Option<DVec2>; EXTRA_SEEDS] {
     const N: usize = EXTRA_SEED_GRID + 1;
     let (u, v) = covered_domain(face);
-    let d = &crate::brep::model::UvDomain {
+    let d = &crate::model::UvDomain {
         u,
         v,
         ..face.domain
@@ -1841,7 +1841,7 @@ pub(crate) mod tests {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("samples")
             .join(name);
-        crate::read_model(&path).expect("sample reads")
+        crate::ingest::read_model(&path).expect("sample reads")
     }
 
     /// The blocked cell scan answers as the linear scan over every cell did: the same seed,
@@ -2211,7 +2211,7 @@ pub(crate) mod tests {
         }
         for path in &files {
             let file = path.file_name().unwrap().to_string_lossy();
-            let model = crate::read_model(path).expect("reads");
+            let model = crate::ingest::read_model(path).expect("reads");
             let boundary = Boundary::new(&model);
             let (lo, hi) = model.bounding_box();
             let pad = (hi - lo) * 0.2;
@@ -2454,7 +2454,7 @@ pub(crate) mod tests {
         ];
         let mut failures = Vec::new();
         for (file, volume) in volumes {
-            let Ok(model) = crate::read_model(&dir.join(file)) else {
+            let Ok(model) = crate::ingest::read_model(&dir.join(file)) else {
                 failures.push(format!("{file}: unreadable"));
                 continue;
             };
@@ -2476,7 +2476,7 @@ pub(crate) mod tests {
     fn cone_cap_reaches_its_apex_without_a_vertex_loop() {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../shared/realworld/stepswift_nist_ftc_06_asme1_rd.stp");
-        let Ok(model) = crate::read_model(&path) else {
+        let Ok(model) = crate::ingest::read_model(&path) else {
             return;
         };
         let mut checked = 0;
@@ -2530,7 +2530,7 @@ pub(crate) mod tests {
             let file = s["file"].as_str().unwrap();
             let (Some(volume), Ok(model)) = (
                 s["volume"].as_f64(),
-                crate::read_model(&root.join("samples").join(file)),
+                crate::ingest::read_model(&root.join("samples").join(file)),
             ) else {
                 continue;
             };
@@ -2621,7 +2621,7 @@ mod stress_tests {
         files.sort();
         let mut fails = 0;
         for path in files {
-            let Ok(model) = crate::read_model(&path) else {
+            let Ok(model) = crate::ingest::read_model(&path) else {
                 println!("{} unreadable", path.display());
                 continue;
             };

@@ -38,7 +38,7 @@
 //! polylines the end segment, analytic kinds are defined everywhere. A B-spline with fewer
 //! than `p + 1` control points (which truck's checked constructors accept) evaluates to NaN.
 
-use crate::brep::model::{Curve3D, Surface};
+use crate::model::{Curve3D, Surface};
 use glam::{DMat4, DVec2, DVec3, DVec4};
 use truck_geometry::prelude::{
     BSplineCurve, BSplineSurface, Line, Matrix4, NurbsCurve, NurbsSurface, ParametricCurve, Point2,

@@ -2,7 +2,7 @@
 //! trimming (inside/outside a face's loops), bounding boxes.
 //!
 //! Everything here works in model units (millimetres) on the truck geometry that
-//! [`crate::brep`] carries, correcting truck where it is wrong (B-spline second derivatives).
+//! [`crate::model`] carries, correcting truck where it is wrong (B-spline second derivatives).
 
 mod bbox;
 pub mod bvh;
@@ -19,7 +19,7 @@ pub use distance::{nearest_on_edge, nearest_on_face, Boundary, FaceHit, Feature}
 pub use eval::{eval_curve, eval_surface, surface_point, CurveDerivs, SurfaceDerivs};
 pub use project::project_point;
 
-use crate::brep::model::Surface;
+use crate::model::Surface;
 
 /// The kind of a surface, as the report names it: `plane`, `cylinder`, `cone`, `sphere`,
 /// `torus`, `bspline`, `nurbs`, `extrusion`, `revolution`.

@@ -16,7 +16,7 @@
 //! [`project_point`] unchanged (see [`project_point_along`] for why).
 
 use super::eval::eval_surface;
-use crate::brep::model::Surface;
+use crate::model::Surface;
 use glam::DVec3;
 use std::ops::Bound;
 use truck_geometry::prelude::{ParametricSurface, Point3, SearchNearestParameter};

@@ -1,7 +1,7 @@
 //! Inside/outside a face's trimming loops, in UV space.
 //!
 //! A face is its surface restricted to the region its edge loops enclose in the face's
-//! (unwrapped) UV space, [`Loop::uv`](crate::brep::model::Loop::uv). [`contains`] decides
+//! (unwrapped) UV space, [`Loop::uv`](crate::model::Loop::uv). [`contains`] decides
 //! whether a parameter point lies in that region by casting a ray along one parameter
 //! direction and looking at the loop segments it crosses (the crossing-number test, Shimrat,
 //! *Algorithm 112: Position of point relative to polygon*, CACM 5(8), 1962; Haines, *Point in
@@ -40,7 +40,7 @@
 //! boundary handle the edges separately (see [`super::distance`]).
 
 use super::eval::eval_surface;
-use crate::brep::model::{Face, Loop};
+use crate::model::{Face, Loop};
 use glam::{DVec2, Vec2Swizzles};
 
 /// Relative tolerance on the UV domain in a bounded, non-periodic direction of a face with
@@ -674,7 +674,7 @@ pub fn path_crosses_loops(face: &Face, chunks: &LoopChunks, a: DVec2, b: DVec2) 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::brep::model::{Loop, Model};
+    use crate::model::{Loop, Model};
     use glam::DVec3;
     use std::f64::consts::{PI, TAU};
 
@@ -682,7 +682,7 @@ mod tests {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("samples")
             .join(name);
-        crate::read_model(&path).expect("sample reads")
+        crate::ingest::read_model(&path).expect("sample reads")
     }
 
     /// UV of a 3D point on `face`'s surface.
@@ -936,7 +936,7 @@ mod tests {
             for entry in entries {
                 let path = entry.unwrap().path();
                 if path.extension().is_some_and(|e| e != "json" && e != "md") {
-                    if let Ok(m) = crate::read_model(&path) {
+                    if let Ok(m) = crate::ingest::read_model(&path) {
                         faces.extend(m.faces);
                     }
                 }
@@ -1001,7 +1001,7 @@ mod tests {
     fn cone_cap_stops_at_its_apex() {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../shared/realworld/stepswift_nist_ctc_01_asme1_rd.stp");
-        let Ok(m) = crate::read_model(&path) else {
+        let Ok(m) = crate::ingest::read_model(&path) else {
             return;
         };
         let face = &m.faces[75];
@@ -1077,7 +1077,7 @@ mod tests {
             if path.extension().is_none_or(|e| e != "step") {
                 continue;
             }
-            let Ok(m) = crate::read_model(&path) else {
+            let Ok(m) = crate::ingest::read_model(&path) else {
                 continue;
             };
             for (i, face) in m.faces.iter().enumerate() {

@@ -8,8 +8,8 @@
 //! frame of [`edge_frame`]) and reflex vertices (`(φ, ψ)` in [`vertex_frame`]) are segments
 //! with the same two-parameter interface (DESIGN.md).
 
-use crate::brep::Model;
 use crate::geom::{eval_curve, eval_surface};
+use crate::model::Model;
 use glam::DVec3;
 use nalgebra::{DMatrix, DVector};
 
@@ -166,7 +166,7 @@ pub fn edge_frame(model: &Model, e: usize, t: f64) -> Option<EdgeFrame> {
 /// plane of its tangents at the start, middle and end (exact for planar curves: circles,
 /// ellipses, planar splines), falling back to the coordinate axis least aligned with the
 /// middle tangent.
-pub fn edge_axis(edge: &crate::brep::model::Edge) -> DVec3 {
+pub fn edge_axis(edge: &crate::model::Edge) -> DVec3 {
     let least_aligned = |t: DVec3| {
         let t = t.abs();
         if t.x <= t.y && t.x <= t.z {
@@ -179,7 +179,7 @@ pub fn edge_axis(edge: &crate::brep::model::Edge) -> DVec3 {
     };
     let (lo, hi) = edge.range;
     let mid = eval_curve(&edge.curve, 0.5 * (lo + hi)).d1;
-    if matches!(edge.curve, crate::brep::model::Curve3D::Line(_)) {
+    if matches!(edge.curve, crate::model::Curve3D::Line(_)) {
         return least_aligned(mid);
     }
     let t0 = eval_curve(&edge.curve, lo).d1.normalize_or_zero();
@@ -294,7 +294,7 @@ mod tests {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("samples")
             .join(name);
-        crate::read_model(&p).unwrap()
+        crate::ingest::read_model(&p).unwrap()
     }
 
     /// Analytic Jacobian against central differences on curved faces (sphere, torus,

@@ -18,11 +18,11 @@
 //! twice) is meshed from both foot regions, which cover it twice. Cells are cut at the sheet
 //! boundaries, not fitted to them: the mesh stops up to one cell short of a seam or rim.
 
-use crate::brep::Model;
 use crate::classify::Classification;
 use crate::geom::Boundary;
 use crate::medial::sheets::{SegmentGroups, Sheets};
 use crate::medial::Segment;
+use crate::model::Model;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -372,7 +372,7 @@ mod tests {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("samples")
             .join(name);
-        let m = crate::read_model(&p).unwrap();
+        let m = crate::ingest::read_model(&p).unwrap();
         let c = crate::classify(&m, &Default::default());
         let opts = crate::medial::TraceOptions::for_model(&m);
         let b = Boundary::new(&m);

@@ -23,9 +23,9 @@
 //! ends, curvature-limit ends (the skeletal edges from there are not traced), degenerate
 //! pieces (a cylinder's axis) or mixed edges.
 
-use crate::brep::Model;
 use crate::classify::{Classification, EdgeKind};
 use crate::medial::trace::{Mat, SeamEnd};
+use crate::model::Model;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -479,7 +479,7 @@ mod tests {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("samples")
             .join(name);
-        let m = crate::read_model(&p).unwrap();
+        let m = crate::ingest::read_model(&p).unwrap();
         let c = crate::classify(&m, &Default::default());
         let mat = crate::medial::trace(&m, &c, &crate::medial::TraceOptions::for_model(&m));
         let s = sheets(&m, &c, &mat);

@@ -140,17 +140,17 @@ mod tests {
     use crate::medial::{MedialSystem, Segment};
     use proptest::prelude::*;
 
-    fn sample(name: &str) -> crate::Model {
+    fn sample(name: &str) -> crate::model::Model {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("samples")
             .join(name);
-        crate::read_model(&p).unwrap()
+        crate::ingest::read_model(&p).unwrap()
     }
 
     /// Unknowns `[B, r, s…]` with each touch parameter at fraction `frac(i)` of segment i's
     /// face domain.
     fn start(
-        m: &crate::Model,
+        m: &crate::model::Model,
         sys: &MedialSystem,
         b: [f64; 3],
         r: f64,
@@ -172,7 +172,7 @@ mod tests {
     }
 
     /// Solves to 1e-12 mm in at most 30 iterations.
-    fn solve_tight(m: &crate::Model, sys: &MedialSystem, x: DVector<f64>) -> Solution {
+    fn solve_tight(m: &crate::model::Model, sys: &MedialSystem, x: DVector<f64>) -> Solution {
         solve(
             |x| sys.eval(m, x),
             x,
@@ -184,7 +184,7 @@ mod tests {
     }
 
     /// The face of `m` whose outward normal at its domain centre is `n` (±1e-9).
-    fn face_with_normal(m: &crate::Model, n: glam::DVec3) -> usize {
+    fn face_with_normal(m: &crate::model::Model, n: glam::DVec3) -> usize {
         (0..m.faces.len())
             .find(|&f| {
                 let d = m.faces[f].domain;
@@ -198,7 +198,7 @@ mod tests {
 
     /// The box [0,60]×[0,40]×[0,20]: the junction touching bottom, top, x = 0 and y = 0 is
     /// (10, 10, 10) with radius 10 (DESIGN.md's formula). A square 12×12 system.
-    fn box_junction_system(m: &crate::Model) -> MedialSystem {
+    fn box_junction_system(m: &crate::model::Model) -> MedialSystem {
         MedialSystem::new(
             [
                 glam::DVec3::NEG_Z,

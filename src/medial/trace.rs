@@ -27,9 +27,9 @@
 
 use super::equations::{vertex_angles, MedialSystem, Segment};
 use super::solver::{solve, SolveOptions, SolveStatus};
-use crate::brep::Model;
 use crate::classify::{Classification, EdgeKind, VertexKind};
 use crate::geom::{project_point, Boundary, FaceHit, Feature};
+use crate::model::Model;
 use glam::DVec3;
 use nalgebra::DVector;
 use std::collections::{HashSet, VecDeque};
@@ -2126,7 +2126,7 @@ mod tests {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("samples")
             .join(name);
-        let m = crate::read_model(&p).unwrap();
+        let m = crate::ingest::read_model(&p).unwrap();
         let c = crate::classify(&m, &Default::default());
         let mat = trace(&m, &c, &TraceOptions::for_model(&m));
         (m, mat)
@@ -2223,7 +2223,7 @@ mod tests {
     #[test]
     fn curvature_criterion_on_a_sphere() {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/sphere.step");
-        let m = crate::read_model(&p).unwrap();
+        let m = crate::ingest::read_model(&p).unwrap();
         let s = [1.0, 0.3];
         assert!(curvature_allows(&m, Segment::Face(0), s, 14.0));
         assert!(curvature_allows(&m, Segment::Face(0), s, 15.0));
@@ -2313,7 +2313,7 @@ mod tests {
             let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
                 .join("samples")
                 .join(file);
-            let m = crate::read_model(&p).unwrap();
+            let m = crate::ingest::read_model(&p).unwrap();
             let class = crate::classify(&m, &Default::default());
             // The lateral face owns the seam edge (the same face on both sides); the top is
             // the other face with the higher middle.
@@ -2416,7 +2416,7 @@ mod tests {
         }
         let class = crate::classify(m, &Default::default());
         let sheets = crate::medial::sheets(m, &class, mat);
-        let topo = crate::report::TopologyReport::new(m, mat, &sheets);
+        let topo = crate::export::report::TopologyReport::new(m, mat, &sheets);
         assert!(
             topo.inconsistencies.is_empty(),
             "{file}: {:?}",

@@ -7,8 +7,8 @@
 //! boundary at distance `r` from the centre. The figures are the worst absolute errors (mm).
 
 use super::trace::Mat;
-use crate::brep::Model;
 use crate::geom::Boundary;
+use crate::model::Model;
 use glam::DVec3;
 
 /// Worst errors over a traced medial axis.

@@ -366,7 +366,7 @@ fn damaged_step_never_panics() {
             let bytes = mutate(&text, &mut rng);
             let path = Path::new("damaged.step");
             let result = std::panic::catch_unwind(|| {
-                matrace::brep::read_model_from_bytes(path, &bytes).map(|_| ())
+                matrace::ingest::read_model_from_bytes(path, &bytes).map(|_| ())
             });
             match result {
                 Ok(Ok(())) => {}

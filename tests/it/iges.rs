@@ -4,8 +4,8 @@
 //! the STEP originals; bad IGES gives a clear error naming the file, never a panic.
 
 use crate::common::{matrace, root, sample};
+use matrace::export::report::Report;
 use matrace::medial::{trace, Mat, TraceOptions};
-use matrace::report::Report;
 use matrace::Model;
 use std::path::{Path, PathBuf};
 
@@ -385,7 +385,7 @@ fn damaged_iges_never_panics() {
             }
             let bytes = l.join("\n").into_bytes();
             let path = Path::new("damaged.igs");
-            match matrace::brep::read_model_from_bytes(path, &bytes) {
+            match matrace::ingest::read_model_from_bytes(path, &bytes) {
                 Ok(_) => reads += 1,
                 Err(e) => {
                     errors += 1;
@@ -468,7 +468,7 @@ fn dispatch_and_shell_without_solid() {
     let upper = dir.path().join("PART.IGES");
     std::fs::write(&upper, &t).unwrap();
     assert_eq!(read(&upper).source.format, "iges");
-    let m = matrace::brep::read_model_from_bytes(Path::new("part.dat"), t.as_bytes()).unwrap();
+    let m = matrace::ingest::read_model_from_bytes(Path::new("part.dat"), t.as_bytes()).unwrap();
     assert_eq!((m.source.format.as_str(), m.faces.len()), ("iges", 8));
     // Null the 186 (entity type 0 on both its DE records): the 514 alone is the solid.
     let lines: Vec<String> = t

@@ -69,7 +69,7 @@ fn every_realworld_solid_reads_with_all_its_entities_and_units() {
             }
         };
         let class = matrace::classify(&model, &Default::default());
-        let r = matrace::report::Report::new(&model, &class);
+        let r = matrace::export::report::Report::new(&model, &class);
         let want = (
             count_entities(&text, "ADVANCED_FACE"),
             count_entities(&text, "EDGE_CURVE"),

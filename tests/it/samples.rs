@@ -2,7 +2,7 @@
 //! counts, surface kinds, edge and vertex kinds, length unit and bounding box.
 
 use crate::common::{manifest, sample};
-use matrace::report::Report;
+use matrace::export::report::Report;
 use serde_json::Value;
 use std::collections::BTreeMap;
 

@@ -74,7 +74,7 @@ fn freecad_sees_one_edge_per_seam_within_the_fit_tolerance_and_the_junctions() {
         let tol = fit["tol"].as_f64().unwrap();
         // The default fit tolerance is DEFAULT_FIT_TOL × the diagonal.
         let diagonal = report["model"]["diagonal"].as_f64().unwrap();
-        let want = matrace::output::fit::DEFAULT_FIT_TOL * diagonal;
+        let want = matrace::fit::DEFAULT_FIT_TOL * diagonal;
         assert!(
             (tol - want).abs() <= 1e-12 * want,
             "{name}: tol {tol} vs {want}"

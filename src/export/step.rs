@@ -17,8 +17,8 @@
 //! non-AP214 schema (DESIGN.md, "The truck toolkit", item 7). The entities are simple enough to
 //! print directly.
 
-use super::fit::SeamFit;
 use crate::error::{Error, Result};
+use crate::fit::SeamFit;
 use crate::medial::Mat;
 use std::fmt::Write as _;
 use std::path::Path;

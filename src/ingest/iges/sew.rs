@@ -22,8 +22,8 @@
 
 use super::geometry::{mat_mul, Segment};
 use super::Ctx;
-use crate::brep::model::*;
 use crate::error::Result;
+use crate::model::*;
 use glam::DVec3;
 use std::collections::HashMap;
 

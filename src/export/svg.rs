@@ -43,11 +43,11 @@
 //! moves a colour by more than one level. Coordinates are written with one decimal (0.1 px):
 //! the output is deterministic, byte for byte, for the same input.
 
-use crate::brep::Model;
 use crate::classify::{Classification, EdgeKind};
 use crate::error::Result;
 use crate::geom::{eval_curve, eval_surface, surface_kind};
 use crate::medial::Mat;
+use crate::model::Model;
 use glam::{DVec2, DVec3};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -1449,7 +1449,7 @@ mod tests {
         let p = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("samples")
             .join(name);
-        let m = crate::read_model(&p).unwrap();
+        let m = crate::ingest::read_model(&p).unwrap();
         let c = crate::classify(&m, &Default::default());
         let mat = trace(&m, &c, &TraceOptions::for_model(&m));
         (m, c, mat)
@@ -1693,7 +1693,7 @@ mod tests {
     #[test]
     fn circles_are_sampled_to_the_tolerance_and_lines_by_their_ends() {
         let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/plate_with_holes.step");
-        let m = crate::read_model(&p).unwrap();
+        let m = crate::ingest::read_model(&p).unwrap();
         let tol = 0.01;
         let (mut circles, mut lines) = (0, 0);
         for e in &m.edges {
@@ -1727,7 +1727,7 @@ mod tests {
     #[test]
     fn a_cylinder_has_two_straight_outlines_from_the_side_and_none_along_its_axis() {
         let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/cylinder.step");
-        let m = crate::read_model(&p).unwrap();
+        let m = crate::ingest::read_model(&p).unwrap();
         let (lo, hi) = m.bbox;
         let r = 0.5 * (hi.x - lo.x);
         let grids = face_grids(&m);
@@ -1758,7 +1758,7 @@ mod tests {
     #[test]
     fn a_sphere_has_a_closed_outline_in_every_view() {
         let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/sphere.step");
-        let m = crate::read_model(&p).unwrap();
+        let m = crate::ingest::read_model(&p).unwrap();
         let (lo, hi) = m.bbox;
         let (c, r) = (0.5 * (lo + hi), 0.5 * (hi.x - lo.x));
         let grids = face_grids(&m);

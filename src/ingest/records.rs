@@ -1203,7 +1203,7 @@ mod tests {
             #9=AXIS2_PLACEMENT_3D('',#1,#2,$);
             #5=AXIS2_PLACEMENT_3D('',#1,#3,$);
             ENDSEC;END-ISO-10303-21;";
-        let mut exchange = crate::brep::p21::parse(text, 16).expect("parses");
+        let mut exchange = crate::ingest::p21::parse(text, 16).expect("parses");
         assert_eq!(patch_for_truck(&mut exchange.data), 1);
         let records = Records::new(&exchange.data);
         let x = |id: u64| params(records.simple(id).expect("a placement"))[3].clone();
@@ -1230,7 +1230,7 @@ mod tests {
             #5=SURFACE_CURVE('',#4,(#98,#99),.PCURVE_S1.);
             #6=SEAM_CURVE('',#4,(#98,#99),.PCURVE_S2.);
             ENDSEC;END-ISO-10303-21;";
-        let mut exchange = crate::brep::p21::parse(text, 16).expect("parses");
+        let mut exchange = crate::ingest::p21::parse(text, 16).expect("parses");
         assert_eq!(patch_for_truck(&mut exchange.data), 4);
         let mut table = Table::default();
         for item in &exchange.data[0].entities {

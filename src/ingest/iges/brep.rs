@@ -10,8 +10,8 @@
 
 use super::geometry::{apply, Segment, IDENTITY};
 use super::Ctx;
-use crate::brep::model::*;
 use crate::error::Result;
+use crate::model::*;
 use glam::DVec3;
 use std::collections::HashMap;
 

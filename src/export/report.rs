@@ -4,8 +4,8 @@
 //! the `mat` and `stats` objects are added by the tracer. Everything is plain serde data so
 //! the binary only serialises it.
 
-use crate::brep::Model;
 use crate::classify::{Classification, EdgeKind, VertexKind};
+use crate::model::Model;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -81,7 +81,7 @@ pub struct MatReport {
     pub topology: TopologyReport,
     /// The B-spline fits of the seams written to `<stem>.mat.step`, when made.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub fit: Option<crate::output::fit::FitReport>,
+    pub fit: Option<crate::fit::FitReport>,
 }
 
 /// Consistency of the seam–junction graph, and the Euler characteristic of each solid next to
@@ -294,8 +294,8 @@ pub struct VertexReport {
 }
 
 /// The kind of an edge curve, as the report names it.
-pub fn curve_kind(curve: &crate::brep::model::Curve3D) -> &'static str {
-    use crate::brep::model::Curve3D as C;
+pub fn curve_kind(curve: &crate::model::Curve3D) -> &'static str {
+    use crate::model::Curve3D as C;
     use truck_stepio::r#in::alias::Conic3D;
     match curve {
         C::Line(_) => "line",

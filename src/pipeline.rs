@@ -3,7 +3,7 @@
 //! and the batch runner both call [`trace_part`]; neither prints from here.
 
 use crate::error::{Error, Result};
-use crate::report::{OptionsReport, Timings, TraceReport};
+use crate::export::report::{OptionsReport, Timings, TraceReport};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -107,7 +107,7 @@ pub fn stem(part: &Path) -> String {
 /// means complete outputs), `<stem>.mat.step`, `<stem>.sheets.obj` and `<stem>.mat.svg` into
 /// `opts.out_dir`.
 pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
-    if opts.part.with_solid && crate::brep::is_iges_path(part) {
+    if opts.part.with_solid && crate::ingest::is_iges_path(part) {
         return Err(Error::Model {
             path: part.into(),
             reason: "--with-solid copies a STEP input into the .mat.step file; an IGES part \
@@ -123,7 +123,7 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
         s
     };
     let mut clock = Instant::now();
-    let model = crate::read_model(part)?;
+    let model = crate::ingest::read_model(part)?;
     t.read = lap(&mut clock);
     let class = crate::classify(&model, &Default::default());
     t.classify = lap(&mut clock);
@@ -146,8 +146,7 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
     t.trace = lap(&mut clock);
     let sheets = crate::medial::sheets(&model, &class, &mat);
     t.sheets = lap(&mut clock);
-    let mut fit_opts =
-        crate::output::fit::FitOptions::for_model(model.diagonal(), trace_opts.accuracy);
+    let mut fit_opts = crate::fit::FitOptions::for_model(model.diagonal(), trace_opts.accuracy);
     if let Some(tol) = opts.part.fit_tol {
         fit_opts.tol = tol.max(trace_opts.accuracy);
     }
@@ -170,14 +169,10 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
     let stem = opts.stem.clone().unwrap_or_else(|| stem(part));
     let mut written = vec![];
     // The seams as B-splines in STEP, beside the part (optionally with it).
-    let fits = crate::output::fit::fit_mat(&mat, &fit_opts);
-    report.mat.fit = Some(crate::output::fit::FitReport::new(
-        &mat,
-        &fits,
-        fit_opts.tol,
-    ));
+    let fits = crate::fit::fit_mat(&mat, &fit_opts);
+    report.mat.fit = Some(crate::fit::FitReport::new(&mat, &fits, fit_opts.tol));
     let path = opts.out_dir.join(format!("{stem}.mat.step"));
-    crate::output::step::write_mat_step(
+    crate::export::step::write_mat_step(
         &path,
         &stem,
         &mat,
@@ -198,13 +193,13 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
             },
         );
         let path = opts.out_dir.join(format!("{stem}.sheets.obj"));
-        crate::output::write_atomic(&path, mesh.to_obj(&part.display().to_string()).as_bytes())?;
+        crate::export::write_atomic(&path, mesh.to_obj(&part.display().to_string()).as_bytes())?;
         report.stats.mesh_triangles = mesh.triangles();
         written.push(path);
         t.mesh = lap(&mut clock);
     }
     if opts.part.picture {
-        let svg_opts = crate::output::svg::SvgOptions {
+        let svg_opts = crate::export::svg::SvgOptions {
             title: part
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
@@ -212,9 +207,9 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
             accuracy: Some(trace_opts.accuracy),
             ..Default::default()
         };
-        let svg = crate::output::svg::render_svg(&model, &class, &mat, &svg_opts);
+        let svg = crate::export::svg::render_svg(&model, &class, &mat, &svg_opts);
         let path = opts.out_dir.join(format!("{stem}.mat.svg"));
-        crate::output::svg::write_svg(&path, &svg)?;
+        crate::export::svg::write_svg(&path, &svg)?;
         written.push(path);
         t.picture = lap(&mut clock);
     }
@@ -235,7 +230,7 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
         path: part.into(),
         reason: format!("report not serialisable: {e}"),
     })?;
-    crate::output::write_atomic(&report_path, json.as_bytes())?;
+    crate::export::write_atomic(&report_path, json.as_bytes())?;
     Ok(PartOutcome {
         report,
         report_path,

@@ -12,8 +12,8 @@
 //! seam is at `u₀` or `u₀ + P`. That also resolves poles, where `u` is undefined and a loop
 //! jumps across the period.
 
-use super::model::{Face, Loop, Model, UvDomain};
 use crate::geom::{eval_curve, eval_surface, SurfaceDerivs};
+use crate::model::{Face, Loop, Model, UvDomain};
 use glam::{DVec2, DVec3};
 
 /// Samples per curved edge when building a loop's UV polygon. Loops are used for
@@ -122,10 +122,10 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
         seam_dir: Option<DVec3>, // 3D direction of travel along a seam edge
     }
     // Samples per edge: two on a line that is not a seam.
-    let count = |oe: &super::model::OrientedEdge| {
+    let count = |oe: &crate::model::OrientedEdge| {
         let edge = &model.edges[oe.edge];
         let seam = edge.faces.iter().filter(|&&f| f == face_index).count() >= 2;
-        let straight = matches!(edge.curve, super::model::Curve3D::Line(_));
+        let straight = matches!(edge.curve, crate::model::Curve3D::Line(_));
         let n = if straight && !seam {
             2
         } else {
@@ -296,7 +296,7 @@ fn seam_placement(
 pub fn align_loops(face: &mut Face) {
     if !matches!(
         face.surface,
-        super::model::Surface::BSplineSurface(_) | super::model::Surface::NurbsSurface(_)
+        crate::model::Surface::BSplineSurface(_) | crate::model::Surface::NurbsSurface(_)
     ) {
         return;
     }

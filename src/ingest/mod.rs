@@ -1,16 +1,14 @@
-//! The B-rep model and its ingestion from STEP and IGES.
+//! Reading STEP and IGES files into the B-rep [`Model`].
 
 mod domain;
 pub mod iges;
-pub mod model;
 pub mod p21;
 mod records;
 mod step;
 
-pub use model::{
-    Edge, Face, Loop, Model, OrientedEdge, Shell, Solid, SourceInfo, UvDomain, Vertex,
-};
 pub use step::MAX_FILE_BYTES;
+
+use crate::model::Model;
 
 use crate::error::{Error, Result};
 use std::path::Path;

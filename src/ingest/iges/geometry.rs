@@ -23,7 +23,7 @@ use truck_stepio::r#in::alias::{
     Conic3D, Curve3D, ElementarySurface, Sphere, SphericalSurface, Surface, SweptCurve,
 };
 
-pub use crate::brep::records::{apply, mat_mul, placed, to_matrix4, Mat4, IDENTITY};
+pub use crate::ingest::records::{apply, mat_mul, placed, to_matrix4, Mat4, IDENTITY};
 
 fn apply_dir(m: &Mat4, d: DVec3) -> DVec3 {
     let r = |i: usize| m[i][0] * d.x + m[i][1] * d.y + m[i][2] * d.z;

@@ -29,8 +29,8 @@ mod sew;
 #[cfg(test)]
 mod tests;
 
-use super::model::*;
 use crate::error::{Error, Result};
+use crate::model::*;
 use format::{DirEntry, IgesFile, Token};
 use glam::DVec3;
 use std::path::Path;

@@ -1,7 +1,7 @@
-//! Writers of the outputs besides the JSON report (DESIGN.md, "Outputs"): B-spline fits of
-//! the seams ([`fit`]), the STEP wireframe file ([`step`]), the picture ([`svg`]).
+//! Writers of the outputs: the JSON report's schema ([`report`]), the STEP file of the seams
+//! and junctions ([`step`]), the picture ([`svg`]), each written atomically.
 
-pub mod fit;
+pub mod report;
 pub mod step;
 pub mod svg;
 

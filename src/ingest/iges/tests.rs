@@ -5,8 +5,8 @@
 use super::format;
 use super::geometry::IDENTITY;
 use super::Ctx;
-use crate::brep::model::{Curve3D, Surface};
 use crate::geom::eval_surface;
+use crate::model::{Curve3D, Surface};
 use glam::DVec3;
 use std::path::Path;
 use truck_geometry::prelude::ParametricCurve;

@@ -23,9 +23,9 @@
 
 use super::geometry::Segment;
 use super::Ctx;
-use crate::brep::domain::{align_loops, face_domain, loop_uv, signed_area};
-use crate::brep::model::*;
 use crate::error::Result;
+use crate::ingest::domain::{align_loops, face_domain, loop_uv, signed_area};
+use crate::model::*;
 use glam::DVec3;
 use std::collections::VecDeque;
 use truck_geometry::prelude::{Point3, SearchNearestParameter};

@@ -12,10 +12,10 @@
 //! geometry itself.
 
 use super::domain::{align_loops, face_domain, loop_uv};
-use super::model::*;
 use super::p21::{self, Item, PointKind};
 use super::records::{self, as_bool, as_ref, as_refs, params, LengthUnit, Mat4, Records};
 use crate::error::{Error, Result};
+use crate::model::*;
 use glam::DVec3;
 use rayon::prelude::*;
 use rustc_hash::{FxHashMap as HashMap, FxHashSet};
