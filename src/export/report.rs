@@ -78,76 +78,10 @@ pub struct MatReport {
     pub junctions: Vec<crate::medial::Junction>,
     pub sheets: Vec<crate::medial::Sheet>,
     pub degenerate: Vec<crate::medial::Degenerate>,
-    pub topology: TopologyReport,
+    pub topology: crate::medial::Topology,
     /// The B-spline fits of the seams written to `<stem>.mat.step`, when made.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fit: Option<crate::fit::FitReport>,
-}
-
-/// Consistency of the seam–junction graph, and the Euler characteristic of each solid next to
-/// its medial axis's (which must be equal: the medial axis is a deformation retract of the
-/// solid).
-#[derive(Clone, Debug, Serialize)]
-pub struct TopologyReport {
-    /// Junctions plus convex vertices where seams end.
-    pub graph_nodes: usize,
-    /// Seams (a closed seam counts as one edge with one node of its own).
-    pub graph_edges: usize,
-    /// Seam ends that are not a vertex, a junction, a closed loop or a curvature limit.
-    pub open_ends: usize,
-    /// Generic junctions (4 segments) that do not have exactly 4 seam ends, and seam ends
-    /// naming a junction that does not exist: both would be tracer bugs.
-    pub inconsistencies: Vec<String>,
-    /// Per solid: `V − E + F` of the B-rep and `V − E + Σ χ(sheet)` of its medial axis.
-    pub euler: Vec<crate::medial::SolidEuler>,
-    /// Sheet-boundary arc ends that could not be paired at a node (tracer gaps).
-    pub unpaired: Vec<String>,
-}
-
-impl TopologyReport {
-    /// Checks the graph of `mat` against `model`; `sheets` are `mat`'s sheets.
-    pub fn new(
-        model: &Model,
-        mat: &crate::medial::Mat,
-        sheets: &crate::medial::Sheets,
-    ) -> TopologyReport {
-        use crate::medial::SeamEnd;
-        let mut ends_at = vec![0usize; mat.junctions.len()];
-        let mut vertices = std::collections::BTreeSet::new();
-        let mut inconsistencies = vec![];
-        let mut open_ends = 0;
-        let mut closed = 0;
-        for s in &mat.seams {
-            for e in &s.ends {
-                match e {
-                    SeamEnd::Junction(j) if *j < ends_at.len() => ends_at[*j] += 1,
-                    SeamEnd::Junction(j) => {
-                        inconsistencies.push(format!("seam {} ends at missing junction {j}", s.id))
-                    }
-                    SeamEnd::Vertex(v) => {
-                        vertices.insert(*v);
-                    }
-                    SeamEnd::Open(_) => open_ends += 1,
-                    SeamEnd::Closed => closed += 1,
-                    SeamEnd::CurvatureLimit { .. } => {}
-                }
-            }
-        }
-        for (j, n) in ends_at.iter().enumerate() {
-            if mat.junctions[j].segments.len() == 4 && *n != 4 {
-                inconsistencies.push(format!("junction {j} (4 segments) has {n} seam ends"));
-            }
-        }
-        let _ = model;
-        TopologyReport {
-            graph_nodes: mat.junctions.len() + vertices.len() + closed / 2,
-            graph_edges: mat.seams.len(),
-            open_ends,
-            inconsistencies,
-            euler: sheets.solids.clone(),
-            unpaired: sheets.unpaired.clone(),
-        }
-    }
 }
 
 /// The `stats` object.
@@ -161,6 +95,8 @@ pub struct StatsReport {
     pub sheets: usize,
     pub degenerate: usize,
     pub open_ends: usize,
+    /// Open seam ends by reason (`step_size_underflow`, …; see `OpenReason::kind`).
+    pub open_ends_by_reason: BTreeMap<&'static str, usize>,
     pub points: usize,
     /// Triangles in `<stem>.sheets.obj`.
     pub mesh_triangles: usize,
@@ -181,12 +117,12 @@ impl TraceReport {
     pub fn new(
         model: &Model,
         class: &Classification,
-        mat: &crate::medial::Mat,
+        mat: &crate::medial::MedialAxis,
         sheets: &crate::medial::Sheets,
         options: OptionsReport,
     ) -> TraceReport {
         let base = Report::new(model, class);
-        let topology = TopologyReport::new(model, mat, sheets);
+        let topology = crate::medial::verify::check_topology(mat, sheets);
         TraceReport {
             schema: SCHEMA,
             input: base.input,
@@ -198,6 +134,7 @@ impl TraceReport {
                 sheets: sheets.sheets.len(),
                 degenerate: mat.degenerate.len(),
                 open_ends: topology.open_ends,
+                open_ends_by_reason: mat.open_ends_by_reason(),
                 points: mat.stats.points,
                 mesh_triangles: 0,
                 accuracy: options.accuracy,
@@ -264,7 +201,9 @@ pub struct Counts {
 #[derive(Clone, Debug, Serialize)]
 pub struct FaceReport {
     pub id: usize,
-    pub step_id: u64,
+    /// The id of the entity in the file: `#123` in STEP, the DE number in IGES.
+    #[serde(rename = "step_id")]
+    pub source_id: u64,
     pub surface: &'static str,
     pub shell: usize,
     /// Loops bounding the face (vertex loops included).
@@ -276,7 +215,9 @@ pub struct FaceReport {
 #[derive(Clone, Debug, Serialize)]
 pub struct EdgeReport {
     pub id: usize,
-    pub step_id: u64,
+    /// The id of the entity in the file: `#123` in STEP, the DE number in IGES.
+    #[serde(rename = "step_id")]
+    pub source_id: u64,
     pub curve: &'static str,
     pub vertices: [usize; 2],
     pub faces: Vec<usize>,
@@ -288,7 +229,9 @@ pub struct EdgeReport {
 #[derive(Clone, Debug, Serialize)]
 pub struct VertexReport {
     pub id: usize,
-    pub step_id: u64,
+    /// The id of the entity in the file: `#123` in STEP, the DE number in IGES.
+    #[serde(rename = "step_id")]
+    pub source_id: u64,
     pub point: [f64; 3],
     pub kind: VertexKind,
 }
@@ -328,7 +271,7 @@ impl Report {
                 *counts.surfaces.entry(surface).or_default() += 1;
                 FaceReport {
                     id,
-                    step_id: f.step_id,
+                    source_id: f.source_id,
                     surface,
                     shell: f.shell,
                     loops: f.loops.len(),
@@ -357,7 +300,7 @@ impl Report {
                 *counts.edge_kinds.entry(c.kind.name()).or_default() += 1;
                 EdgeReport {
                     id,
-                    step_id: e.step_id,
+                    source_id: e.source_id,
                     curve: curve_kind(&e.curve),
                     vertices: e.vertices,
                     faces: e.faces.clone(),
@@ -375,7 +318,7 @@ impl Report {
                 *counts.vertex_kinds.entry(k.name()).or_default() += 1;
                 VertexReport {
                     id,
-                    step_id: v.step_id,
+                    source_id: v.source_id,
                     point: v.point.to_array(),
                     kind: *k,
                 }
@@ -451,7 +394,7 @@ pub fn render_table(r: &Report) -> String {
             s,
             "  {:>5} {:>8} {:<11} {:>5} {:>5} {:>8}",
             format!("F{}", f.id),
-            format!("#{}", f.step_id),
+            format!("#{}", f.source_id),
             f.surface,
             f.shell,
             f.loops,
@@ -469,7 +412,7 @@ pub fn render_table(r: &Report) -> String {
             s,
             "  {:>5} {:>8} {:<9} {:>11} {:>13} {:<7} {:>8.2}..{:<8.2}",
             format!("E{}", e.id),
-            format!("#{}", e.step_id),
+            format!("#{}", e.source_id),
             e.curve,
             format!("V{}-V{}", e.vertices[0], e.vertices[1]),
             faces.join(","),
@@ -488,7 +431,7 @@ pub fn render_table(r: &Report) -> String {
             s,
             "  {:>5} {:>8} {:<7} ({:.6}, {:.6}, {:.6})",
             format!("V{}", v.id),
-            format!("#{}", v.step_id),
+            format!("#{}", v.source_id),
             v.kind.name(),
             v.point[0],
             v.point[1],

@@ -19,7 +19,7 @@
 
 use crate::error::{Error, Result};
 use crate::fit::SeamFit;
-use crate::medial::Mat;
+use crate::medial::MedialAxis;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -32,7 +32,7 @@ pub const UNCERTAINTY: f64 = 1e-7;
 pub fn write_mat_step(
     path: &Path,
     name: &str,
-    mat: &Mat,
+    mat: &MedialAxis,
     fits: &[SeamFit],
     solid: Option<&Path>,
 ) -> Result<()> {
@@ -61,7 +61,7 @@ pub fn write_mat_step(
 pub fn mat_step_text(
     path: &Path,
     name: &str,
-    mat: &Mat,
+    mat: &MedialAxis,
     fits: &[SeamFit],
     solid: Option<(&Path, &str)>,
 ) -> Result<String> {

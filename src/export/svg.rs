@@ -46,7 +46,7 @@
 use crate::classify::{Classification, EdgeKind};
 use crate::error::Result;
 use crate::geom::{eval_curve, eval_surface, surface_kind};
-use crate::medial::Mat;
+use crate::medial::{DegenerateKind, MedialAxis};
 use crate::model::Model;
 use glam::{DVec2, DVec3};
 use std::fmt::Write as _;
@@ -652,7 +652,7 @@ struct RadiusScale {
 }
 
 impl RadiusScale {
-    fn of(mat: &Mat) -> Option<RadiusScale> {
+    fn of(mat: &MedialAxis) -> Option<RadiusScale> {
         let rs = mat
             .seams
             .iter()
@@ -706,7 +706,12 @@ fn ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
 }
 
 /// Renders the picture of `model` and its medial axis `mat` as an SVG document.
-pub fn render_svg(model: &Model, class: &Classification, mat: &Mat, opts: &SvgOptions) -> String {
+pub fn render_svg(
+    model: &Model,
+    class: &Classification,
+    mat: &MedialAxis,
+    opts: &SvgOptions,
+) -> String {
     let lay = layout(model.bbox);
     let radius = RadiusScale::of(mat);
     let max_scale = lay.panels.iter().map(|p| p.scale).fold(0.0, f64::max);
@@ -773,7 +778,7 @@ pub fn render_svg(model: &Model, class: &Classification, mat: &Mat, opts: &SvgOp
 fn draw_panel(
     s: &mut String,
     class: &Classification,
-    mat: &Mat,
+    mat: &MedialAxis,
     edges: &[Vec<DVec3>],
     outlines: &[Vec<DVec3>],
     panel: &Panel,
@@ -847,13 +852,19 @@ fn draw_panel(
             let _ = writeln!(
                 s,
                 r#"<g class="degenerate" data-kind="{}">"#,
-                escape(&d.kind)
+                escape(d.kind.as_str())
             );
             let _ = writeln!(
                 s,
                 "<title>degenerate {} {k} ({}): {} ball(s), r {}</title>",
-                escape(&d.kind),
-                escape(&d.segments.join(" ")),
+                escape(d.kind.as_str()),
+                escape(
+                    &d.segments
+                        .iter()
+                        .map(|e| e.to_string())
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                ),
                 d.balls.len(),
                 d.balls
                     .first()
@@ -954,7 +965,7 @@ fn draw_panel(
 
 fn draw_seam(
     s: &mut String,
-    mat: &Mat,
+    mat: &MedialAxis,
     i: usize,
     panel: &Panel,
     rs: RadiusScale,
@@ -1016,7 +1027,7 @@ fn draw_seam(
 }
 
 /// Junction ids beside their dots, skipping a label that would overlap one already placed.
-fn draw_junction_labels(s: &mut String, mat: &Mat, panel: &Panel) {
+fn draw_junction_labels(s: &mut String, mat: &MedialAxis, panel: &Panel) {
     let _ = writeln!(
         s,
         r##"<g class="junction-labels" font-size="10" fill="#303030">"##
@@ -1102,7 +1113,7 @@ fn draw_scale_bar(s: &mut String, scale: f64, x: f64, y: f64, caption: &str, rig
     );
 }
 
-fn draw_legend(s: &mut String, mat: &Mat, radius: Option<RadiusScale>, lay: &Layout) {
+fn draw_legend(s: &mut String, mat: &MedialAxis, radius: Option<RadiusScale>, lay: &Layout) {
     let r = lay.legend;
     let x = r.x + 14.0;
     let _ = writeln!(s, r#"<g class="legend">"#);
@@ -1252,7 +1263,10 @@ fn draw_legend(s: &mut String, mat: &Mat, radius: Option<RadiusScale>, lay: &Lay
         ),
         format!(
             "degenerate curve ({})",
-            mat.degenerate.iter().filter(|d| d.kind == "curve").count()
+            mat.degenerate
+                .iter()
+                .filter(|d| d.kind == DegenerateKind::Curve)
+                .count()
         ),
     );
     y += 20.0;
@@ -1268,7 +1282,10 @@ fn draw_legend(s: &mut String, mat: &Mat, radius: Option<RadiusScale>, lay: &Lay
         ),
         format!(
             "degenerate point ({})",
-            mat.degenerate.iter().filter(|d| d.kind != "curve").count()
+            mat.degenerate
+                .iter()
+                .filter(|d| d.kind != DegenerateKind::Curve)
+                .count()
         ),
     );
     y += 16.0;
@@ -1314,7 +1331,7 @@ fn draw_legend(s: &mut String, mat: &Mat, radius: Option<RadiusScale>, lay: &Lay
 fn draw_title_block(
     s: &mut String,
     model: &Model,
-    mat: &Mat,
+    mat: &MedialAxis,
     title: &str,
     opts: &SvgOptions,
     lay: &Layout,
@@ -1323,7 +1340,11 @@ fn draw_title_block(
     let (lo, hi) = model.bbox;
     let size = hi - lo;
     let open = mat.seams.iter().filter(|s| s.is_open()).count();
-    let curves = mat.degenerate.iter().filter(|d| d.kind == "curve").count();
+    let curves = mat
+        .degenerate
+        .iter()
+        .filter(|d| d.kind == DegenerateKind::Curve)
+        .count();
     let cells: [(&str, f64, Vec<String>); 4] = [
         (
             "PART",
@@ -1445,7 +1466,7 @@ mod tests {
     use super::*;
     use crate::medial::{trace, SeamEnd, TraceOptions};
 
-    fn traced(name: &str) -> (Model, Classification, Mat) {
+    fn traced(name: &str) -> (Model, Classification, MedialAxis) {
         let p = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("samples")
             .join(name);

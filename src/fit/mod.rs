@@ -56,7 +56,7 @@
 // algorithms they transcribe (The NURBS Book A2.1–A2.3).
 #![allow(clippy::needless_range_loop)]
 
-use crate::medial::Mat;
+use crate::medial::MedialAxis;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -146,7 +146,7 @@ pub struct FitReport {
 
 impl FitReport {
     /// Summarises `fits`, one per seam of `mat`, in order.
-    pub fn new(mat: &Mat, fits: &[SeamFit], tol: f64) -> FitReport {
+    pub fn new(mat: &MedialAxis, fits: &[SeamFit], tol: f64) -> FitReport {
         let seams: Vec<FitSummary> = mat
             .seams
             .iter()
@@ -171,7 +171,7 @@ impl FitReport {
 
 /// Fits every seam of `mat` (in parallel), in the order of `mat.seams`. A seam without
 /// points (the tracer never outputs one) gets a zero-length line at the origin.
-pub fn fit_mat(mat: &Mat, opts: &FitOptions) -> Vec<SeamFit> {
+pub fn fit_mat(mat: &MedialAxis, opts: &FitOptions) -> Vec<SeamFit> {
     mat.seams
         .par_iter()
         .map(|s| {

@@ -787,7 +787,7 @@ mod tests {
     /// A loop whose polygon is `n` points of `f(t)`, `t ∈ [0, 1)`.
     fn synthetic_loop(n: usize, f: impl Fn(f64) -> DVec2) -> Loop {
         Loop {
-            step_id: 0,
+            source_id: 0,
             edges: vec![],
             vertex: None,
             uv: (0..n).map(|k| f(k as f64 / n as f64)).collect(),
@@ -842,7 +842,7 @@ mod tests {
         // A cone cap: the bottom circle alone (with a vertex loop at an apex above it).
         face.loops.truncate(1);
         face.loops.push(Loop {
-            step_id: 0,
+            source_id: 0,
             edges: vec![],
             vertex: Some(0),
             uv: vec![DVec2::new(0.0, 40.0)],

@@ -65,13 +65,13 @@ fn check_finite(path: &Path, model: Model) -> Result<Model> {
         .vertices
         .iter()
         .position(|v| !v.point.is_finite())
-        .map(|v| format!("vertex {} (#{})", v, model.vertices[v].step_id))
+        .map(|v| format!("vertex {} (#{})", v, model.vertices[v].source_id))
         .or_else(|| {
             model.edges.iter().enumerate().find_map(|(e, edge)| {
                 let t = 0.5 * (edge.range.0 + edge.range.1);
                 let c = crate::geom::eval_curve(&edge.curve, t);
                 (!(t.is_finite() && c.p.is_finite() && c.d1.is_finite()))
-                    .then(|| format!("edge {e} (#{})", edge.step_id))
+                    .then(|| format!("edge {e} (#{})", edge.source_id))
             })
         })
         .or_else(|| {
@@ -82,7 +82,7 @@ fn check_finite(path: &Path, model: Model) -> Result<Model> {
                 );
                 let d = crate::geom::eval_surface(&face.surface, u, v);
                 (!(u.is_finite() && v.is_finite() && d.p.is_finite() && d.su.is_finite()))
-                    .then(|| format!("face {f} (#{})", face.step_id))
+                    .then(|| format!("face {f} (#{})", face.source_id))
             })
         })
         .or_else(|| {

@@ -529,7 +529,7 @@ impl Ingest<'_> {
         // The translation of a placement is in file units too.
         let solid = self.model.solids.len();
         self.model.solids.push(Solid {
-            step_id: job.brep,
+            source_id: job.brep,
             name,
             shells: vec![],
         });
@@ -575,7 +575,7 @@ impl Ingest<'_> {
         }
         let shell = self.model.shells.len();
         self.model.shells.push(Shell {
-            step_id: shell_id,
+            source_id: shell_id,
             solid,
             is_void,
             faces: vec![],
@@ -591,7 +591,7 @@ impl Ingest<'_> {
             let edge = &self.model.edges[e];
             if edge.faces.len() != 2 {
                 return Err(self.err(
-                    edge.step_id,
+                    edge.source_id,
                     format!(
                         "edge used by {} face(s) of shell #{shell_id}; a closed shell uses each edge twice (open shell?)",
                         edge.faces.len()
@@ -653,7 +653,7 @@ impl Ingest<'_> {
         }
         let sign = shell_sign * face_sign * if same_sense { 1.0 } else { -1.0 };
         self.model.faces.push(Face {
-            step_id: face_id,
+            source_id: face_id,
             shell,
             surface,
             sign,
@@ -687,7 +687,7 @@ impl Ingest<'_> {
                 let v = self.param(id, params(rec), 1, as_ref, "vertex missing")?;
                 let vi = self.vertex(v, instance, m)?;
                 Ok(Loop {
-                    step_id: id,
+                    source_id: id,
                     edges: vec![],
                     vertex: Some(vi),
                     uv: vec![],
@@ -734,7 +734,7 @@ impl Ingest<'_> {
                     }
                 }
                 Ok(Loop {
-                    step_id: id,
+                    source_id: id,
                     edges,
                     vertex: None,
                     uv: vec![],
@@ -763,7 +763,10 @@ impl Ingest<'_> {
         }
         let point = records::apply(m, DVec3::new(c[0], c[1], c[2]));
         let v = self.model.vertices.len();
-        self.model.vertices.push(Vertex { step_id: id, point });
+        self.model.vertices.push(Vertex {
+            source_id: id,
+            point,
+        });
         self.vertex_map.insert((id, instance), v);
         Ok(v)
     }
@@ -787,7 +790,7 @@ impl Ingest<'_> {
         let range = self.edge_range(id, &curve, a, b)?;
         let e = self.model.edges.len();
         self.model.edges.push(Edge {
-            step_id: id,
+            source_id: id,
             curve,
             range,
             vertices: [a, b],
@@ -941,9 +944,10 @@ impl Ingest<'_> {
     /// Compares what the file defines with what the model holds: every `ADVANCED_FACE`,
     /// `EDGE_CURVE` and `VERTEX_POINT` in the file must belong to a solid.
     fn check_everything_used(&self) -> Result<()> {
-        let used_faces: FxHashSet<u64> = self.model.faces.iter().map(|f| f.step_id).collect();
-        let used_edges: FxHashSet<u64> = self.model.edges.iter().map(|e| e.step_id).collect();
-        let used_vertices: FxHashSet<u64> = self.model.vertices.iter().map(|v| v.step_id).collect();
+        let used_faces: FxHashSet<u64> = self.model.faces.iter().map(|f| f.source_id).collect();
+        let used_edges: FxHashSet<u64> = self.model.edges.iter().map(|e| e.source_id).collect();
+        let used_vertices: FxHashSet<u64> =
+            self.model.vertices.iter().map(|v| v.source_id).collect();
         for id in self.recs.ids_in_order() {
             let Some(rec) = self.recs.simple(id) else {
                 continue;
@@ -967,9 +971,9 @@ impl Ingest<'_> {
         let recs = self.recs;
         let m = &mut self.model;
         // Instance of an entity = order of first creation among copies with the same id.
-        let key_f: Vec<(usize, usize)> = order_keys(m.faces.iter().map(|f| f.step_id), recs);
-        let key_e: Vec<(usize, usize)> = order_keys(m.edges.iter().map(|e| e.step_id), recs);
-        let key_v: Vec<(usize, usize)> = order_keys(m.vertices.iter().map(|v| v.step_id), recs);
+        let key_f: Vec<(usize, usize)> = order_keys(m.faces.iter().map(|f| f.source_id), recs);
+        let key_e: Vec<(usize, usize)> = order_keys(m.edges.iter().map(|e| e.source_id), recs);
+        let key_v: Vec<(usize, usize)> = order_keys(m.vertices.iter().map(|v| v.source_id), recs);
         let perm_f = permutation(&key_f);
         let perm_e = permutation(&key_e);
         let perm_v = permutation(&key_v);
@@ -1020,7 +1024,7 @@ impl Ingest<'_> {
                 m.faces[fi]
                     .loops
                     .iter()
-                    .map(|l| loop_uv(m, fi, l).map_err(|reason| (l.step_id, reason)))
+                    .map(|l| loop_uv(m, fi, l).map_err(|reason| (l.source_id, reason)))
                     .collect()
             })
             .collect();

@@ -9,24 +9,9 @@
 //! with the same two-parameter interface (DESIGN.md).
 
 use crate::geom::{eval_curve, eval_surface};
-use crate::model::Model;
+use crate::model::{Element, Model};
 use glam::DVec3;
 use nalgebra::{DMatrix, DVector};
-
-/// A boundary segment.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Segment {
-    /// A face, parametrised by its surface's `(u, v)`.
-    Face(usize),
-    /// A reflex edge, parametrised by `(t, θ)`: the curve parameter and the angle of the
-    /// normal in the edge's normal plane, `N = cos θ·a(t) + sin θ·b(t)` with the frame of
-    /// [`edge_frame`] (the paper's "cylinder of zero radius").
-    Edge(usize),
-    /// A reflex (or mixed) vertex, parametrised by `(φ, ψ)`: the normal's longitude and
-    /// latitude in a fixed frame, `N = cos ψ·(cos φ·e₁ + sin φ·e₂) + sin ψ·e₃` (see
-    /// [`vertex_frame`]).
-    Vertex(usize),
-}
 
 /// The fixed frame of vertex normals `[e₁, e₂, e₃]`: `e₃` is a direction no CAD part favours,
 /// so a vertex's normal cone meets the frame's poles (where `φ` is undefined) only by accident.
@@ -55,12 +40,23 @@ pub struct FieldEval {
     pub dn: [DVec3; 2],
 }
 
-impl Segment {
+/// A boundary element as a normal field `s ↦ (P(s), N(s))` over two parameters:
+/// - a face, by its surface's `(u, v)`;
+/// - a reflex edge, by `(t, θ)`: the curve parameter and the angle of the normal in the
+///   edge's normal plane, `N = cos θ·a(t) + sin θ·b(t)` with the frame of [`edge_frame`] (the
+///   paper's "cylinder of zero radius");
+/// - a reflex (or mixed) vertex, by `(φ, ψ)`: the normal's longitude and latitude in a fixed
+///   frame, `N = cos ψ·(cos φ·e₁ + sin φ·e₂) + sin ψ·e₃` (see [`vertex_frame`]).
+pub trait NormalField {
     /// Evaluates the normal field at `s`. `None` where the normal is undefined (a pole, a
     /// point where an edge's tangent vanishes).
-    pub fn eval(&self, model: &Model, s: [f64; 2]) -> Option<FieldEval> {
+    fn eval(&self, model: &Model, s: [f64; 2]) -> Option<FieldEval>;
+}
+
+impl NormalField for Element {
+    fn eval(&self, model: &Model, s: [f64; 2]) -> Option<FieldEval> {
         match *self {
-            Segment::Vertex(v) => {
+            Element::Vertex(v) => {
                 let [e1, e2, e3] = vertex_frame();
                 let (sp, cp) = s[0].sin_cos();
                 let (sq, cq) = s[1].sin_cos();
@@ -72,7 +68,7 @@ impl Segment {
                     dn: [(e2 * cp - e1 * sp) * cq, e3 * cq - h * sq],
                 })
             }
-            Segment::Edge(e) => {
+            Element::Edge(e) => {
                 let edge = &model.edges[e];
                 let c = eval_curve(&edge.curve, s[0]);
                 let w = edge_axis(edge);
@@ -88,7 +84,7 @@ impl Segment {
                     dn: [dn_dt, dn_dth],
                 })
             }
-            Segment::Face(f) => {
+            Element::Face(f) => {
                 let face = &model.faces[f];
                 let d = eval_surface(&face.surface, s[0], s[1]);
                 let m = (d.su.cross(d.sv)) * face.sign;
@@ -109,15 +105,6 @@ impl Segment {
                     dn,
                 })
             }
-        }
-    }
-
-    /// The id used in reports: `F<face>`, `E<edge>`.
-    pub fn id(&self) -> String {
-        match self {
-            Segment::Face(f) => format!("F{f}"),
-            Segment::Edge(e) => format!("E{e}"),
-            Segment::Vertex(v) => format!("V{v}"),
         }
     }
 }
@@ -154,7 +141,7 @@ fn frame_with_derivatives(d1: DVec3, d2: DVec3, w: DVec3) -> Option<EdgeFrame> {
     Some(EdgeFrame { a, b, da, db })
 }
 
-/// The frame of edge `e`'s normal plane at curve parameter `t` (see [`Segment::Edge`]).
+/// The frame of edge `e`'s normal plane at curve parameter `t` (see [`Element::Edge`]).
 pub fn edge_frame(model: &Model, e: usize, t: f64) -> Option<EdgeFrame> {
     let edge = &model.edges[e];
     let c = eval_curve(&edge.curve, t);
@@ -202,12 +189,12 @@ pub fn edge_angle(model: &Model, e: usize, t: f64, n: DVec3) -> Option<f64> {
 /// The medial system for `k` segments: `3k` equations in `4 + 2k` unknowns.
 #[derive(Clone, Debug)]
 pub struct MedialSystem {
-    pub segments: Vec<Segment>,
+    pub segments: Vec<Element>,
 }
 
 impl MedialSystem {
     /// A system touching `segments`.
-    pub fn new(segments: Vec<Segment>) -> Self {
+    pub fn new(segments: Vec<Element>) -> Self {
         MedialSystem { segments }
     }
 
@@ -317,7 +304,7 @@ mod tests {
             let m = sample(file);
             let faces: Vec<usize> = (0..m.faces.len()).collect();
             for chunk in faces.chunks(3) {
-                let segs: Vec<Segment> = chunk.iter().map(|&f| Segment::Face(f)).collect();
+                let segs: Vec<Element> = chunk.iter().map(|&f| Element::Face(f)).collect();
                 let sys = MedialSystem::new(segs.clone());
                 let mut x = DVector::zeros(sys.unknowns());
                 let (lo, hi) = m.bounding_box();
@@ -364,18 +351,18 @@ mod tests {
             let c = (lo + hi) * 0.5;
             for (k, seg) in reflex
                 .iter()
-                .map(|&e| Segment::Edge(e))
-                .chain([Segment::Vertex(0), Segment::Vertex(m.vertices.len() - 1)])
+                .map(|&e| Element::Edge(e))
+                .chain([Element::Vertex(0), Element::Vertex(m.vertices.len() - 1)])
                 .enumerate()
             {
-                let sys = MedialSystem::new(vec![seg, Segment::Face(0), Segment::Face(1)]);
+                let sys = MedialSystem::new(vec![seg, Element::Face(0), Element::Face(1)]);
                 let mut x = DVector::zeros(sys.unknowns());
                 x[0] = c.x + 0.3;
                 x[1] = c.y - 0.2;
                 x[2] = c.z + 0.1;
                 x[3] = 7.3;
                 x[4] = match seg {
-                    Segment::Edge(e) => {
+                    Element::Edge(e) => {
                         let r = m.edges[e].range;
                         r.0 + 0.37 * (r.1 - r.0)
                     }

@@ -20,8 +20,10 @@
 
 use crate::classify::Classification;
 use crate::geom::Boundary;
-use crate::medial::sheets::{SegmentGroups, Sheets};
-use crate::medial::Segment;
+use crate::medial::segments::SegmentGroups;
+use crate::medial::sheets::Sheets;
+use crate::medial::NormalField;
+use crate::model::Element;
 use crate::model::Model;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -135,13 +137,12 @@ pub fn sheet_mesh(
     opts: &MeshOptions,
 ) -> SheetMesh {
     let groups = SegmentGroups::new(model, class);
-    let group_of_face = |f: usize| groups.of_segment(Segment::Face(f));
+    let group_of_face = |f: usize| groups.of(Element::Face(f));
     // Sheets by (solid, group pair).
     let mut sheet_of: BTreeMap<(usize, usize, usize), usize> = BTreeMap::new();
     for s in &sheets.sheets {
-        if let (Some(a), Some(b)) = (groups.of(&s.segments[0]), groups.of(&s.segments[1])) {
-            sheet_of.insert((s.solid, a.min(b), a.max(b)), s.id);
-        }
+        let (a, b) = (groups.of(s.segments[0]), groups.of(s.segments[1]));
+        sheet_of.insert((s.solid, a.min(b), a.max(b)), s.id);
     }
     // Grid cells of about one size over the whole part (the budget shared by area), so a
     // long thin face gets long thin rows of square-ish cells.
@@ -286,7 +287,7 @@ fn maximal_ball(
     near_r: Option<f64>,
     group_of_face: &(dyn Fn(usize) -> usize + Sync),
 ) -> Option<Ball> {
-    let ev = Segment::Face(f).eval(model, [uv.x, uv.y])?;
+    let ev = Element::Face(f).eval(model, [uv.x, uv.y])?;
     let (p, m) = (ev.p, -ev.n);
     let solid = model.solid_of_face(f);
     // Start from the largest ball tangent at p that fits in the part's bounding box (a
@@ -356,7 +357,7 @@ fn approx_extent(model: &Model, f: usize) -> (f64, f64) {
     let face = &model.faces[f];
     let (u0, u1) = face.domain.u;
     let (v0, v1) = face.domain.v;
-    Segment::Face(f)
+    Element::Face(f)
         .eval(model, [0.5 * (u0 + u1), 0.5 * (v0 + v1)])
         .map_or((0.0, 0.0), |e| {
             (e.dp[0].length() * (u1 - u0), e.dp[1].length() * (v1 - v0))

@@ -24,8 +24,9 @@
 //! pieces (a cylinder's axis) or mixed edges.
 
 use crate::classify::{Classification, EdgeKind};
-use crate::medial::trace::{Mat, SeamEnd};
-use crate::model::Model;
+use crate::medial::axis::{MedialAxis, Node, SeamEnd};
+use crate::medial::segments::{SegmentGroups, UnionFind};
+use crate::model::{Element, Model};
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -47,7 +48,7 @@ pub struct Sheet {
     /// Two segments whose touch points the sheet's balls have (where its first boundary arc
     /// starts; along the sheet the touch points may move onto neighbouring segments of the
     /// same group).
-    pub segments: [String; 2],
+    pub segments: [Element; 2],
     /// Every seam and rim on the boundary, in loop order.
     pub boundary: Vec<BoundaryRef>,
     /// The boundary as closed loops (a sheet with holes has several).
@@ -82,54 +83,40 @@ pub struct Sheets {
     pub unpaired: Vec<String>,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-enum Node {
-    Junction(usize),
-    Vertex(usize),
-}
-
 /// An arc: one side of a seam, or a rim.
 struct Arc {
     element: BoundaryRef,
     solid: usize,
-    /// The segment pair at each end (exact ids) and the group pair.
-    ends: [Option<(Node, [String; 2])>; 2],
+    /// The segment pair at each end (exact elements) and the group pair.
+    ends: [Option<(Node, [Element; 2])>; 2],
     groups: [usize; 2],
     /// A closed seam's side: a loop by itself.
     closed: bool,
     /// The segment pair where the arc starts (a closed seam's side has no node to name it).
-    pair: [String; 2],
+    pair: [Element; 2],
 }
 
 /// Finds the sheets of `mat` and the Euler characteristics of each solid and its medial axis.
-pub fn sheets(model: &Model, class: &Classification, mat: &Mat) -> Sheets {
+pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets {
     let groups = SegmentGroups::new(model, class);
     let mut arcs: Vec<Arc> = vec![];
     for s in &mat.seams {
         let closed = s.ends.iter().all(|e| matches!(e, SeamEnd::Closed));
-        let node = |e: &SeamEnd| match e {
-            SeamEnd::Junction(j) => Some(Node::Junction(*j)),
-            SeamEnd::Vertex(v) => Some(Node::Vertex(*v)),
-            _ => None,
-        };
         for (i, j) in [(0, 1), (1, 2), (0, 2)] {
-            let pair = |segs: &[String]| match (segs.get(i), segs.get(j)) {
-                (Some(a), Some(b)) => Some(sorted_pair(a, b)),
+            let pair = |segs: &[Element]| match (segs.get(i), segs.get(j)) {
+                (Some(a), Some(b)) => Some(sorted_pair(*a, *b)),
                 _ => None,
             };
-            let start = node(&s.ends[0]).zip(pair(&s.segments));
-            let end = node(&s.ends[1]).zip(pair(&s.end_segments));
-            let g = [
-                groups.of(&s.segments[i]).unwrap_or(usize::MAX),
-                groups.of(&s.segments[j]).unwrap_or(usize::MAX),
-            ];
+            let start = s.ends[0].node().zip(pair(&s.segments));
+            let end = s.ends[1].node().zip(pair(&s.end_segments));
+            let g = [groups.of(s.segments[i]), groups.of(s.segments[j])];
             arcs.push(Arc {
                 element: BoundaryRef::Seam(s.id),
                 solid: s.solid,
                 ends: [start, end],
                 groups: [g[0].min(g[1]), g[0].max(g[1])],
                 closed,
-                pair: sorted_pair(&s.segments[i], &s.segments[j]),
+                pair: sorted_pair(s.segments[i], s.segments[j]),
             });
         }
     }
@@ -137,15 +124,15 @@ pub fn sheets(model: &Model, class: &Classification, mat: &Mat) -> Sheets {
     for (e, edge) in model.edges.iter().enumerate() {
         match class.edges[e].kind {
             EdgeKind::Convex if edge.faces.len() == 2 && edge.faces[0] != edge.faces[1] => {
-                let (a, b) = (format!("F{}", edge.faces[0]), format!("F{}", edge.faces[1]));
-                let pair = sorted_pair(&a, &b);
-                let g = [groups.of(&a).unwrap(), groups.of(&b).unwrap()];
+                let (a, b) = (Element::Face(edge.faces[0]), Element::Face(edge.faces[1]));
+                let pair = sorted_pair(a, b);
+                let g = [groups.of(a), groups.of(b)];
                 arcs.push(Arc {
                     element: BoundaryRef::Edge(e),
                     solid: model.solid_of_face(edge.faces[0]),
                     ends: [
-                        Some((Node::Vertex(edge.vertices[0]), pair.clone())),
-                        Some((Node::Vertex(edge.vertices[1]), pair.clone())),
+                        Some((Node::Vertex(edge.vertices[0]), pair)),
+                        Some((Node::Vertex(edge.vertices[1]), pair)),
                     ],
                     groups: [g[0].min(g[1]), g[0].max(g[1])],
                     closed: false,
@@ -179,10 +166,14 @@ pub fn sheets(model: &Model, class: &Classification, mat: &Mat) -> Sheets {
         for (_, list) in by_group {
             let mut tries = vec![list];
             if tries[0].len() > 2 {
+                // Keyed by the pair's names: the order in which `unpaired` lists them.
                 let mut by_pair: BTreeMap<[String; 2], Vec<(usize, usize)>> = BTreeMap::new();
                 for &(k, end) in &tries[0] {
-                    let pair = arcs[k].ends[end].as_ref().unwrap().1.clone();
-                    by_pair.entry(pair).or_default().push((k, end));
+                    let pair = arcs[k].ends[end].as_ref().unwrap().1;
+                    by_pair
+                        .entry(pair.map(|e| e.to_string()))
+                        .or_default()
+                        .push((k, end));
                 }
                 tries = by_pair.into_values().collect();
             }
@@ -238,7 +229,7 @@ pub fn sheets(model: &Model, class: &Classification, mat: &Mat) -> Sheets {
     };
     for ((solid, _), loops) in by_sheet {
         let first = &arcs[loops[0][0]];
-        let segments = first.pair.clone();
+        let segments = first.pair;
         let loops: Vec<Vec<BoundaryRef>> = loops
             .iter()
             .map(|l| l.iter().map(|&k| arcs[k].element).collect())
@@ -365,11 +356,13 @@ fn order_loop(arcs: &[Arc], members: &[usize]) -> Vec<usize> {
     out
 }
 
-fn sorted_pair(a: &str, b: &str) -> [String; 2] {
-    if a <= b {
-        [a.to_string(), b.to_string()]
+/// `[a, b]` in the order of their names (`F10` before `F2`), as reports have always listed a
+/// sheet's pair.
+fn sorted_pair(a: Element, b: Element) -> [Element; 2] {
+    if a.to_string() <= b.to_string() {
+        [a, b]
     } else {
-        [b.to_string(), a.to_string()]
+        [b, a]
     }
 }
 
@@ -387,95 +380,11 @@ fn node_name(n: Node) -> String {
     }
 }
 
-/// Faces joined across smooth and reflex edges, with those reflex edges and the reflex
-/// vertices on them: the touch point of a sheet's ball moves within a group.
-#[derive(Clone, Debug)]
-pub(crate) struct SegmentGroups {
-    faces: usize,
-    edges: usize,
-    group: Vec<usize>,
-}
-
-impl SegmentGroups {
-    pub(crate) fn new(model: &Model, class: &Classification) -> SegmentGroups {
-        let (nf, ne) = (model.faces.len(), model.edges.len());
-        let mut uf = UnionFind::new(nf + ne + model.vertices.len());
-        for (e, edge) in model.edges.iter().enumerate() {
-            if matches!(class.edges[e].kind, EdgeKind::Smooth | EdgeKind::Reflex) {
-                for &f in &edge.faces {
-                    uf.union(f, nf + e);
-                }
-                if class.edges[e].kind == EdgeKind::Reflex {
-                    for &v in &edge.vertices {
-                        uf.union(nf + e, nf + ne + v);
-                    }
-                }
-            }
-        }
-        let group = (0..uf.parent.len()).map(|i| uf.find(i)).collect();
-        SegmentGroups {
-            faces: nf,
-            edges: ne,
-            group,
-        }
-    }
-
-    /// The group of a segment id (`F3`, `E5`, `V7`).
-    pub(crate) fn of(&self, id: &str) -> Option<usize> {
-        let k: usize = id.get(1..)?.parse().ok()?;
-        match id.as_bytes().first()? {
-            b'F' if k < self.faces => Some(self.of_segment(crate::medial::Segment::Face(k))),
-            b'E' if k < self.edges => Some(self.of_segment(crate::medial::Segment::Edge(k))),
-            b'V' if k < self.group.len() - self.faces - self.edges => {
-                Some(self.of_segment(crate::medial::Segment::Vertex(k)))
-            }
-            _ => None,
-        }
-    }
-
-    /// The group of a segment.
-    pub(crate) fn of_segment(&self, seg: crate::medial::Segment) -> usize {
-        use crate::medial::Segment;
-        self.group[match seg {
-            Segment::Face(f) => f,
-            Segment::Edge(e) => self.faces + e,
-            Segment::Vertex(v) => self.faces + self.edges + v,
-        }]
-    }
-}
-
-struct UnionFind {
-    parent: Vec<usize>,
-}
-
-impl UnionFind {
-    fn new(n: usize) -> UnionFind {
-        UnionFind {
-            parent: (0..n).collect(),
-        }
-    }
-
-    fn find(&mut self, mut i: usize) -> usize {
-        while self.parent[i] != i {
-            self.parent[i] = self.parent[self.parent[i]];
-            i = self.parent[i];
-        }
-        i
-    }
-
-    fn union(&mut self, a: usize, b: usize) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            self.parent[ra.max(rb)] = ra.min(rb);
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn sheets_of(name: &str) -> (Mat, Sheets) {
+    fn sheets_of(name: &str) -> (MedialAxis, Sheets) {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("samples")
             .join(name);

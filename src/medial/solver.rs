@@ -137,7 +137,8 @@ fn newton_step(j: &DMatrix<f64>, f: &DVector<f64>) -> Option<DVector<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::medial::{MedialSystem, Segment};
+    use crate::medial::{MedialSystem, NormalField};
+    use crate::model::Element;
     use proptest::prelude::*;
 
     fn sample(name: &str) -> crate::model::Model {
@@ -160,7 +161,7 @@ mod tests {
         x.rows_mut(0, 3).copy_from_slice(&b);
         x[3] = r;
         for (i, seg) in sys.segments.iter().enumerate() {
-            let Segment::Face(f) = *seg else {
+            let Element::Face(f) = *seg else {
                 panic!("test starts are built on faces");
             };
             let d = m.faces[f].domain;
@@ -188,7 +189,7 @@ mod tests {
         (0..m.faces.len())
             .find(|&f| {
                 let d = m.faces[f].domain;
-                let e = Segment::Face(f)
+                let e = Element::Face(f)
                     .eval(m, [0.5 * (d.u.0 + d.u.1), 0.5 * (d.v.0 + d.v.1)])
                     .unwrap();
                 e.n.distance(n) < 1e-9
@@ -206,7 +207,7 @@ mod tests {
                 glam::DVec3::NEG_X,
                 glam::DVec3::NEG_Y,
             ]
-            .map(|n| Segment::Face(face_with_normal(m, n)))
+            .map(|n| Element::Face(face_with_normal(m, n)))
             .to_vec(),
         )
     }
@@ -238,7 +239,7 @@ mod tests {
     fn underdetermined_seam_point_lands_on_the_seam() {
         let m = sample("box.step");
         let segs = [glam::DVec3::NEG_Z, glam::DVec3::NEG_X, glam::DVec3::NEG_Y]
-            .map(|n| Segment::Face(face_with_normal(&m, n)))
+            .map(|n| Element::Face(face_with_normal(&m, n)))
             .to_vec();
         let sys = MedialSystem::new(segs);
         let x = start(&m, &sys, [5.0, 6.5, 4.2], 4.0, |_| (0.5, 0.5));
@@ -270,7 +271,7 @@ mod tests {
                     )
                 })
                 .expect("curved wall");
-            let sys = MedialSystem::new(vec![Segment::Face(wall), Segment::Face(bottom)]);
+            let sys = MedialSystem::new(vec![Element::Face(wall), Element::Face(bottom)]);
             let x = start(&m, &sys, [3.0, 2.0, 5.0], 4.0, |i| {
                 if i == 0 {
                     (0.3, 0.2)
@@ -295,7 +296,7 @@ mod tests {
     #[test]
     fn tetrahedron_incentre_and_reported_failure() {
         let m = sample("tetrahedron.step");
-        let sys = MedialSystem::new((0..4).map(Segment::Face).collect());
+        let sys = MedialSystem::new((0..4).map(Element::Face).collect());
         let x = start(&m, &sys, [5.0, 7.0, 6.5], 4.0, |_| (0.5, 0.5));
         let sol = solve_tight(&m, &sys, x);
         assert_eq!(sol.status, SolveStatus::Converged);
@@ -312,7 +313,7 @@ mod tests {
                 glam::DVec3::NEG_X,
                 glam::DVec3::X,
             ]
-            .map(|n| Segment::Face(face_with_normal(&b, n)))
+            .map(|n| Element::Face(face_with_normal(&b, n)))
             .to_vec(),
         );
         let x = start(&b, &sys, [30.0, 20.0, 10.0], 10.0, |_| (0.5, 0.5));

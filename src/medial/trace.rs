@@ -8,7 +8,7 @@
 //! the corrector converges in few iterations, shrinks when it needs many, and halves when it
 //! fails or the seam turns by more than [`MAX_TURN`].
 //!
-//! Segments are faces, reflex edges and reflex (or mixed) vertices ([`Segment`]). Seams start
+//! Segments are faces, reflex edges and reflex (or mixed) vertices ([`Element`]). Seams start
 //! at convex vertices (`r = 0`), leaving along each direction that moves equally away from
 //! three tangent planes and no slower from the others; then from seeds: maximal balls sampled
 //! on faces no seam touches (holes, solids without corners). A seam ends
@@ -25,11 +25,17 @@
 //! A touch point that leaves its segment is handed over: across a smooth edge to the next
 //! face, onto and off reflex edges, from a reflex edge into the next one or onto its vertex.
 
-use super::equations::{vertex_angles, MedialSystem, Segment};
+use super::axis::{
+    Degenerate, DegenerateKind, Handover, Junction, MedialAxis, Node, OpenReason, Seam, SeamEnd,
+    SeamPoint, TraceStats,
+};
+use super::equations::{vertex_angles, MedialSystem, NormalField};
+use super::maximal::curvature_allows;
+use super::segments::SegmentGroups;
 use super::solver::{solve, SolveOptions, SolveStatus};
 use crate::classify::{Classification, EdgeKind, VertexKind};
 use crate::geom::{project_point, Boundary, FaceHit, Feature};
-use crate::model::Model;
+use crate::model::{Element, Model};
 use glam::DVec3;
 use nalgebra::DVector;
 use std::collections::{HashSet, VecDeque};
@@ -66,124 +72,19 @@ impl TraceOptions {
     }
 }
 
-/// One point of a seam.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct SeamPoint {
-    /// `[x, y, z, r]`.
-    pub point: [f64; 4],
-    /// The touch points on the three segments.
-    pub touch: [[f64; 3]; 3],
-}
-
-/// How a seam ends.
-#[derive(Clone, Debug, PartialEq, Eq, Hash, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SeamEnd {
-    /// At a convex vertex, `r = 0`.
-    Vertex(usize),
-    /// At a junction.
-    Junction(usize),
-    /// The seam is a closed curve (both ends are its first point).
-    Closed,
-    /// The ball stops being maximal by curvature: it osculates `segment` (`r·κmax = 1`).
-    /// The last point is where that happens to the output accuracy; a skeletal edge (the
-    /// sheet's edge of centres of curvature) starts there.
-    CurvatureLimit { segment: String },
-    /// The tracer stopped without a proper end; the reason says why.
-    Open(String),
-}
-
-/// A seam: a curve of ball centres touching three segments.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct Seam {
-    pub id: usize,
-    /// Index of the solid in the model.
-    pub solid: usize,
-    /// The three segments at the first point (`F3`, `E7` for a reflex edge; a face twice
-    /// when the ball touches it in two places).
-    pub segments: Vec<String>,
-    pub ends: [SeamEnd; 2],
-    /// The three segments at the last point (after any hand-over).
-    pub end_segments: Vec<String>,
-    pub points: Vec<SeamPoint>,
-    /// Where a touch point moves to another segment, in the order of the points.
-    pub handovers: Vec<Handover>,
-}
-
-impl Seam {
-    /// True when either end is [`SeamEnd::Open`].
-    pub fn is_open(&self) -> bool {
-        self.ends.iter().any(|e| matches!(e, SeamEnd::Open(_)))
-    }
-}
-
-/// A junction: a ball touching four segments.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct Junction {
-    pub id: usize,
-    /// Index of the solid in the model.
-    pub solid: usize,
-    pub point: [f64; 3],
-    pub radius: f64,
-    pub segments: Vec<String>,
-    pub touch: Vec<[f64; 3]>,
-}
-
-/// Counters of the run.
-#[derive(Clone, Debug, Default, serde::Serialize)]
-pub struct TraceStats {
-    pub points: usize,
-    pub newton_iterations: usize,
-    /// Steps retried at half the length (corrector failed or the seam turned too much).
-    pub corrector_failures: usize,
-    /// Largest `‖F‖∞` over the output points (mm).
-    pub worst_residual: f64,
-    /// Vertices where more than three faces meet, not started from (non-generic starts).
-    pub skipped_vertices: Vec<usize>,
-    /// Seeds that did not refine to a valid seam point, or lay on a seam already traced.
-    pub skipped_seeds: usize,
-    /// Seams traced a second time from their other end, and dropped.
-    pub duplicate_seams: usize,
-}
-
-/// The traced medial axis.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct Mat {
-    pub seams: Vec<Seam>,
-    pub junctions: Vec<Junction>,
-    /// Degenerate parts of the medial axis met while seeding: balls touching a face along a
-    /// curve or all over, whose centres form a curve or a point instead of a sheet.
-    pub degenerate: Vec<Degenerate>,
-    pub stats: TraceStats,
-}
-
-/// A degenerate piece of the medial axis (a cylinder's axis, a sphere's centre, a torus's
-/// core circle): maximal balls that touch `segments` along a continuum, found by sampling.
-/// Its centres are not traced as seams; `balls` are the sampled ones, each verified maximal.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct Degenerate {
-    pub solid: usize,
-    /// `"curve"` (the centres of the touching balls move along a curve: the sheet between the
-    /// segments has collapsed to it) or `"point"` (one centre: the ball touches all around).
-    pub kind: String,
-    pub segments: Vec<String>,
-    /// Sampled balls `[x, y, z, r]`.
-    pub balls: Vec<[f64; 4]>,
-}
-
 /// A point near a seam to trace from in both directions: a ball found by sampling (solids
 /// without convex corners, sheets no corner reaches), or given by the caller.
 #[derive(Clone, Debug)]
 pub struct Seed {
     /// The three segments; a face may appear twice (two touch points on it).
-    pub triplet: [Segment; 3],
+    pub triplet: [Element; 3],
     /// Unknowns `[B, r, s₁, s₂, s₃]` near the seam; refined before tracing.
     pub x: DVector<f64>,
 }
 
 impl Seed {
     /// A seed from a centre, a radius and the three segments' parameters.
-    pub fn new(triplet: [Segment; 3], centre: DVec3, r: f64, params: [(f64, f64); 3]) -> Seed {
+    pub fn new(triplet: [Element; 3], centre: DVec3, r: f64, params: [(f64, f64); 3]) -> Seed {
         Seed {
             triplet,
             x: seam_x(centre, r, params),
@@ -193,27 +94,27 @@ impl Seed {
 
 /// Where a seam starts.
 struct Start {
-    triplet: [Segment; 3],
+    triplet: [Element; 3],
     x: DVector<f64>,
     /// Direction of the centre at the start.
     dir: DVec3,
-    from: SeamEnd,
+    from: Node,
 }
 
 /// A hand-over: the new segment, the crossing point (old triplet) and the same point on the
 /// new triplet; or why not, with the crossing point.
-type HandOverResult = Result<(Segment, DVector<f64>, DVector<f64>), (HandOverError, DVector<f64>)>;
+type HandOverResult = Result<(Element, DVector<f64>, DVector<f64>), (HandOverError, DVector<f64>)>;
 
 /// Why a touch point could not be handed over.
 enum HandOverError {
-    /// The ball osculates the next segment (touches it along a curve).
-    Osculates(Segment),
-    /// Anything else, said in words.
-    Stop(String),
+    /// The ball osculates the next element (touches it along a curve).
+    Osculates(Element),
+    /// The seam ends open there.
+    Stop(OpenReason),
 }
 
-impl From<String> for HandOverError {
-    fn from(why: String) -> Self {
+impl From<OpenReason> for HandOverError {
+    fn from(why: OpenReason) -> Self {
         HandOverError::Stop(why)
     }
 }
@@ -223,22 +124,12 @@ struct Run {
     points: Vec<SeamPoint>,
     end: SeamEnd,
     /// The segments at the end (after any hand-over).
-    triplet: [Segment; 3],
+    triplet: [Element; 3],
     handovers: Vec<Handover>,
 }
 
-/// A touch point passing from one segment to the next along a seam (over a smooth edge, onto
-/// or off a reflex edge).
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct Handover {
-    /// Index of the seam point where it happens (on both segments).
-    pub point: usize,
-    pub from: String,
-    pub to: String,
-}
-
 /// Traces the seams and junctions of `model` that start from its convex vertices.
-pub fn trace(model: &Model, class: &Classification, opts: &TraceOptions) -> Mat {
+pub fn trace(model: &Model, class: &Classification, opts: &TraceOptions) -> MedialAxis {
     trace_with_boundary(model, &Boundary::new(model), class, opts)
 }
 
@@ -248,7 +139,7 @@ pub fn trace_with_boundary(
     boundary: &Boundary,
     class: &Classification,
     opts: &TraceOptions,
-) -> Mat {
+) -> MedialAxis {
     trace_with_seeds(model, boundary, class, opts, &[])
 }
 
@@ -261,7 +152,7 @@ pub fn trace_with_seeds(
     class: &Classification,
     opts: &TraceOptions,
     seeds: &[Seed],
-) -> Mat {
+) -> MedialAxis {
     let mut t = Tracer {
         model,
         boundary,
@@ -278,7 +169,7 @@ pub fn trace_with_seeds(
             }
             ve
         },
-        groups: crate::medial::sheets::SegmentGroups::new(model, class),
+        groups: SegmentGroups::new(model, class),
         loop_chunks: model
             .faces
             .iter()
@@ -309,7 +200,7 @@ pub fn trace_with_seeds(
     }
     t.seed_by_sampling();
     t.drop_open_halves();
-    Mat {
+    MedialAxis {
         seams: t.seams,
         junctions: t.junctions,
         degenerate: t.degenerate,
@@ -317,28 +208,7 @@ pub fn trace_with_seeds(
     }
 }
 
-/// The curvature criterion at a touch point (DESIGN.md, "Maximality is not automatic"): a ball
-/// of radius `r` tangent to the face from inside stays inside near the touch point only if
-/// `r·κmax ≤ 1`, with `κmax` the larger principal curvature (positive where the face bends
-/// towards the ball, as a convex solid's boundary does). A tolerance of 1e-9 relative absorbs
-/// rounding at balls that osculate exactly (a sphere's centre). Where the normal is undefined
-/// (a pole) the criterion cannot fail.
-pub fn curvature_allows(model: &Model, seg: Segment, s: [f64; 2], r: f64) -> bool {
-    match seg {
-        Segment::Face(f) => {
-            let face = &model.faces[f];
-            let d = crate::geom::eval_surface(&face.surface, s[0], s[1]);
-            match crate::geom::principal_curvatures(&d, face.sign) {
-                Some(k) => r * k.k1 <= 1.0 + 1e-9,
-                None => true,
-            }
-        }
-        // Reflex edges and vertices bend away from every ball that touches them from inside.
-        Segment::Edge(_) | Segment::Vertex(_) => true,
-    }
-}
-
-fn sorted(mut s: [Segment; 3]) -> [Segment; 3] {
+fn sorted(mut s: [Element; 3]) -> [Element; 3] {
     s.sort();
     s
 }
@@ -387,7 +257,7 @@ struct Tracer<'a> {
     /// The edges at each vertex, with `true` where the vertex is the edge's end.
     vertex_edges: Vec<Vec<(usize, bool)>>,
     /// Faces joined by smooth and reflex edges (with those edges and reflex vertices).
-    groups: crate::medial::sheets::SegmentGroups,
+    groups: SegmentGroups,
     /// Each face's loops in runs with bounding boxes, for [`Tracer::stays_on`].
     loop_chunks: Vec<crate::geom::trim::LoopChunks>,
     junctions: Vec<Junction>,
@@ -399,10 +269,10 @@ struct Tracer<'a> {
     /// junction) is not traced again.
     arrivals: Vec<Vec<DVec3>>,
     seams: Vec<Seam>,
-    /// The two ends (and the segments there) of every seam between proper ends.
-    traced_between: HashSet<[(String, [Segment; 3]); 2]>,
-    /// (sorted triplet, where it starts or ends) already traced.
-    visited: HashSet<([Segment; 3], SeamEnd)>,
+    /// The two ends (and the elements there) of every seam between proper ends.
+    traced_between: HashSet<[(Node, [Element; 3]); 2]>,
+    /// (sorted triplet, the node where it starts or ends) already traced.
+    visited: HashSet<([Element; 3], Node)>,
     queue: VecDeque<Start>,
     stats: TraceStats,
 }
@@ -416,11 +286,11 @@ impl Tracer<'_> {
         }
     }
 
-    fn solid_of(&self, seg: Segment) -> usize {
+    fn solid_of(&self, seg: Element) -> usize {
         match seg {
-            Segment::Face(f) => self.face_solid[f],
-            Segment::Edge(e) => self.face_solid[self.model.edges[e].faces[0]],
-            Segment::Vertex(v) => self.vertex_edges[v]
+            Element::Face(f) => self.face_solid[f],
+            Element::Edge(e) => self.face_solid[self.model.edges[e].faces[0]],
+            Element::Vertex(v) => self.vertex_edges[v]
                 .first()
                 .map_or(0, |&(e, _)| self.face_solid[self.model.edges[e].faces[0]]),
         }
@@ -457,7 +327,7 @@ impl Tracer<'_> {
         let p = crate::geom::eval_curve(&edge.curve, t).p;
         let normal = |f: usize| {
             let uv = project_point(&self.model.faces[f].surface, p, None)?;
-            Segment::Face(f).eval(self.model, [uv.0, uv.1]).map(|e| e.n)
+            Element::Face(f).eval(self.model, [uv.0, uv.1]).map(|e| e.n)
         };
         Some([normal(edge.faces[0])?, normal(edge.faces[1])?])
     }
@@ -477,7 +347,7 @@ impl Tracer<'_> {
                     .d1
                     .length()
                 <= self.opts.accuracy;
-        let in_arc = match (self.edge_fan(e, s[0]), Segment::Edge(e).eval(self.model, s)) {
+        let in_arc = match (self.edge_fan(e, s[0]), Element::Edge(e).eval(self.model, s)) {
             (Some(fan), Some(ev)) => {
                 let span = fan[0].angle_between(fan[1]);
                 ev.n.angle_between(fan[0]) + ev.n.angle_between(fan[1]) <= span + 1e-9
@@ -490,10 +360,10 @@ impl Tracer<'_> {
     /// True when a touch point moving from parameters `from` to `to` stays on segment `seg`:
     /// `to` is on it, and on a face the path between did not cross a trimming loop (a step
     /// over a hole lands on the face again).
-    fn stays_on(&self, seg: Segment, from: [f64; 2], to: [f64; 2]) -> bool {
+    fn stays_on(&self, seg: Element, from: [f64; 2], to: [f64; 2]) -> bool {
         self.on_segment(seg, to)
             && match seg {
-                Segment::Face(f) => !crate::geom::trim::path_crosses_loops(
+                Element::Face(f) => !crate::geom::trim::path_crosses_loops(
                     &self.model.faces[f],
                     &self.loop_chunks[f],
                     glam::DVec2::from(from),
@@ -505,19 +375,19 @@ impl Tracer<'_> {
 
     /// True when parameters `s` lie on segment `seg`: inside a face's trim, or on a reflex
     /// edge within its range with the normal inside the arc between its faces' normals.
-    fn on_segment(&self, seg: Segment, s: [f64; 2]) -> bool {
+    fn on_segment(&self, seg: Element, s: [f64; 2]) -> bool {
         match seg {
-            Segment::Face(f) => {
+            Element::Face(f) => {
                 self.boundary
                     .contains_uv(&self.model.faces[f], f, glam::DVec2::new(s[0], s[1]))
             }
-            Segment::Edge(e) => {
+            Element::Edge(e) => {
                 let (in_range, in_arc) = self.edge_status(e, s);
                 in_range && in_arc
             }
             // Touching at a vertex only, the boundary must not come closer along any of its
             // edges: N·d ≥ 0 for every edge direction d leaving it.
-            Segment::Vertex(v) => {
+            Element::Vertex(v) => {
                 let Some(ev) = seg.eval(self.model, s) else {
                     return false;
                 };
@@ -534,11 +404,11 @@ impl Tracer<'_> {
             if self.seams.len() >= MAX_SEAMS {
                 break;
             }
-            let key = (sorted(start.triplet), start.from.clone());
+            let key = (sorted(start.triplet), start.from);
             if !self.visited.insert(key) {
                 continue;
             }
-            if let SeamEnd::Junction(j) = start.from {
+            if let Node::Junction(j) = start.from {
                 if self.arrivals[j]
                     .iter()
                     .any(|a| a.distance(start.dir) < 1e-6)
@@ -550,7 +420,7 @@ impl Tracer<'_> {
             self.push_seam(
                 start.triplet,
                 run.triplet,
-                [start.from, run.end],
+                [start.from.into(), run.end],
                 run.points,
                 run.handovers,
             );
@@ -561,12 +431,12 @@ impl Tracer<'_> {
     /// junction on the same segments: the same curve, traced completely from its other end
     /// (the open one stopped at a hand-over the other side did not need). Renumbers the rest.
     fn drop_open_halves(&mut self) {
-        let key = |segs: &[String]| {
+        let key = |segs: &[Element]| {
             let mut k = segs.to_vec();
             k.sort();
             k
         };
-        let arrived: HashSet<(usize, Vec<String>)> = self
+        let arrived: HashSet<(usize, Vec<Element>)> = self
             .seams
             .iter()
             .filter(|s| !s.is_open())
@@ -600,18 +470,14 @@ impl Tracer<'_> {
     /// there was traced — is dropped.
     fn push_seam(
         &mut self,
-        triplet: [Segment; 3],
-        last: [Segment; 3],
+        triplet: [Element; 3],
+        last: [Element; 3],
         ends: [SeamEnd; 2],
         points: Vec<SeamPoint>,
         handovers: Vec<Handover>,
     ) {
-        let proper = |e: &SeamEnd| matches!(e, SeamEnd::Vertex(_) | SeamEnd::Junction(_));
-        if ends.iter().all(proper) {
-            let mut key = [
-                (format!("{:?}", ends[0]), sorted(triplet)),
-                (format!("{:?}", ends[1]), sorted(last)),
-            ];
+        if let (Some(a), Some(b)) = (ends[0].node(), ends[1].node()) {
+            let mut key = [(a, sorted(triplet)), (b, sorted(last))];
             key.sort();
             if !self.traced_between.insert(key) {
                 self.stats.duplicate_seams += 1;
@@ -623,9 +489,9 @@ impl Tracer<'_> {
         self.seams.push(Seam {
             id,
             solid: self.solid_of(triplet[0]),
-            segments: triplet.iter().map(|s| s.id()).collect(),
+            segments: triplet.to_vec(),
             ends,
-            end_segments: last.iter().map(|s| s.id()).collect(),
+            end_segments: last.to_vec(),
             points,
             handovers,
         });
@@ -660,7 +526,7 @@ impl Tracer<'_> {
                 self.stats.skipped_vertices.push(v);
                 return;
             };
-            let Some(e) = Segment::Face(*f).eval(self.model, [uv.0, uv.1]) else {
+            let Some(e) = Element::Face(*f).eval(self.model, [uv.0, uv.1]) else {
                 self.stats.skipped_vertices.push(v);
                 return;
             };
@@ -688,10 +554,10 @@ impl Tracer<'_> {
                     dirs.push(u);
                     let x = seam_x(p, 0.0, [a, b, c].map(|i| params[i]));
                     self.queue.push_back(Start {
-                        triplet: [faces[a], faces[b], faces[c]].map(Segment::Face),
+                        triplet: [faces[a], faces[b], faces[c]].map(Element::Face),
                         x,
                         dir: u,
-                        from: SeamEnd::Vertex(v),
+                        from: Node::Vertex(v),
                     });
                 }
             }
@@ -746,7 +612,7 @@ impl Tracer<'_> {
                 }
                 let u = d.u.0 + (d.u.1 - d.u.0) * ((k % GRID) as f64 + 0.5) / GRID as f64;
                 let v = d.v.0 + (d.v.1 - d.v.0) * ((k / GRID) as f64 + 0.5) / GRID as f64;
-                if !self.on_segment(Segment::Face(f), [u, v]) {
+                if !self.on_segment(Element::Face(f), [u, v]) {
                     continue;
                 }
                 for seed in self.sample_seeds(f, [u, v]) {
@@ -772,7 +638,7 @@ impl Tracer<'_> {
     fn sample_ball(&mut self, f: usize, s: [f64; 2]) -> Option<Vec<Seed>> {
         let solid = self.face_solid[f];
         let diag = self.model.diagonal();
-        let ev = Segment::Face(f).eval(self.model, s)?;
+        let ev = Element::Face(f).eval(self.model, s)?;
         let nearest = |b: DVec3| self.nearest_in(solid, b);
         // Largest r with nothing closer than r to p − r·n: bisection.
         let fits =
@@ -797,18 +663,18 @@ impl Tracer<'_> {
             return None; // at a convex edge, or where the ball osculates the face
         }
         let (seg2, s2) = self.hit_segment(g, &hit, b)?;
-        let first = Segment::Face(f);
+        let first = Element::Face(f);
         if self.collapsed(first, s, seg2, s2, b, r) {
             return None;
         }
         let mut thirds = vec![];
         if let Some((k, hit3)) = self.boundary.nearest_face_where(self.model, b, |h| {
-            self.face_solid[h] == solid && h != f && Segment::Face(h) != seg2
+            self.face_solid[h] == solid && h != f && Element::Face(h) != seg2
         }) {
             thirds.extend(self.hit_segment(k, &hit3, b));
         }
         for (seg, touch) in [(first, ev.p), (seg2, hit.point)] {
-            if let Segment::Face(h) = seg {
+            if let Element::Face(h) = seg {
                 let opposite = b * 2.0 - touch;
                 if let Some(uv) = project_point(&self.model.faces[h].surface, opposite, None) {
                     thirds.push((seg, [uv.0, uv.1]));
@@ -836,9 +702,9 @@ impl Tracer<'_> {
     /// the centre along fewer than two dimensions.
     fn collapsed(
         &mut self,
-        a: Segment,
+        a: Element,
         sa: [f64; 2],
-        b: Segment,
+        b: Element,
         sb: [f64; 2],
         c: DVec3,
         r: f64,
@@ -882,8 +748,12 @@ impl Tracer<'_> {
                 usize::from(big > 1e-6)
             }
         };
-        let kind = if rank == 0 { "point" } else { "curve" };
-        let segments = vec![a.id(), b.id()];
+        let kind = if rank == 0 {
+            DegenerateKind::Point
+        } else {
+            DegenerateKind::Curve
+        };
+        let segments = vec![a, b];
         let solid = self.solid_of(a);
         let ball = [c.x, c.y, c.z, r];
         match self
@@ -894,12 +764,12 @@ impl Tracer<'_> {
             Some(d) => d.balls.push(ball),
             None => self.degenerate.push(Degenerate {
                 solid,
-                kind: kind.into(),
+                kind,
                 segments,
                 balls: vec![ball],
             }),
         }
-        if let Segment::Face(f) = a {
+        if let Element::Face(f) = a {
             self.touched[f] = true;
         }
         true
@@ -923,7 +793,7 @@ impl Tracer<'_> {
         // touching it along a whole arc) is a degenerate piece, not a seam point, although
         // the three-segment system is solvable there.
         let osculates = (0..3).any(|i| {
-            matches!(seed.triplet[i], Segment::Face(_))
+            matches!(seed.triplet[i], Element::Face(_))
                 && !curvature_allows(self.model, seed.triplet[i], slot(&x, i), r * (1.0 + 1e-6))
         });
         let valid = sol.status == SolveStatus::Converged
@@ -973,7 +843,7 @@ impl Tracer<'_> {
 
     /// True when the seam point `x` is medial: its touch points lie on their faces, nothing
     /// of the solid is closer than `r`, and no touched face curves through the ball.
-    fn is_medial(&self, triplet: &[Segment; 3], x: &DVector<f64>) -> bool {
+    fn is_medial(&self, triplet: &[Element; 3], x: &DVector<f64>) -> bool {
         let r = x[3];
         let solid = self.solid_of(triplet[0]);
         let on_faces = (0..3).all(|i| self.on_segment(triplet[i], slot(x, i)));
@@ -988,10 +858,10 @@ impl Tracer<'_> {
     }
 
     /// True when `x` lies on a seam of the same segments traced already.
-    fn on_traced_seam(&self, triplet: &[Segment; 3], x: &DVector<f64>) -> bool {
+    fn on_traced_seam(&self, triplet: &[Element; 3], x: &DVector<f64>) -> bool {
         let b = v3(x);
         let tol = 1e-3 * self.model.diagonal();
-        let ids: Vec<String> = sorted(*triplet).iter().map(|g| g.id()).collect();
+        let ids: Vec<Element> = sorted(*triplet).to_vec();
         self.seams.iter().any(|s| {
             let mut same = s.segments.clone();
             same.sort();
@@ -1011,7 +881,7 @@ impl Tracer<'_> {
     /// point ends [`SeamEnd::Closed`].
     fn march(
         &mut self,
-        mut triplet: [Segment; 3],
+        mut triplet: [Element; 3],
         x0: DVector<f64>,
         dir0: DVec3,
         close_at: Option<&DVector<f64>>,
@@ -1030,7 +900,7 @@ impl Tracer<'_> {
         dir[1] = dir0.y;
         dir[2] = dir0.z;
         let Some(mut t) = self.tangent(&sys, &x, &dir) else {
-            let end = SeamEnd::Open("singular tangent".into());
+            let end = SeamEnd::Open(OpenReason::SingularTangent);
             return Run {
                 points,
                 end,
@@ -1043,14 +913,14 @@ impl Tracer<'_> {
         let end: SeamEnd;
         loop {
             if points.len() >= MAX_POINTS {
-                end = SeamEnd::Open("point budget exhausted".into());
+                end = SeamEnd::Open(OpenReason::PointBudgetExhausted);
                 break;
             }
             let Some((xn, tn, iterations)) = self.step(&sys, &x, &t, h) else {
                 self.stats.corrector_failures += 1;
                 h *= 0.5;
                 if h < MIN_STEP * diag {
-                    end = SeamEnd::Open("step size underflow".into());
+                    end = SeamEnd::Open(OpenReason::StepSizeUnderflow);
                     break;
                 }
                 continue;
@@ -1065,7 +935,7 @@ impl Tracer<'_> {
                 if v.is_some() || !off {
                     points.push(self.seam_point(&sys, &xe));
                     end = v.map_or_else(
-                        || SeamEnd::Open("radius reached zero away from a vertex".into()),
+                        || SeamEnd::Open(OpenReason::ZeroRadiusAwayFromVertex),
                         SeamEnd::Vertex,
                     );
                     break;
@@ -1092,9 +962,7 @@ impl Tracer<'_> {
                 match self.hand_over(&triplet, &mut i, &x, &t, h) {
                     Ok((to, xc, _))
                         if handovers.last().is_some_and(|h: &Handover| {
-                            h.point + 1 >= points.len()
-                                && h.to == triplet[i].id()
-                                && h.from == to.id()
+                            h.point + 1 >= points.len() && h.to == triplet[i] && h.from == to
                         }) =>
                     {
                         // The touch point sits at a vertex while the normal turns: it is
@@ -1105,8 +973,8 @@ impl Tracer<'_> {
                             Some((v, xv)) => {
                                 handovers.push(Handover {
                                     point: points.len(),
-                                    from: from.id(),
-                                    to: v.id(),
+                                    from,
+                                    to: v,
                                 });
                                 triplet[i] = v;
                                 sys = MedialSystem::new(triplet.to_vec());
@@ -1114,8 +982,7 @@ impl Tracer<'_> {
                                 let mut d = DVector::zeros(10);
                                 d.rows_mut(0, 3).copy_from(&t.rows(0, 3));
                                 let Some(tc) = self.tangent(&sys, &xv, &d) else {
-                                    end =
-                                        SeamEnd::Open("singular tangent after a hand-over".into());
+                                    end = SeamEnd::Open(OpenReason::SingularTangentAfterHandover);
                                     break;
                                 };
                                 travel += v3(&xv).distance(v3(&x));
@@ -1124,11 +991,7 @@ impl Tracer<'_> {
                                 continue;
                             }
                             None => {
-                                end = SeamEnd::Open(format!(
-                                    "touch point oscillates between {} and {} and cannot stay on a vertex",
-                                    from.id(),
-                                    to.id()
-                                ));
+                                end = SeamEnd::Open(OpenReason::Oscillates { from, to });
                                 break;
                             }
                         }
@@ -1154,26 +1017,25 @@ impl Tracer<'_> {
                             let at = |k: usize| sys_point(self.model, nt[k], slot(&xc, k));
                             let merged = (0..3).find(|&k| {
                                 k != i
-                                    && self.groups.of_segment(nt[k]) == self.groups.of_segment(to)
+                                    && self.groups.of(nt[k]) == self.groups.of(to)
                                     && matches!((at(k), at(i)), (Some(a), Some(b)) if a.distance(b) <= 1e-4 * xc[3])
                             });
                             end = match merged {
                                 Some(_) => {
                                     points.push(self.seam_point(&sys, &crossing));
-                                    SeamEnd::CurvatureLimit { segment: to.id() }
+                                    SeamEnd::CurvatureLimit { segment: to }
                                 }
-                                None => SeamEnd::Open(format!(
-                                    "two touch points coincide after handing {} to {}",
-                                    triplet[i].id(),
-                                    to.id()
-                                )),
+                                None => SeamEnd::Open(OpenReason::CoincideAfterHandover {
+                                    from: triplet[i],
+                                    to,
+                                }),
                             };
                             break;
                         }
                         handovers.push(Handover {
                             point: points.len(),
-                            from: triplet[i].id(),
-                            to: to.id(),
+                            from: triplet[i],
+                            to,
                         });
                         triplet[i] = to;
                         sys = MedialSystem::new(triplet.to_vec());
@@ -1181,7 +1043,7 @@ impl Tracer<'_> {
                         let mut d = DVector::zeros(10);
                         d.rows_mut(0, 3).copy_from(&t.rows(0, 3));
                         let Some(tc) = self.tangent(&sys, &xc, &d) else {
-                            end = SeamEnd::Open("singular tangent after a hand-over".into());
+                            end = SeamEnd::Open(OpenReason::SingularTangentAfterHandover);
                             break;
                         };
                         travel += v3(&xc).distance(v3(&x));
@@ -1205,7 +1067,7 @@ impl Tracer<'_> {
                         }
                         end = match e {
                             HandOverError::Osculates(seg) => {
-                                SeamEnd::CurvatureLimit { segment: seg.id() }
+                                SeamEnd::CurvatureLimit { segment: seg }
                             }
                             HandOverError::Stop(why) => SeamEnd::Open(why),
                         };
@@ -1249,7 +1111,7 @@ impl Tracer<'_> {
             // Two different segments touched at one place (where a face meets its edge): the
             // ball touches fewer than three places, so the point is no seam point.
             if self.coincident(&triplet, &xn, false) {
-                end = SeamEnd::Open("two touch points coincide (a degenerate seam point)".into());
+                end = SeamEnd::Open(OpenReason::TouchPointsCoincide);
                 break;
             }
             if let Some(i) = poked(&xn) {
@@ -1270,7 +1132,7 @@ impl Tracer<'_> {
                     points.push(self.seam_point(&sys, &xm));
                 }
                 end = SeamEnd::CurvatureLimit {
-                    segment: triplet[i].id(),
+                    segment: triplet[i],
                 };
                 break;
             }
@@ -1295,7 +1157,7 @@ impl Tracer<'_> {
     /// True when two touch points of the seam point `x` are one place (closer than 1e-4·r):
     /// for different segments always, for a segment touched twice only with `same` (a
     /// merging pair on one face is otherwise the curvature limit's business).
-    fn coincident(&self, triplet: &[Segment; 3], x: &DVector<f64>, same: bool) -> bool {
+    fn coincident(&self, triplet: &[Element; 3], x: &DVector<f64>, same: bool) -> bool {
         let pairs = if same {
             Pairs::All
         } else {
@@ -1314,7 +1176,7 @@ impl Tracer<'_> {
     /// edge's end).
     fn hand_over(
         &mut self,
-        triplet: &[Segment; 3],
+        triplet: &[Element; 3],
         i: &mut usize,
         x: &DVector<f64>,
         t: &DVector<f64>,
@@ -1353,13 +1215,13 @@ impl Tracer<'_> {
         let i = *i;
         let off = off.map(|y| slot(&y, i));
         let exit = match (triplet[i], off) {
-            (Segment::Edge(e), Some(s)) => Some(self.edge_status(e, s)),
+            (Element::Edge(e), Some(s)) => Some(self.edge_status(e, s)),
             _ => None,
         };
         // Off an edge's end: the crossing is where the touch point is exactly at the end
         // (the bisection on the centre's travel leaves it up to the accuracy short of or
         // past it), so the next segment takes over the same ball at the shared vertex.
-        if let (Segment::Edge(e), Some((false, true))) = (triplet[i], exit) {
+        if let (Element::Edge(e), Some((false, true))) = (triplet[i], exit) {
             let (lo, hi) = self.model.edges[e].range;
             let te = slot(&xc, i)[0];
             let end = if te - lo < hi - te { lo } else { hi };
@@ -1384,33 +1246,33 @@ impl Tracer<'_> {
     /// says which bounds the point just past the crossing kept (range, arc), when known.
     fn hand_over_at(
         &mut self,
-        triplet: &[Segment; 3],
+        triplet: &[Element; 3],
         i: usize,
         xc: &DVector<f64>,
         t: &DVector<f64>,
         exit: Option<(bool, bool)>,
-    ) -> Result<(Segment, DVector<f64>), HandOverError> {
+    ) -> Result<(Element, DVector<f64>), HandOverError> {
         let acc = self.opts.accuracy;
         let xc = xc.clone();
         let seg = triplet[i];
         let ev = seg
             .eval(self.model, slot(&xc, i))
-            .ok_or_else(|| format!("touch point on {} at an undefined normal", seg.id()))?;
+            .ok_or(OpenReason::UndefinedNormal { element: seg })?;
         let (to, params) = match seg {
-            Segment::Face(f) => {
+            Element::Face(f) => {
                 let (e, te) = self
                     .nearest_edge_of_face(f, ev.p)
                     .filter(|&(e, te)| {
                         let q = crate::geom::eval_curve(&self.model.edges[e].curve, te).p;
                         q.distance(ev.p) <= 1e3 * acc
                     })
-                    .ok_or_else(|| format!("touch point left {} away from its edges", seg.id()))?;
+                    .ok_or(OpenReason::LeftFaceAwayFromEdges { face: seg })?;
                 let edge = &self.model.edges[e];
                 match self.class.edges[e].kind {
                     EdgeKind::Reflex => {
                         let th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)
-                            .ok_or_else(|| format!("no normal frame on E{e}"))?;
-                        (Segment::Edge(e), [te, th])
+                            .ok_or(OpenReason::NoNormalFrame { edge: e })?;
+                        (Element::Edge(e), [te, th])
                     }
                     EdgeKind::Smooth => {
                         let g = if edge.faces[0] == f {
@@ -1419,18 +1281,19 @@ impl Tracer<'_> {
                             edge.faces[0]
                         };
                         let uv = project_point(&self.model.faces[g].surface, ev.p, None)
-                            .ok_or_else(|| format!("touch point not found on F{g}"))?;
-                        (Segment::Face(g), [uv.0, uv.1])
+                            .ok_or(OpenReason::NotFoundOnFace { face: g })?;
+                        (Element::Face(g), [uv.0, uv.1])
                     }
                     kind => {
-                        return Err(HandOverError::Stop(format!(
-                            "touch point on {} reached {kind:?} edge E{e}",
-                            seg.id()
-                        )))
+                        return Err(HandOverError::Stop(OpenReason::ReachedEdge {
+                            element: seg,
+                            kind,
+                            edge: e,
+                        }))
                     }
                 }
             }
-            Segment::Edge(e) => {
+            Element::Edge(e) => {
                 let edge = &self.model.edges[e];
                 let te = slot(&xc, i)[0];
                 let (lo, hi) = edge.range;
@@ -1492,7 +1355,7 @@ impl Tracer<'_> {
                             .then(|| crate::medial::equations::edge_angle(self.model, g, tg, ev.n))
                             .flatten()
                         {
-                            let to = Segment::Edge(g);
+                            let to = Element::Edge(g);
                             return self.polish_hand_over(triplet, i, &xc, t, to, [tg, th], ev.p);
                         }
                     }
@@ -1500,12 +1363,12 @@ impl Tracer<'_> {
                         self.class.vertices[v],
                         VertexKind::Reflex | VertexKind::Mixed
                     ) {
-                        return Err(HandOverError::Stop(format!(
-                            "touch point reached the end of reflex edge E{e} at a {:?} vertex",
-                            self.class.vertices[v]
-                        )));
+                        return Err(HandOverError::Stop(OpenReason::ReachedEdgeEnd {
+                            edge: e,
+                            vertex_kind: self.class.vertices[v],
+                        }));
                     }
-                    let to = Segment::Vertex(v);
+                    let to = Element::Vertex(v);
                     return self.polish_hand_over(
                         triplet,
                         i,
@@ -1518,7 +1381,7 @@ impl Tracer<'_> {
                 }
                 let fan = self
                     .edge_fan(e, te)
-                    .ok_or_else(|| format!("no face normals on E{e}"))?;
+                    .ok_or(OpenReason::NoFaceNormals { edge: e })?;
                 let k = if ev.n.angle_between(fan[0]) <= ev.n.angle_between(fan[1]) {
                     0
                 } else {
@@ -1526,21 +1389,22 @@ impl Tracer<'_> {
                 };
                 let g = edge.faces[k];
                 let uv = project_point(&self.model.faces[g].surface, ev.p, None)
-                    .ok_or_else(|| format!("touch point not found on F{g}"))?;
-                (Segment::Face(g), [uv.0, uv.1])
+                    .ok_or(OpenReason::NotFoundOnFace { face: g })?;
+                (Element::Face(g), [uv.0, uv.1])
             }
-            Segment::Vertex(v) => {
+            Element::Vertex(v) => {
                 // Off the vertex over the edge whose direction the normal turned away from.
                 let (e, _) = self
                     .vertex_tangents(v)
                     .into_iter()
                     .min_by(|a, b| ev.n.dot(a.1).total_cmp(&ev.n.dot(b.1)))
-                    .ok_or_else(|| format!("vertex V{v} has no edges"))?;
+                    .ok_or(OpenReason::VertexWithoutEdges { vertex: v })?;
                 if !self.is_reflex(e) {
-                    return Err(HandOverError::Stop(format!(
-                        "touch point on V{v} reached {:?} edge E{e}",
-                        self.class.edges[e].kind
-                    )));
+                    return Err(HandOverError::Stop(OpenReason::ReachedEdge {
+                        element: Element::Vertex(v),
+                        kind: self.class.edges[e].kind,
+                        edge: e,
+                    }));
                 }
                 let edge = &self.model.edges[e];
                 let te = if edge.vertices[0] == v {
@@ -1549,8 +1413,8 @@ impl Tracer<'_> {
                     edge.range.1
                 };
                 let th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)
-                    .ok_or_else(|| format!("no normal frame on E{e}"))?;
-                (Segment::Edge(e), [te, th])
+                    .ok_or(OpenReason::NoNormalFrame { edge: e })?;
+                (Element::Edge(e), [te, th])
             }
         };
         self.polish_hand_over(triplet, i, &xc, t, to, params, ev.p)
@@ -1561,11 +1425,11 @@ impl Tracer<'_> {
     /// normal inside the vertex's cone) and the re-solved point is the same ball.
     fn onto_vertex(
         &mut self,
-        triplet: &[Segment; 3],
+        triplet: &[Element; 3],
         i: usize,
         xc: &DVector<f64>,
         t: &DVector<f64>,
-    ) -> Option<(Segment, DVector<f64>)> {
+    ) -> Option<(Element, DVector<f64>)> {
         let ev = triplet[i].eval(self.model, slot(xc, i))?;
         let v = (0..self.model.vertices.len())
             .filter(|&v| self.model.vertices[v].point.distance(ev.p) <= 10.0 * self.opts.accuracy)
@@ -1573,7 +1437,7 @@ impl Tracer<'_> {
                 let da = self.model.vertices[a].point.distance(ev.p);
                 da.total_cmp(&self.model.vertices[b].point.distance(ev.p))
             })?;
-        let to = Segment::Vertex(v);
+        let to = Element::Vertex(v);
         let params = vertex_angles(ev.n);
         if !self.on_segment(to, params) {
             return None;
@@ -1590,14 +1454,14 @@ impl Tracer<'_> {
     #[allow(clippy::too_many_arguments)]
     fn polish_hand_over(
         &mut self,
-        triplet: &[Segment; 3],
+        triplet: &[Element; 3],
         i: usize,
         xc: &DVector<f64>,
         t: &DVector<f64>,
-        to: Segment,
+        to: Element,
         params: [f64; 2],
         p: DVec3,
-    ) -> Result<(Segment, DVector<f64>), HandOverError> {
+    ) -> Result<(Element, DVector<f64>), HandOverError> {
         let acc = self.opts.accuracy;
         let seg = triplet[i];
         let xc = xc.clone();
@@ -1631,13 +1495,12 @@ impl Tracer<'_> {
             && sys_point(self.model, to, slot(&sol.x, i))
                 .is_some_and(|q| q.distance(p) <= 2.0 * acc + 2.0 * gap);
         if !same {
-            return Err(HandOverError::Stop(format!(
-                "no seam point after handing {} to {} (corrector {:?}, centre moved {:.2e} mm)",
-                seg.id(),
-                to.id(),
-                sol.status,
-                v3(&sol.x).distance(v3(&xc)),
-            )));
+            return Err(HandOverError::Stop(OpenReason::NoSeamPointAfterHandover {
+                from: seg,
+                to,
+                status: sol.status,
+                moved: v3(&sol.x).distance(v3(&xc)),
+            }));
         }
         Ok((to, sol.x))
     }
@@ -1755,7 +1618,7 @@ impl Tracer<'_> {
     /// `x` and `xn`, or — when the 4-segment system has no solution on the faces — open.
     fn junction_between(
         &mut self,
-        triplet: &[Segment; 3],
+        triplet: &[Element; 3],
         solid: usize,
         x: &DVector<f64>,
         xn: &DVector<f64>,
@@ -1788,10 +1651,12 @@ impl Tracer<'_> {
         }
         let x = &x_lo;
         let Some((fourth, s4)) = self.hit_segment(f, &hit, v3(&x_hi)) else {
-            let why = format!(
-                "{:?} comes closer than r (vertex segments are not traced yet)",
-                hit.on
-            );
+            let (on, t) = match hit.on {
+                Feature::Face(g) => (Element::Face(g), None),
+                Feature::Edge(e, t) => (Element::Edge(e), Some(t)),
+                Feature::Vertex(v) => (Element::Vertex(v), None),
+            };
+            let why = OpenReason::CloserThanR { on, t };
             return Some((SeamEnd::Open(why), None));
         };
         // A hit reported inside a face but next to one of its reflex edges (the trim test
@@ -1801,11 +1666,11 @@ impl Tracer<'_> {
             .locate_junction(triplet, x, fourth, s4)
             .map(|jx| (fourth, jx))
             .or_else(|| {
-                let Segment::Face(f) = fourth else {
+                let Element::Face(f) = fourth else {
                     return None;
                 };
                 let (e, te) = self.nearest_edge_of_face(f, hit.point)?;
-                let edge = Segment::Edge(e);
+                let edge = Element::Edge(e);
                 (self.is_reflex(e) && !triplet.contains(&edge))
                     .then(|| self.locate_junction(triplet, x, edge, [te, 0.0]))
                     .flatten()
@@ -1817,18 +1682,14 @@ impl Tracer<'_> {
                 .is_some_and(|(_, h)| h.distance >= jx[3] - 10.0 * self.opts.accuracy)
         });
         let Some((fourth, jx)) = located else {
-            let why = format!(
-                "{} comes closer than r, but no junction with it on the segments",
-                fourth.id()
-            );
+            let why = OpenReason::NoJunction { element: fourth };
             return Some((SeamEnd::Open(why), None));
         };
         let id = self.add_junction(triplet, fourth, &jx);
         if let Some(a) = self.arrivals.get_mut(id) {
             a.push(-v3(t).normalize());
         }
-        self.visited
-            .insert((sorted(*triplet), SeamEnd::Junction(id)));
+        self.visited.insert((sorted(*triplet), Node::Junction(id)));
         Some((SeamEnd::Junction(id), Some(jx)))
     }
 
@@ -1837,7 +1698,7 @@ impl Tracer<'_> {
     /// criterion's business): the face it was found on and the hit.
     fn intrusion(
         &self,
-        triplet: &[Segment; 3],
+        triplet: &[Element; 3],
         solid: usize,
         y: &DVector<f64>,
     ) -> Option<(usize, FaceHit)> {
@@ -1847,7 +1708,7 @@ impl Tracer<'_> {
             return None;
         }
         let far = (0..3).all(|i| {
-            triplet[i] != Segment::Face(f)
+            triplet[i] != Element::Face(f)
                 || sys_point(self.model, triplet[i], slot(y, i))
                     .is_none_or(|p| p.distance(hit.point) > 0.05 * r)
         });
@@ -1857,12 +1718,12 @@ impl Tracer<'_> {
     /// The segment a boundary hit of face `f` (from centre `b`) lies on, with its
     /// parameters: the face itself, or the reflex edge the hit is on. `None` for a hit at a
     /// vertex that is not convex (a vertex segment).
-    fn hit_segment(&self, f: usize, hit: &FaceHit, b: DVec3) -> Option<(Segment, [f64; 2])> {
+    fn hit_segment(&self, f: usize, hit: &FaceHit, b: DVec3) -> Option<(Element, [f64; 2])> {
         match hit.on {
             Feature::Edge(e, te) if self.is_reflex(e) => {
                 let n = (hit.point - b).normalize();
                 let th = crate::medial::equations::edge_angle(self.model, e, te, n)?;
-                Some((Segment::Edge(e), [te, th]))
+                Some((Element::Edge(e), [te, th]))
             }
             Feature::Vertex(v)
                 if matches!(
@@ -1871,15 +1732,15 @@ impl Tracer<'_> {
                 ) =>
             {
                 let n = (hit.point - b).normalize();
-                Some((Segment::Vertex(v), vertex_angles(n)))
+                Some((Element::Vertex(v), vertex_angles(n)))
             }
-            _ => Some((Segment::Face(f), [hit.uv.0, hit.uv.1])),
+            _ => Some((Element::Face(f), [hit.uv.0, hit.uv.1])),
         }
     }
 
     fn seam_point(&mut self, sys: &MedialSystem, x: &DVector<f64>) -> SeamPoint {
         for seg in &sys.segments {
-            if let Segment::Face(f) = *seg {
+            if let Element::Face(f) = *seg {
                 self.touched[f] = true;
             }
         }
@@ -1900,23 +1761,23 @@ impl Tracer<'_> {
     /// the fourth segment at the foot of `x` near `s4` (where the crossing was seen).
     fn locate_junction(
         &self,
-        triplet: &[Segment; 3],
+        triplet: &[Element; 3],
         x: &DVector<f64>,
-        fourth: Segment,
+        fourth: Element,
         s4: [f64; 2],
     ) -> Option<DVector<f64>> {
         let b = v3(x);
         let uv = match fourth {
-            Segment::Face(f) => {
+            Element::Face(f) => {
                 let hint = s4[0].is_finite().then_some((s4[0], s4[1]));
                 project_point(&self.model.faces[f].surface, b, hint).or(hint)?
             }
-            Segment::Edge(e) => {
+            Element::Edge(e) => {
                 let (te, q, d) = crate::geom::nearest_on_edge(self.model, e, b, Some(s4[0]));
                 let th = crate::medial::equations::edge_angle(self.model, e, te, (q - b) / d)?;
                 (te, th)
             }
-            Segment::Vertex(v) => {
+            Element::Vertex(v) => {
                 let a = vertex_angles((self.model.vertices[v].point - b).normalize());
                 (a[0], a[1])
             }
@@ -1962,8 +1823,8 @@ impl Tracer<'_> {
     /// junction that is the paper's rule, one seam per omitted segment.
     fn add_junction(
         &mut self,
-        arriving: &[Segment; 3],
-        fourth: Segment,
+        arriving: &[Element; 3],
+        fourth: Element,
         jx: &DVector<f64>,
     ) -> usize {
         let p = v3(jx);
@@ -1995,18 +1856,18 @@ impl Tracer<'_> {
                 continue;
             };
             let seg = match hit.on {
-                Feature::Face(_) => Some((Segment::Face(f), (hit.uv.0, hit.uv.1))),
+                Feature::Face(_) => Some((Element::Face(f), (hit.uv.0, hit.uv.1))),
                 Feature::Edge(..) => self
                     .hit_segment(f, &hit, p)
-                    .filter(|(s, _)| matches!(s, Segment::Edge(_)))
+                    .filter(|(s, _)| matches!(s, Element::Edge(_)))
                     .map(|(s, q)| (s, (q[0], q[1]))),
                 Feature::Vertex(_) => self
                     .hit_segment(f, &hit, p)
-                    .filter(|(s, _)| matches!(s, Segment::Vertex(_)))
+                    .filter(|(s, _)| matches!(s, Element::Vertex(_)))
                     .map(|(s, q)| (s, (q[0], q[1]))),
             };
             // The segment must touch this very ball there: P − r·N = centre.
-            let fits = |seg: Segment, uv: (f64, f64)| {
+            let fits = |seg: Element, uv: (f64, f64)| {
                 seg.eval(self.model, [uv.0, uv.1])
                     .is_some_and(|e| (e.p - e.n * r - p).length() <= self.opts.accuracy)
             };
@@ -2031,7 +1892,7 @@ impl Tracer<'_> {
             solid,
             point: p.to_array(),
             radius: r,
-            segments: segs.iter().map(|s| s.id()).collect(),
+            segments: segs.clone(),
             touch: touch.iter().map(|t| t.to_array()).collect(),
         });
         self.arrivals.push(vec![]);
@@ -2064,7 +1925,7 @@ impl Tracer<'_> {
                         triplet: [segs[a], segs[b], segs[c]],
                         x,
                         dir: n,
-                        from: SeamEnd::Junction(id),
+                        from: Node::Junction(id),
                     });
                 }
             }
@@ -2085,7 +1946,7 @@ enum Pairs {
 
 /// True when two touch points of `x` (unknowns over `segs`), among `pairs`, are within `tol`
 /// of each other — or one of them is undefined (a pole).
-fn touches_meet(model: &Model, segs: &[Segment], x: &DVector<f64>, tol: f64, pairs: Pairs) -> bool {
+fn touches_meet(model: &Model, segs: &[Element], x: &DVector<f64>, tol: f64, pairs: Pairs) -> bool {
     let p: Vec<Option<DVec3>> = (0..segs.len())
         .map(|i| sys_point(model, segs[i], slot(x, i)))
         .collect();
@@ -2107,14 +1968,14 @@ fn touches_meet(model: &Model, segs: &[Segment], x: &DVector<f64>, tol: f64, pai
 }
 
 /// `triplet` with slot `i` replaced by `to`.
-fn new_triplet(triplet: &[Segment; 3], i: usize, to: Segment) -> [Segment; 3] {
+fn new_triplet(triplet: &[Element; 3], i: usize, to: Element) -> [Element; 3] {
     let mut t = *triplet;
     t[i] = to;
     t
 }
 
 /// The point of segment `seg` at parameters `s`.
-fn sys_point(model: &Model, seg: Segment, s: [f64; 2]) -> Option<DVec3> {
+fn sys_point(model: &Model, seg: Element, s: [f64; 2]) -> Option<DVec3> {
     seg.eval(model, s).map(|e| e.p)
 }
 
@@ -2122,7 +1983,7 @@ fn sys_point(model: &Model, seg: Segment, s: [f64; 2]) -> Option<DVec3> {
 mod tests {
     use super::*;
 
-    fn traced(name: &str) -> (Model, Mat) {
+    fn traced(name: &str) -> (Model, MedialAxis) {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("samples")
             .join(name);
@@ -2133,7 +1994,7 @@ mod tests {
     }
 
     /// The worst error of [`crate::medial::verify`] over every seam point and junction.
-    fn verify(m: &Model, mat: &Mat) -> f64 {
+    fn verify(m: &Model, mat: &MedialAxis) -> f64 {
         crate::medial::verify(m, &Boundary::new(m), mat).worst()
     }
 
@@ -2225,11 +2086,11 @@ mod tests {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/sphere.step");
         let m = crate::ingest::read_model(&p).unwrap();
         let s = [1.0, 0.3];
-        assert!(curvature_allows(&m, Segment::Face(0), s, 14.0));
-        assert!(curvature_allows(&m, Segment::Face(0), s, 15.0));
-        assert!(!curvature_allows(&m, Segment::Face(0), s, 16.0));
+        assert!(curvature_allows(&m, Element::Face(0), s, 14.0));
+        assert!(curvature_allows(&m, Element::Face(0), s, 15.0));
+        assert!(!curvature_allows(&m, Element::Face(0), s, 16.0));
         let (b, _) = traced("box.step");
-        assert!(curvature_allows(&b, Segment::Face(0), [1.0, 1.0], 1e6));
+        assert!(curvature_allows(&b, Element::Face(0), [1.0, 1.0], 1e6));
     }
 
     /// Tetrahedron (0,0,0), (36,0,0), (0,28,0), (0,0,24): four seams meet at the incentre
@@ -2334,7 +2195,7 @@ mod tests {
                 .unwrap();
             let foot = |f: usize, q: DVec3| project_point(&m.faces[f].surface, q, None).unwrap();
             let seed = Seed::new(
-                [Segment::Face(lat), Segment::Face(lat), Segment::Face(top)],
+                [Element::Face(lat), Element::Face(lat), Element::Face(top)],
                 DVec3::new(0.0, 0.0, h - b),
                 b,
                 [
@@ -2354,7 +2215,7 @@ mod tests {
                 assert_eq!(
                     *e,
                     SeamEnd::CurvatureLimit {
-                        segment: format!("F{lat}")
+                        segment: Element::Face(lat)
                     },
                     "{file}"
                 );
@@ -2404,7 +2265,7 @@ mod tests {
 
     /// No seam of `mat` has an open end, the seam–junction graph is consistent, and every
     /// ball verifies to the default accuracy.
-    fn complete_and_verified(file: &str, m: &Model, mat: &Mat) {
+    fn complete_and_verified(file: &str, m: &Model, mat: &MedialAxis) {
         for s in &mat.seams {
             assert!(
                 s.ends.iter().all(|e| !matches!(e, SeamEnd::Open(_))),
@@ -2416,7 +2277,7 @@ mod tests {
         }
         let class = crate::classify(m, &Default::default());
         let sheets = crate::medial::sheets(m, &class, mat);
-        let topo = crate::export::report::TopologyReport::new(m, mat, &sheets);
+        let topo = crate::medial::verify::check_topology(mat, &sheets);
         assert!(
             topo.inconsistencies.is_empty(),
             "{file}: {:?}",
@@ -2440,7 +2301,7 @@ mod tests {
     fn assert_junction_at<'m>(
         file: &str,
         m: &Model,
-        mat: &'m Mat,
+        mat: &'m MedialAxis,
         p: [f64; 3],
         r: f64,
     ) -> &'m Junction {
@@ -2456,7 +2317,7 @@ mod tests {
     }
 
     /// The junction of `mat` nearest `p`, and its distance from `p`.
-    fn junction_near(mat: &Mat, p: DVec3) -> (&Junction, f64) {
+    fn junction_near(mat: &MedialAxis, p: DVec3) -> (&Junction, f64) {
         mat.junctions
             .iter()
             .map(|j| (j, DVec3::from_array(j.point).distance(p)))
@@ -2492,7 +2353,7 @@ mod tests {
                 let j = assert_junction_at(file, &m, &mat, p, r);
                 if r == c {
                     assert!(
-                        j.segments.iter().any(|s| s.starts_with('E')),
+                        j.segments.iter().any(|s| matches!(s, Element::Edge(_))),
                         "{file}: {:?}",
                         j.segments
                     );
@@ -2639,7 +2500,7 @@ mod tests {
             assert!(mat.seams.is_empty(), "{file}");
             assert!(!mat.degenerate.is_empty(), "{file}");
             for d in &mat.degenerate {
-                assert_eq!(d.kind, kind, "{file}");
+                assert_eq!(d.kind.as_str(), kind, "{file}");
                 for b in &d.balls {
                     assert!(err(*b) <= 1e-6 * m.diagonal(), "{file}: {b:?}");
                 }
@@ -2665,7 +2526,7 @@ mod tests {
         assert!(mat
             .degenerate
             .iter()
-            .any(|d| d.solid == 1 && d.kind == "curve"));
+            .any(|d| d.solid == 1 && d.kind == DegenerateKind::Curve));
         complete_and_verified("two_solids.step", &m, &mat);
     }
 
@@ -2784,7 +2645,7 @@ mod tests {
         let axis: Vec<&[f64; 4]> = mat
             .degenerate
             .iter()
-            .filter(|d| d.kind == "curve")
+            .filter(|d| d.kind == DegenerateKind::Curve)
             .flat_map(|d| &d.balls)
             .collect();
         assert!(!axis.is_empty());

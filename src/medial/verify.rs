@@ -6,7 +6,8 @@
 //! the ball is maximal in the global sense — and every reported touch point lies on the
 //! boundary at distance `r` from the centre. The figures are the worst absolute errors (mm).
 
-use super::trace::Mat;
+use super::axis::{MedialAxis, SeamEnd};
+use super::sheets::{Sheets, SolidEuler};
 use crate::geom::Boundary;
 use crate::model::Model;
 use glam::DVec3;
@@ -36,7 +37,7 @@ impl Verification {
 }
 
 /// Checks every seam point and junction of `mat` against `model`'s boundary.
-pub fn verify(model: &Model, boundary: &Boundary, mat: &Mat) -> Verification {
+pub fn verify(model: &Model, boundary: &Boundary, mat: &MedialAxis) -> Verification {
     let mut v = Verification::default();
     // Distance to the boundary of one solid (each solid has its own medial axis).
     let nearest = |p: DVec3, solid: usize| {
@@ -92,4 +93,63 @@ pub fn verify(model: &Model, boundary: &Boundary, mat: &Mat) -> Verification {
         );
     }
     v
+}
+
+/// Consistency of the seam–junction graph, and the Euler characteristic of each solid next to
+/// its medial axis's (which must be equal: the medial axis is a deformation retract of the
+/// solid).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Topology {
+    /// Junctions plus convex vertices where seams end.
+    pub graph_nodes: usize,
+    /// Seams (a closed seam counts as one edge with one node of its own).
+    pub graph_edges: usize,
+    /// Seam ends that are not a vertex, a junction, a closed loop or a curvature limit.
+    pub open_ends: usize,
+    /// Generic junctions (4 segments) that do not have exactly 4 seam ends, and seam ends
+    /// naming a junction that does not exist: both would be tracer bugs.
+    pub inconsistencies: Vec<String>,
+    /// Per solid: `V − E + F` of the B-rep and `V − E + Σ χ(sheet)` of its medial axis.
+    pub euler: Vec<SolidEuler>,
+    /// Sheet-boundary arc ends that could not be paired at a node (tracer gaps).
+    pub unpaired: Vec<String>,
+}
+
+/// Checks the seam–junction graph of `mat`, and takes the Euler characteristics and the
+/// unpaired sheet-boundary ends from its `sheets`.
+pub fn check_topology(mat: &MedialAxis, sheets: &Sheets) -> Topology {
+    let mut ends_at = vec![0usize; mat.junctions.len()];
+    let mut vertices = std::collections::BTreeSet::new();
+    let mut inconsistencies = vec![];
+    let mut open_ends = 0;
+    let mut closed = 0;
+    for s in &mat.seams {
+        for e in &s.ends {
+            match e {
+                SeamEnd::Junction(j) if *j < ends_at.len() => ends_at[*j] += 1,
+                SeamEnd::Junction(j) => {
+                    inconsistencies.push(format!("seam {} ends at missing junction {j}", s.id))
+                }
+                SeamEnd::Vertex(v) => {
+                    vertices.insert(*v);
+                }
+                SeamEnd::Open(_) => open_ends += 1,
+                SeamEnd::Closed => closed += 1,
+                SeamEnd::CurvatureLimit { .. } => {}
+            }
+        }
+    }
+    for (j, n) in ends_at.iter().enumerate() {
+        if mat.junctions[j].segments.len() == 4 && *n != 4 {
+            inconsistencies.push(format!("junction {j} (4 segments) has {n} seam ends"));
+        }
+    }
+    Topology {
+        graph_nodes: mat.junctions.len() + vertices.len() + closed / 2,
+        graph_edges: mat.seams.len(),
+        open_ends,
+        inconsistencies,
+        euler: sheets.solids.clone(),
+        unpaired: sheets.unpaired.clone(),
+    }
 }

@@ -6,13 +6,17 @@
 //! periodic faces and loses STEP ids (DESIGN.md, "The truck toolkit").
 //!
 //! Conventions:
-//! - Every entity keeps the STEP id (`#123`) it came from.
+//! - Every entity keeps the id it has in the file (`source_id`): the STEP instance id
+//!   (`#123`), or the IGES directory-entry number.
 //! - Faces, edges and vertices are numbered in the order the file defines their entities.
 //! - A face's outward normal (pointing **out of the material**) is
 //!   `sign · (Su × Sv) / ‖Su × Sv‖` with `sign` = [`Face::sign`]; the sign folds in the
 //!   surface's `same_sense`, an `ORIENTED_FACE`, and a void shell's orientation.
 //! - An edge's curve runs from `vertices[0]` to `vertices[1]` over `range`.
 
+mod element;
+
+pub use element::Element;
 use glam::DVec3;
 pub use truck_stepio::r#in::alias::{Curve3D, Surface};
 
@@ -46,7 +50,7 @@ pub struct Model {
 /// A solid: its outer shell first, then its void shells.
 #[derive(Clone, Debug)]
 pub struct Solid {
-    pub step_id: u64,
+    pub source_id: u64,
     pub name: String,
     pub shells: Vec<usize>,
 }
@@ -54,7 +58,7 @@ pub struct Solid {
 /// A closed shell.
 #[derive(Clone, Debug)]
 pub struct Shell {
-    pub step_id: u64,
+    pub source_id: u64,
     pub solid: usize,
     /// True for the inner boundary of a void (`BREP_WITH_VOIDS`).
     pub is_void: bool,
@@ -75,7 +79,7 @@ pub struct UvDomain {
 /// A face: an exact surface trimmed by loops.
 #[derive(Clone, Debug)]
 pub struct Face {
-    pub step_id: u64,
+    pub source_id: u64,
     pub shell: usize,
     pub surface: Surface,
     /// `+1.0` when `Su × Sv` points out of the material, `-1.0` otherwise.
@@ -93,7 +97,7 @@ pub struct Face {
 /// A trimming loop: a cycle of oriented edges, or a single vertex (`VERTEX_LOOP`, e.g. a pole).
 #[derive(Clone, Debug)]
 pub struct Loop {
-    pub step_id: u64,
+    pub source_id: u64,
     pub edges: Vec<OrientedEdge>,
     /// Set for a `VERTEX_LOOP`; `edges` is then empty.
     pub vertex: Option<usize>,
@@ -112,7 +116,7 @@ pub struct OrientedEdge {
 /// An edge: an exact 3D curve between two vertices.
 #[derive(Clone, Debug)]
 pub struct Edge {
-    pub step_id: u64,
+    pub source_id: u64,
     pub curve: Curve3D,
     /// Parameter interval of `curve` from `vertices[0]` to `vertices[1]`.
     pub range: (f64, f64),
@@ -125,7 +129,7 @@ pub struct Edge {
 /// A vertex.
 #[derive(Clone, Copy, Debug)]
 pub struct Vertex {
-    pub step_id: u64,
+    pub source_id: u64,
     pub point: DVec3,
 }
 

@@ -5,7 +5,7 @@
 
 use crate::common::{matrace, root, sample};
 use matrace::export::report::Report;
-use matrace::medial::{trace, Mat, TraceOptions};
+use matrace::medial::{trace, MedialAxis, TraceOptions};
 use matrace::Model;
 use std::path::{Path, PathBuf};
 
@@ -91,16 +91,16 @@ fn iges_samples_classify_like_step() {
     assert!(bad.is_empty(), "{}", bad.join("\n"));
 }
 
-fn traced(m: &Model) -> Mat {
+fn traced(m: &Model) -> MedialAxis {
     let c = matrace::classify(m, &Default::default());
     trace(m, &c, &TraceOptions::for_model(m))
 }
 
 /// Differences between two traced medial axes: counts, and every junction of `got` within
 /// `tol` (point and radius) of one of `want`'s.
-fn mat_differences(got: &Mat, want: &Mat, tol: f64) -> Vec<String> {
+fn mat_differences(got: &MedialAxis, want: &MedialAxis, tol: f64) -> Vec<String> {
     let mut bad = vec![];
-    let count = |m: &Mat| (m.seams.len(), m.junctions.len(), m.degenerate.len());
+    let count = |m: &MedialAxis| (m.seams.len(), m.junctions.len(), m.degenerate.len());
     if count(got) != count(want) {
         bad.push(format!(
             "(seams, junctions, degenerate) {:?}, STEP {:?}",

@@ -1,5 +1,6 @@
 //! Integration tests (one binary, see HOUSE-STYLE.md).
 
+mod architecture;
 mod bad_input;
 mod batch;
 mod cli;

@@ -30,7 +30,7 @@ pub fn build_solid(ctx: &Ctx, model: &mut Model, de: usize) -> Result<()> {
     let voids = ctx.count(e, 2, "number of void shells").unwrap_or(0);
     let solid = model.solids.len();
     model.solids.push(Solid {
-        step_id: de as u64,
+        source_id: de as u64,
         name: String::new(),
         shells: vec![],
     });
@@ -50,7 +50,7 @@ pub fn build_solid(ctx: &Ctx, model: &mut Model, de: usize) -> Result<()> {
 pub fn build_shell_solid(ctx: &Ctx, model: &mut Model, de: usize) -> Result<()> {
     let solid = model.solids.len();
     model.solids.push(Solid {
-        step_id: de as u64,
+        source_id: de as u64,
         name: String::new(),
         shells: vec![],
     });
@@ -76,7 +76,7 @@ fn build_shell(
     }
     let shell = model.shells.len();
     model.shells.push(Shell {
-        step_id: de as u64,
+        source_id: de as u64,
         solid,
         is_void,
         faces: vec![],
@@ -111,7 +111,7 @@ fn build_face(
         loops.push(build_loop(ctx, model, maps, l, de, fi)?);
     }
     model.faces.push(Face {
-        step_id: de as u64,
+        source_id: de as u64,
         shell,
         surface,
         sign: 1.0,
@@ -162,7 +162,7 @@ fn build_loop(
     if edges.is_empty() {
         return match lone_vertex {
             Some(v) => Ok(Loop {
-                step_id: de as u64,
+                source_id: de as u64,
                 edges: vec![],
                 vertex: Some(v),
                 uv: vec![],
@@ -181,7 +181,7 @@ fn build_loop(
         }
     }
     Ok(Loop {
-        step_id: de as u64,
+        source_id: de as u64,
         edges,
         vertex: None,
         uv: vec![],
@@ -212,7 +212,7 @@ fn vertex(
     let point = apply(&m, DVec3::new(r[0], r[1], r[2]));
     let v = model.vertices.len();
     model.vertices.push(Vertex {
-        step_id: list as u64,
+        source_id: list as u64,
         point,
     });
     maps.vertices.insert((list, index), v);
@@ -254,7 +254,7 @@ fn edge(
     let idx = model.edges.len();
     let Segment { curve: c, .. } = seg;
     model.edges.push(Edge {
-        step_id: curve as u64,
+        source_id: curve as u64,
         curve: c,
         range,
         vertices,

@@ -119,7 +119,7 @@ pub fn finish(ctx: &Ctx, model: &mut Model, nest_shells: bool) -> Result<()> {
     for (e, u) in uses.iter().enumerate() {
         if u.len() != 2 {
             return Err(ctx.err(
-                model.edges[e].step_id as usize,
+                model.edges[e].source_id as usize,
                 format!(
                     "edge used by {} face loop(s); a closed shell uses each edge twice (open shell?)",
                     u.len()
@@ -256,7 +256,7 @@ fn orient_consistently(ctx: &Ctx, model: &mut Model, uses: &[Vec<(usize, bool)>]
                     // A seam: the face meets itself; consistent when run both ways.
                     if a.1 == b.1 {
                         return Err(ctx.err(
-                            model.faces[a.0].step_id as usize,
+                            model.faces[a.0].source_id as usize,
                             "the face's loops run along its seam twice in the same direction",
                         ));
                     }
@@ -273,7 +273,7 @@ fn orient_consistently(ctx: &Ctx, model: &mut Model, uses: &[Vec<(usize, bool)>]
                     }
                     Some(x) if x != want_other_flip => {
                         return Err(ctx.err(
-                            model.edges[e].step_id as usize,
+                            model.edges[e].source_id as usize,
                             "faces around this edge cannot be oriented consistently (non-orientable or inconsistent shell)",
                         ));
                     }
@@ -304,7 +304,7 @@ fn face_loops(ctx: &Ctx, model: &mut Model, f: usize, same_sense: bool) -> Resul
         match loop_uv(model, f, l) {
             Ok(uv) => l.uv = uv,
             Err(reason) => {
-                failed = Some((l.step_id, reason));
+                failed = Some((l.source_id, reason));
                 break;
             }
         }
@@ -385,7 +385,7 @@ fn orient_outward(ctx: &Ctx, model: &mut Model) -> Result<()> {
         }
         if volume == 0.0 || !volume.is_finite() {
             return Err(ctx.err(
-                model.shells[s].step_id as usize,
+                model.shells[s].source_id as usize,
                 "the shell encloses no volume: cannot tell inside from outside",
             ));
         }
@@ -465,7 +465,7 @@ fn nest_voids(model: &mut Model) {
         if depth[s].is_multiple_of(2) {
             solid_of[s] = solids.len();
             solids.push(Solid {
-                step_id: model.shells[s].step_id,
+                source_id: model.shells[s].source_id,
                 name: String::new(),
                 shells: vec![s],
             });

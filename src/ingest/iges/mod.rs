@@ -17,7 +17,7 @@
 //! shared edges and outward by the sign of the enclosed volume, and the UV loops and domains
 //! are computed by the same code as for STEP (`super::domain`).
 //!
-//! Ids: a face's, loop's and shell's `step_id` is the DE sequence number of its 510/144, 508
+//! Ids: a face's, loop's and shell's `source_id` is the DE sequence number of its 510/144, 508
 //! /142 and 514 entity; an edge's is the DE of its model-space curve; a vertex's the DE of its
 //! 502 vertex list (soup vertices have none: 0).
 

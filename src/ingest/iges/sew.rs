@@ -156,7 +156,7 @@ pub fn build_soup(ctx: &Ctx, model: &mut Model, soup: &[usize]) -> Result<()> {
         let edge = model.edges.len();
         let vertices = if *fwd { [a, b] } else { [b, a] };
         model.edges.push(Edge {
-            step_id: seg.de as u64,
+            source_id: seg.de as u64,
             curve: seg.curve.clone(),
             range: seg.range,
             vertices,
@@ -189,14 +189,14 @@ pub fn build_soup(ctx: &Ctx, model: &mut Model, soup: &[usize]) -> Result<()> {
                 edges.push(OrientedEdge { edge, forward });
             }
             loops.push(Loop {
-                step_id: l.de as u64,
+                source_id: l.de as u64,
                 edges,
                 vertex: None,
                 uv: vec![],
             });
         }
         model.faces.push(Face {
-            step_id: f.de as u64,
+            source_id: f.de as u64,
             shell: usize::MAX,
             surface: f.surface,
             sign: 1.0,
@@ -214,12 +214,12 @@ pub fn build_soup(ctx: &Ctx, model: &mut Model, soup: &[usize]) -> Result<()> {
         let shell = model.shells.len();
         let solid = model.solids.len();
         model.solids.push(Solid {
-            step_id: model.faces[seed].step_id,
+            source_id: model.faces[seed].source_id,
             name: String::new(),
             shells: vec![shell],
         });
         model.shells.push(Shell {
-            step_id: model.faces[seed].step_id,
+            source_id: model.faces[seed].source_id,
             solid,
             is_void: false,
             faces: vec![],
@@ -377,7 +377,7 @@ impl Grid {
         }
         let v = model.vertices.len();
         model.vertices.push(Vertex {
-            step_id: 0,
+            source_id: 0,
             point: p,
         });
         self.cells.entry((i, j, k)).or_default().push(v);

@@ -1,0 +1,353 @@
+//! The medial axis as traced: seams, junctions, degenerate pieces, and how each seam ends.
+//!
+//! These are the tracer's results and the report's `mat` object (serialised as they are).
+//! Elements touched are written `F3`, `E7`, `V2` ([`Element`]).
+
+use crate::classify::{EdgeKind, VertexKind};
+use crate::medial::solver::SolveStatus;
+use crate::model::Element;
+use std::fmt;
+
+/// One point of a seam.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SeamPoint {
+    /// `[x, y, z, r]`.
+    pub point: [f64; 4],
+    /// The touch points on the three elements.
+    pub touch: [[f64; 3]; 3],
+}
+
+/// A node of the medial axis's graph where seams end: a junction, or a convex vertex.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Node {
+    Junction(usize),
+    Vertex(usize),
+}
+
+/// How a seam ends.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SeamEnd {
+    /// At a convex vertex, `r = 0`.
+    Vertex(usize),
+    /// At a junction.
+    Junction(usize),
+    /// The seam is a closed curve (both ends are its first point).
+    Closed,
+    /// The ball stops being maximal by curvature: it osculates `segment` (`r·κmax = 1`).
+    /// The last point is where that happens to the output accuracy; a skeletal edge (the
+    /// sheet's edge of centres of curvature) starts there.
+    CurvatureLimit { segment: Element },
+    /// The tracer stopped without a proper end, for the reason given.
+    Open(OpenReason),
+}
+
+impl SeamEnd {
+    /// The graph node at this end, for a vertex or junction end.
+    pub fn node(&self) -> Option<Node> {
+        match *self {
+            SeamEnd::Vertex(v) => Some(Node::Vertex(v)),
+            SeamEnd::Junction(j) => Some(Node::Junction(j)),
+            _ => None,
+        }
+    }
+}
+
+impl From<Node> for SeamEnd {
+    fn from(node: Node) -> SeamEnd {
+        match node {
+            Node::Vertex(v) => SeamEnd::Vertex(v),
+            Node::Junction(j) => SeamEnd::Junction(j),
+        }
+    }
+}
+
+/// Why the tracer stopped a seam without a proper end: every variant is an event the tracer
+/// does not handle yet. Its text ([`Display`](fmt::Display)) is what reports write;
+/// [`OpenReason::kind`] names the variant, for counting.
+#[derive(Clone, Debug, PartialEq)]
+pub enum OpenReason {
+    /// The seam's tangent is undefined at its start (the Jacobian is singular there).
+    SingularTangent,
+    /// The tangent is undefined just after a touch point moved to another element.
+    SingularTangentAfterHandover,
+    /// [`crate::medial::trace::MAX_POINTS`] points and no end.
+    PointBudgetExhausted,
+    /// The corrector failed at every step down to the smallest step.
+    StepSizeUnderflow,
+    /// `r` reached 0 with no vertex within reach.
+    ZeroRadiusAwayFromVertex,
+    /// Two touch points on different elements came together (a degenerate seam point).
+    TouchPointsCoincide,
+    /// Two touch points came together just after handing `from` to `to`.
+    CoincideAfterHandover { from: Element, to: Element },
+    /// A touch point is handed back and forth between two elements and cannot stay on the
+    /// vertex between them.
+    Oscillates { from: Element, to: Element },
+    /// The normal of the element is undefined at the touch point (a pole).
+    UndefinedNormal { element: Element },
+    /// The touch point left its face, but not near any of the face's edges.
+    LeftFaceAwayFromEdges { face: Element },
+    /// An edge's normal plane has no frame at the touch point.
+    NoNormalFrame { edge: usize },
+    /// The touch point could not be projected onto the next face.
+    NotFoundOnFace { face: usize },
+    /// The touch point on `element` reached an edge that is not smooth or reflex.
+    ReachedEdge {
+        element: Element,
+        kind: EdgeKind,
+        edge: usize,
+    },
+    /// The touch point reached the end of a reflex edge at a vertex that is not reflex or
+    /// mixed.
+    ReachedEdgeEnd {
+        edge: usize,
+        vertex_kind: VertexKind,
+    },
+    /// An edge's faces have no normals at the touch point.
+    NoFaceNormals { edge: usize },
+    /// A vertex touched by the ball has no edges.
+    VertexWithoutEdges { vertex: usize },
+    /// Re-solved on the new element, the hand-over gave no seam point of the same ball.
+    NoSeamPointAfterHandover {
+        from: Element,
+        to: Element,
+        status: SolveStatus,
+        /// How far the centre moved (mm).
+        moved: f64,
+    },
+    /// The boundary came closer than `r` on an element the tracer cannot touch (a vertex
+    /// that is not reflex, or an edge without a normal frame there; `t`: the curve
+    /// parameter on an edge).
+    CloserThanR { on: Element, t: Option<f64> },
+    /// An element came closer than `r`, but the four-element system has no junction on
+    /// the elements.
+    NoJunction { element: Element },
+}
+
+impl OpenReason {
+    /// The variant's name in snake case (`step_size_underflow`): the key under which the
+    /// report's `stats.open_ends_by_reason` counts it.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            OpenReason::SingularTangent => "singular_tangent",
+            OpenReason::SingularTangentAfterHandover => "singular_tangent_after_handover",
+            OpenReason::PointBudgetExhausted => "point_budget_exhausted",
+            OpenReason::StepSizeUnderflow => "step_size_underflow",
+            OpenReason::ZeroRadiusAwayFromVertex => "zero_radius_away_from_vertex",
+            OpenReason::TouchPointsCoincide => "touch_points_coincide",
+            OpenReason::CoincideAfterHandover { .. } => "coincide_after_handover",
+            OpenReason::Oscillates { .. } => "oscillates",
+            OpenReason::UndefinedNormal { .. } => "undefined_normal",
+            OpenReason::LeftFaceAwayFromEdges { .. } => "left_face_away_from_edges",
+            OpenReason::NoNormalFrame { .. } => "no_normal_frame",
+            OpenReason::NotFoundOnFace { .. } => "not_found_on_face",
+            OpenReason::ReachedEdge { .. } => "reached_edge",
+            OpenReason::ReachedEdgeEnd { .. } => "reached_edge_end",
+            OpenReason::NoFaceNormals { .. } => "no_face_normals",
+            OpenReason::VertexWithoutEdges { .. } => "vertex_without_edges",
+            OpenReason::NoSeamPointAfterHandover { .. } => "no_seam_point_after_handover",
+            OpenReason::CloserThanR { .. } => "closer_than_r",
+            OpenReason::NoJunction { .. } => "no_junction",
+        }
+    }
+}
+
+impl fmt::Display for OpenReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            OpenReason::SingularTangent => write!(f, "singular tangent"),
+            OpenReason::SingularTangentAfterHandover => {
+                write!(f, "singular tangent after a hand-over")
+            }
+            OpenReason::PointBudgetExhausted => write!(f, "point budget exhausted"),
+            OpenReason::StepSizeUnderflow => write!(f, "step size underflow"),
+            OpenReason::ZeroRadiusAwayFromVertex => {
+                write!(f, "radius reached zero away from a vertex")
+            }
+            OpenReason::TouchPointsCoincide => {
+                write!(f, "two touch points coincide (a degenerate seam point)")
+            }
+            OpenReason::CoincideAfterHandover { from, to } => {
+                write!(f, "two touch points coincide after handing {from} to {to}")
+            }
+            OpenReason::Oscillates { from, to } => write!(
+                f,
+                "touch point oscillates between {from} and {to} and cannot stay on a vertex"
+            ),
+            OpenReason::UndefinedNormal { element } => {
+                write!(f, "touch point on {element} at an undefined normal")
+            }
+            OpenReason::LeftFaceAwayFromEdges { face } => {
+                write!(f, "touch point left {face} away from its edges")
+            }
+            OpenReason::NoNormalFrame { edge } => write!(f, "no normal frame on E{edge}"),
+            OpenReason::NotFoundOnFace { face } => write!(f, "touch point not found on F{face}"),
+            OpenReason::ReachedEdge {
+                element,
+                kind,
+                edge,
+            } => write!(f, "touch point on {element} reached {kind:?} edge E{edge}"),
+            OpenReason::ReachedEdgeEnd { edge, vertex_kind } => write!(
+                f,
+                "touch point reached the end of reflex edge E{edge} at a {vertex_kind:?} vertex"
+            ),
+            OpenReason::NoFaceNormals { edge } => write!(f, "no face normals on E{edge}"),
+            OpenReason::VertexWithoutEdges { vertex } => {
+                write!(f, "vertex V{vertex} has no edges")
+            }
+            OpenReason::NoSeamPointAfterHandover {
+                from,
+                to,
+                status,
+                moved,
+            } => write!(
+                f,
+                "no seam point after handing {from} to {to} (corrector {status:?}, centre moved {moved:.2e} mm)"
+            ),
+            OpenReason::CloserThanR { on, t } => {
+                // Written as the distance query's feature prints in Rust's debug form.
+                match (on, t) {
+                    (Element::Face(i), _) => write!(f, "Face({i})"),
+                    (Element::Edge(i), Some(t)) => write!(f, "Edge({i}, {t:?})"),
+                    (Element::Edge(i), None) => write!(f, "Edge({i})"),
+                    (Element::Vertex(i), _) => write!(f, "Vertex({i})"),
+                }?;
+                write!(f, " comes closer than r (vertex segments are not traced yet)")
+            }
+            OpenReason::NoJunction { element } => write!(
+                f,
+                "{element} comes closer than r, but no junction with it on the segments"
+            ),
+        }
+    }
+}
+
+impl serde::Serialize for OpenReason {
+    /// As its text.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+/// A seam: a curve of ball centres touching three elements.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Seam {
+    pub id: usize,
+    /// Index of the solid in the model.
+    pub solid: usize,
+    /// The three elements at the first point (a face twice when the ball touches it in two
+    /// places).
+    pub segments: Vec<Element>,
+    pub ends: [SeamEnd; 2],
+    /// The three elements at the last point (after any hand-over).
+    pub end_segments: Vec<Element>,
+    pub points: Vec<SeamPoint>,
+    /// Where a touch point moves to another element, in the order of the points.
+    pub handovers: Vec<Handover>,
+}
+
+impl Seam {
+    /// True when either end is [`SeamEnd::Open`].
+    pub fn is_open(&self) -> bool {
+        self.ends.iter().any(|e| matches!(e, SeamEnd::Open(_)))
+    }
+}
+
+/// A touch point passing from one element to the next along a seam (over a smooth edge, onto
+/// or off a reflex edge).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Handover {
+    /// Index of the seam point where it happens (on both elements).
+    pub point: usize,
+    pub from: Element,
+    pub to: Element,
+}
+
+/// A junction: a ball touching four elements (more at a non-generic junction).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Junction {
+    pub id: usize,
+    /// Index of the solid in the model.
+    pub solid: usize,
+    pub point: [f64; 3],
+    pub radius: f64,
+    pub segments: Vec<Element>,
+    pub touch: Vec<[f64; 3]>,
+}
+
+/// What a degenerate piece's centres form.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DegenerateKind {
+    /// The centres move along a curve: the sheet between the elements has collapsed to it
+    /// (a cylinder's axis, a torus's core circle).
+    Curve,
+    /// One centre: the ball touches all around (a sphere's centre).
+    Point,
+}
+
+impl DegenerateKind {
+    /// `"curve"` or `"point"`, as reports write it.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            DegenerateKind::Curve => "curve",
+            DegenerateKind::Point => "point",
+        }
+    }
+}
+
+/// A degenerate piece of the medial axis (a cylinder's axis, a sphere's centre, a torus's
+/// core circle): maximal balls that touch `segments` along a continuum, found by sampling.
+/// Its centres are not traced as seams; `balls` are the sampled ones, each verified maximal.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Degenerate {
+    pub solid: usize,
+    pub kind: DegenerateKind,
+    pub segments: Vec<Element>,
+    /// Sampled balls `[x, y, z, r]`.
+    pub balls: Vec<[f64; 4]>,
+}
+
+/// Counters of a trace.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct TraceStats {
+    pub points: usize,
+    pub newton_iterations: usize,
+    /// Steps retried at half the length (corrector failed or the seam turned too much).
+    pub corrector_failures: usize,
+    /// Largest `‖F‖∞` over the output points (mm).
+    pub worst_residual: f64,
+    /// Vertices where more than three faces meet, not started from (non-generic starts).
+    pub skipped_vertices: Vec<usize>,
+    /// Seeds that did not refine to a valid seam point, or lay on a seam already traced.
+    pub skipped_seeds: usize,
+    /// Seams traced a second time from their other end, and dropped.
+    pub duplicate_seams: usize,
+}
+
+/// The traced medial axis of a model (every solid's).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct MedialAxis {
+    pub seams: Vec<Seam>,
+    pub junctions: Vec<Junction>,
+    /// Degenerate parts of the medial axis met while seeding: balls touching a face along a
+    /// curve or all over, whose centres form a curve or a point instead of a sheet.
+    pub degenerate: Vec<Degenerate>,
+    pub stats: TraceStats,
+}
+
+impl MedialAxis {
+    /// Open seam ends counted by [`OpenReason::kind`].
+    pub fn open_ends_by_reason(&self) -> std::collections::BTreeMap<&'static str, usize> {
+        let mut counts = std::collections::BTreeMap::new();
+        for s in &self.seams {
+            for e in &s.ends {
+                if let SeamEnd::Open(why) = e {
+                    *counts.entry(why.kind()).or_insert(0) += 1;
+                }
+            }
+        }
+        counts
+    }
+}

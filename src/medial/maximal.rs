@@ -1,0 +1,30 @@
+//! Maximality of a ball beyond the medial equations: the curvature criterion.
+//!
+//! A solution of the medial equations is only a bisector point; it is on the medial axis
+//! when, besides nothing of the boundary being closer than `r` (a distance query, done by
+//! the tracer), the ball does not poke through a face it touches.
+
+use crate::model::{Element, Model};
+
+/// Rounding allowance of the criterion `r·κmax ≤ 1`, relative (balls that osculate exactly,
+/// a sphere's centre).
+pub const CURVATURE_ROUNDING_REL: f64 = 1e-9;
+
+/// The curvature criterion at a touch point: a ball of radius `r` tangent to the face from
+/// inside stays inside near the touch point only if `r·κmax ≤ 1`, with `κmax` the larger
+/// principal curvature (positive where the face bends towards the ball, as a convex solid's
+/// boundary does). Where the normal is undefined (a pole) the criterion cannot fail.
+pub fn curvature_allows(model: &Model, seg: Element, s: [f64; 2], r: f64) -> bool {
+    match seg {
+        Element::Face(f) => {
+            let face = &model.faces[f];
+            let d = crate::geom::eval_surface(&face.surface, s[0], s[1]);
+            match crate::geom::principal_curvatures(&d, face.sign) {
+                Some(k) => r * k.k1 <= 1.0 + CURVATURE_ROUNDING_REL,
+                None => true,
+            }
+        }
+        // Reflex edges and vertices bend away from every ball that touches them from inside.
+        Element::Edge(_) | Element::Vertex(_) => true,
+    }
+}
