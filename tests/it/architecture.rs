@@ -604,7 +604,12 @@ fn violations(src: &Path, layers: &[&[&str]]) -> Vec<String> {
     let describe = |comp: &[Vec<String>], graph: &Graph, agg: bool| -> String {
         let mut steps = vec![];
         for a in comp {
-            for b in graph.get(a).into_iter().flatten().filter(|b| comp.contains(b)) {
+            for b in graph
+                .get(a)
+                .into_iter()
+                .flatten()
+                .filter(|b| comp.contains(b))
+            {
                 let at = imps
                     .iter()
                     .find(|i| {
