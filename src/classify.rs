@@ -22,9 +22,7 @@ use crate::model::Model;
 use glam::DVec3;
 use truck_geometry::prelude::ParametricCurve;
 
-/// Default angle below which two faces count as tangent: 1°. CAD tangency is exact to far
-/// better than this; true creases in parts are rarely below a few degrees.
-pub const DEFAULT_ANGLE_TOL_DEG: f64 = 1.0;
+pub use crate::model::tolerances::DEFAULT_ANGLE_TOL_DEG;
 
 /// Default number of samples along each edge (interior points, evenly spaced in parameter).
 pub const DEFAULT_EDGE_SAMPLES: usize = 9;

@@ -15,9 +15,11 @@
 //! - An edge's curve runs from `vertices[0]` to `vertices[1]` over `range`.
 
 mod element;
+pub mod tolerances;
 
 pub use element::Element;
 use glam::DVec3;
+pub use tolerances::Tolerances;
 pub use truck_stepio::r#in::alias::{Curve3D, Surface};
 
 /// What the model was read from.

@@ -1,0 +1,375 @@
+//! Hand-overs: a touch point that leaves its element continues on the next one — across a
+//! smooth edge onto the next face, onto a reflex edge and off it, from a reflex edge into the
+//! next one or onto its vertex — as the same ball, re-solved on the new triplet.
+
+use super::tracer::Tracer;
+use super::unknowns::{new_triplet, slot, sys_point, v3};
+use crate::classify::{EdgeKind, VertexKind};
+use crate::geom::project_point;
+use crate::medial::axis::OpenReason;
+use crate::medial::equations::{vertex_angles, MedialSystem, NormalField};
+use crate::medial::maximal::curvature_allows;
+use crate::medial::solver::{solve, SolveStatus};
+use crate::model::Element;
+use glam::DVec3;
+use nalgebra::DVector;
+
+/// A hand-over: the new element, the crossing point (old triplet) and the same point on the
+/// new triplet; or why not, with the crossing point.
+pub(super) type HandOverResult =
+    Result<(Element, DVector<f64>, DVector<f64>), (HandOverError, DVector<f64>)>;
+
+/// Why a touch point could not be handed over.
+pub(super) enum HandOverError {
+    /// The ball osculates the next element (touches it along a curve).
+    Osculates(Element),
+    /// The seam ends open there.
+    Stop(OpenReason),
+}
+
+impl From<OpenReason> for HandOverError {
+    fn from(why: OpenReason) -> Self {
+        HandOverError::Stop(why)
+    }
+}
+
+impl Tracer<'_> {
+    /// Hands touch point `i` over to the next segment: finds (by bisecting the step `h` from
+    /// `x` along `t`) the last seam point with the touch point still on its segment, which is
+    /// then on the segment's boundary, and continues it on the neighbour there: across a
+    /// smooth edge the next face; onto a reflex edge the edge (the normal is that face's
+    /// normal, an end of the edge's arc); off a reflex edge's arc the face at that end.
+    /// Returns the new segment, the crossing point (on the old triplet) and the same point
+    /// solved for the new triplet, or why the touch point cannot continue (a convex edge, an
+    /// edge's end).
+    pub(super) fn hand_over(
+        &mut self,
+        triplet: &[Element; 3],
+        i: &mut usize,
+        x: &DVector<f64>,
+        t: &DVector<f64>,
+        h: f64,
+    ) -> HandOverResult {
+        let acc = self.opts.accuracy;
+        let sys = MedialSystem::new(triplet.to_vec());
+        let (mut lo, mut hi) = (0.0, h);
+        let mut xc = x.clone();
+        // The nearest point past the crossing: which touch point left first (two may leave
+        // within one step, at a rounded corner), and which of an edge's bounds it broke.
+        let mut off: Option<DVector<f64>> = None;
+        let on_all = |me: &Self, y: &DVector<f64>| {
+            (0..3).all(|k| me.stays_on(triplet[k], slot(x, k), slot(y, k)))
+        };
+        while hi - lo > 0.1 * acc {
+            let mid = 0.5 * (lo + hi);
+            match self.step(&sys, x, t, mid) {
+                Some((xm, _, _)) if on_all(self, &xm) => {
+                    lo = mid;
+                    xc = xm;
+                }
+                Some((xm, _, _)) => {
+                    hi = mid;
+                    off = Some(xm);
+                }
+                None => hi = mid,
+            }
+        }
+        if let Some(k) = off
+            .as_ref()
+            .and_then(|y| (0..3).find(|&k| !self.stays_on(triplet[k], slot(x, k), slot(y, k))))
+        {
+            *i = k;
+        }
+        let i = *i;
+        let off = off.map(|y| slot(&y, i));
+        let exit = match (triplet[i], off) {
+            (Element::Edge(e), Some(s)) => Some(self.edge_status(e, s)),
+            _ => None,
+        };
+        // Off an edge's end: the crossing is where the touch point is exactly at the end
+        // (the bisection on the centre's travel leaves it up to the accuracy short of or
+        // past it), so the next segment takes over the same ball at the shared vertex.
+        if let (Element::Edge(e), Some((false, true))) = (triplet[i], exit) {
+            let (lo, hi) = self.model.edges[e].range;
+            let te = slot(&xc, i)[0];
+            let end = if te - lo < hi - te { lo } else { hi };
+            let mut row = DVector::zeros(10);
+            row[4 + 2 * i] = 1.0;
+            let sol = solve(
+                |z| sys.eval_with_row(self.model, z, &row, end),
+                xc.clone(),
+                &self.solve_opts(),
+            );
+            if sol.status == SolveStatus::Converged && v3(&sol.x).distance(v3(&xc)) <= 10.0 * acc {
+                xc = sol.x;
+            }
+        }
+        match self.hand_over_at(triplet, i, &xc, t, exit) {
+            Ok((to, xnew)) => Ok((to, xc, xnew)),
+            Err(e) => Err((e, xc)),
+        }
+    }
+
+    /// [`Self::hand_over`] at the crossing point `xc`. For a touch point on an edge, `exit`
+    /// says which bounds the point just past the crossing kept (range, arc), when known.
+    pub(super) fn hand_over_at(
+        &mut self,
+        triplet: &[Element; 3],
+        i: usize,
+        xc: &DVector<f64>,
+        t: &DVector<f64>,
+        exit: Option<(bool, bool)>,
+    ) -> Result<(Element, DVector<f64>), HandOverError> {
+        let acc = self.opts.accuracy;
+        let xc = xc.clone();
+        let seg = triplet[i];
+        let ev = seg
+            .eval(self.model, slot(&xc, i))
+            .ok_or(OpenReason::UndefinedNormal { element: seg })?;
+        let (to, params) = match seg {
+            Element::Face(f) => {
+                let (e, te) = self
+                    .nearest_edge_of_face(f, ev.p)
+                    .filter(|&(e, te)| {
+                        let q = crate::geom::eval_curve(&self.model.edges[e].curve, te).p;
+                        q.distance(ev.p) <= 1e3 * acc
+                    })
+                    .ok_or(OpenReason::LeftFaceAwayFromEdges { face: seg })?;
+                let edge = &self.model.edges[e];
+                match self.class.edges[e].kind {
+                    EdgeKind::Reflex => {
+                        let th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)
+                            .ok_or(OpenReason::NoNormalFrame { edge: e })?;
+                        (Element::Edge(e), [te, th])
+                    }
+                    EdgeKind::Smooth => {
+                        let g = if edge.faces[0] == f {
+                            edge.faces[1]
+                        } else {
+                            edge.faces[0]
+                        };
+                        let uv = project_point(&self.model.faces[g].surface, ev.p, None)
+                            .ok_or(OpenReason::NotFoundOnFace { face: g })?;
+                        (Element::Face(g), [uv.0, uv.1])
+                    }
+                    kind => {
+                        return Err(HandOverError::Stop(OpenReason::ReachedEdge {
+                            element: seg,
+                            kind,
+                            edge: e,
+                        }))
+                    }
+                }
+            }
+            Element::Edge(e) => {
+                let edge = &self.model.edges[e];
+                let te = slot(&xc, i)[0];
+                let (lo, hi) = edge.range;
+                // Off the edge's end or off its arc? The crossing is bisected on the centre's
+                // travel, so the touch point may stop short of the end by more than a
+                // relative 1e-6: an end within 10× the accuracy, or a normal well inside
+                // the arc, means the end.
+                let at_end = match exit {
+                    Some((in_range, in_arc)) => !in_range && in_arc,
+                    None => {
+                        let near_end = self.model.vertices[edge.vertices[0]]
+                            .point
+                            .distance(ev.p)
+                            .min(self.model.vertices[edge.vertices[1]].point.distance(ev.p))
+                            <= 10.0 * acc;
+                        (te - lo).min(hi - te) <= 1e-6 * (hi - lo)
+                            || (near_end
+                                && self.edge_fan(e, te).is_some_and(|fan| {
+                                    ev.n.angle_between(fan[0]).min(ev.n.angle_between(fan[1]))
+                                        > 1e-4
+                                }))
+                    }
+                };
+                if at_end {
+                    // On to the vertex at that end, with the same normal.
+                    let v = if te - lo < hi - te {
+                        edge.vertices[0]
+                    } else {
+                        edge.vertices[1]
+                    };
+                    // A reflex edge continued by another (a circle split at a seam vertex, a
+                    // line running into an arc, a closed edge into its own start): the touch
+                    // point goes on along it.
+                    let next: Vec<(usize, f64)> = self.vertex_edges[v]
+                        .iter()
+                        .filter(|&&(g, at_end)| {
+                            self.is_reflex(g) && !(g == e && at_end == (te - lo >= hi - te))
+                        })
+                        .map(|&(g, at_end)| {
+                            let r = self.model.edges[g].range;
+                            (g, if at_end { r.1 } else { r.0 })
+                        })
+                        .collect();
+                    // (Only where the two run on tangentially. At a corner of two reflex
+                    // edges the touch point stays on the vertex while the normal turns.)
+                    if let [(g, tg)] = next[..] {
+                        let tangents = self.vertex_tangents(v);
+                        let leaving =
+                            |k: usize| tangents.iter().find(|(h, _)| *h == k).map(|(_, d)| *d);
+                        let tangential = match (leaving(e), leaving(g)) {
+                            // Leaving v along e is arriving along −e; g goes on from there.
+                            (Some(de), Some(dg)) if e != g => {
+                                (-de).angle_between(dg)
+                                    <= crate::classify::DEFAULT_ANGLE_TOL_DEG.to_radians()
+                            }
+                            _ => true,
+                        };
+                        if let Some(th) = tangential
+                            .then(|| crate::medial::equations::edge_angle(self.model, g, tg, ev.n))
+                            .flatten()
+                        {
+                            let to = Element::Edge(g);
+                            return self.polish_hand_over(triplet, i, &xc, t, to, [tg, th], ev.p);
+                        }
+                    }
+                    if !matches!(
+                        self.class.vertices[v],
+                        VertexKind::Reflex | VertexKind::Mixed
+                    ) {
+                        return Err(HandOverError::Stop(OpenReason::ReachedEdgeEnd {
+                            edge: e,
+                            vertex_kind: self.class.vertices[v],
+                        }));
+                    }
+                    let to = Element::Vertex(v);
+                    return self.polish_hand_over(
+                        triplet,
+                        i,
+                        &xc,
+                        t,
+                        to,
+                        vertex_angles(ev.n),
+                        ev.p,
+                    );
+                }
+                let fan = self
+                    .edge_fan(e, te)
+                    .ok_or(OpenReason::NoFaceNormals { edge: e })?;
+                let k = if ev.n.angle_between(fan[0]) <= ev.n.angle_between(fan[1]) {
+                    0
+                } else {
+                    1
+                };
+                let g = edge.faces[k];
+                let uv = project_point(&self.model.faces[g].surface, ev.p, None)
+                    .ok_or(OpenReason::NotFoundOnFace { face: g })?;
+                (Element::Face(g), [uv.0, uv.1])
+            }
+            Element::Vertex(v) => {
+                // Off the vertex over the edge whose direction the normal turned away from.
+                let (e, _) = self
+                    .vertex_tangents(v)
+                    .into_iter()
+                    .min_by(|a, b| ev.n.dot(a.1).total_cmp(&ev.n.dot(b.1)))
+                    .ok_or(OpenReason::VertexWithoutEdges { vertex: v })?;
+                if !self.is_reflex(e) {
+                    return Err(HandOverError::Stop(OpenReason::ReachedEdge {
+                        element: Element::Vertex(v),
+                        kind: self.class.edges[e].kind,
+                        edge: e,
+                    }));
+                }
+                let edge = &self.model.edges[e];
+                let te = if edge.vertices[0] == v {
+                    edge.range.0
+                } else {
+                    edge.range.1
+                };
+                let th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)
+                    .ok_or(OpenReason::NoNormalFrame { edge: e })?;
+                (Element::Edge(e), [te, th])
+            }
+        };
+        self.polish_hand_over(triplet, i, &xc, t, to, params, ev.p)
+    }
+
+    /// Moves touch point `i` of the seam point `xc` onto the vertex it sits at (within 10×
+    /// the accuracy), keeping its normal, when the ball may touch that vertex there (the
+    /// normal inside the vertex's cone) and the re-solved point is the same ball.
+    pub(super) fn onto_vertex(
+        &mut self,
+        triplet: &[Element; 3],
+        i: usize,
+        xc: &DVector<f64>,
+        t: &DVector<f64>,
+    ) -> Option<(Element, DVector<f64>)> {
+        let ev = triplet[i].eval(self.model, slot(xc, i))?;
+        let v = (0..self.model.vertices.len())
+            .filter(|&v| self.model.vertices[v].point.distance(ev.p) <= 10.0 * self.opts.accuracy)
+            .min_by(|&a, &b| {
+                let da = self.model.vertices[a].point.distance(ev.p);
+                da.total_cmp(&self.model.vertices[b].point.distance(ev.p))
+            })?;
+        let to = Element::Vertex(v);
+        let params = vertex_angles(ev.n);
+        if !self.on_segment(to, params) {
+            return None;
+        }
+        let (to, xv) = self
+            .polish_hand_over(triplet, i, xc, t, to, params, ev.p)
+            .ok()?;
+        (!self.coincident(&new_triplet(triplet, i, to), &xv, true)).then_some((to, xv))
+    }
+
+    /// The end of a hand-over: the seam point `xc` with slot `i` moved to segment `to` at
+    /// `params`, polished on the new system, which must be the same ball touching `to` at
+    /// the old touch point `p`.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn polish_hand_over(
+        &mut self,
+        triplet: &[Element; 3],
+        i: usize,
+        xc: &DVector<f64>,
+        t: &DVector<f64>,
+        to: Element,
+        params: [f64; 2],
+        p: DVec3,
+    ) -> Result<(Element, DVector<f64>), HandOverError> {
+        let acc = self.opts.accuracy;
+        let seg = triplet[i];
+        let xc = xc.clone();
+        // The ball osculates the next face (a fillet or a corner patch of its own radius):
+        // it touches it along a curve, and the seam ends there, at that centre of curvature.
+        if !curvature_allows(self.model, to, params, xc[3] * (1.0 + 1e-6)) {
+            return Err(HandOverError::Osculates(to));
+        }
+        let mut new = *triplet;
+        new[i] = to;
+        let sys = MedialSystem::new(new.to_vec());
+        let mut y = xc.clone();
+        y[4 + 2 * i] = params[0];
+        y[5 + 2 * i] = params[1];
+        // Polish on the new system with the centre held in the plane normal to the seam.
+        let mut row = DVector::zeros(10);
+        row.rows_mut(0, 3).copy_from(&t.rows(0, 3));
+        let c = row.dot(&y);
+        let sol = solve(
+            |z| sys.eval_with_row(self.model, z, &row, c),
+            y,
+            &self.solve_opts(),
+        );
+        // The same ball, touching the new segment where the old one left off: to 2× the
+        // accuracy, plus the gap between where the touch point left its segment and where
+        // the new one starts (a face's trim is a sampled polygon; its crossing is off the
+        // exact edge by up to the polygon's sag). The new point is solved exactly anyway.
+        let gap = sys_point(self.model, to, params).map_or(0.0, |q| q.distance(p));
+        let same = sol.status == SolveStatus::Converged
+            && v3(&sol.x).distance(v3(&xc)) <= 2.0 * acc + 10.0 * gap
+            && sys_point(self.model, to, slot(&sol.x, i))
+                .is_some_and(|q| q.distance(p) <= 2.0 * acc + 2.0 * gap);
+        if !same {
+            return Err(HandOverError::Stop(OpenReason::NoSeamPointAfterHandover {
+                from: seg,
+                to,
+                status: sol.status,
+                moved: v3(&sol.x).distance(v3(&xc)),
+            }));
+        }
+        Ok((to, sol.x))
+    }
+}

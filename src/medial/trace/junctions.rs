@@ -1,0 +1,295 @@
+//! Junctions: where another part of the boundary comes closer than `r`, the seam ends at the
+//! ball touching four elements, located exactly; the other triplets of that ball leave it as
+//! new seams.
+
+use super::tracer::{Start, Tracer};
+use super::unknowns::{seam_x, slot, sorted, sys_point, touches_meet, v3, Pairs};
+use crate::geom::{project_point, FaceHit, Feature};
+use crate::medial::axis::{Junction, Node, OpenReason, SeamEnd};
+use crate::medial::equations::{vertex_angles, MedialSystem, NormalField};
+use crate::medial::solver::{solve, SolveOptions, SolveStatus};
+use crate::model::Element;
+use glam::DVec3;
+use nalgebra::DVector;
+
+impl Tracer<'_> {
+    /// Checks the new seam point `xn` (reached from `x` along `t`) for a part of the solid's
+    /// boundary closer than `r`: another face, or a touched face far from its touch point
+    /// (the ball meets it a second time; a face close to its own touch point is the
+    /// curvature criterion's business). Then the seam ends at the junction located between
+    /// `x` and `xn`, or — when the 4-segment system has no solution on the faces — open.
+    pub(super) fn junction_between(
+        &mut self,
+        triplet: &[Element; 3],
+        solid: usize,
+        x: &DVector<f64>,
+        xn: &DVector<f64>,
+        t: &DVector<f64>,
+    ) -> Option<(SeamEnd, Option<DVector<f64>>)> {
+        let (mut f, mut hit) = self.intrusion(triplet, solid, xn)?;
+        // The first intrusion between x and xn (another feature may come closer than r
+        // before the one seen at xn): bisect the step.
+        let sys = MedialSystem::new(triplet.to_vec());
+        let h = t.dot(&(xn - x)) / t.dot(t);
+        let (mut lo, mut hi) = (0.0, h);
+        let mut x_lo = x.clone();
+        let mut x_hi = xn.clone();
+        for _ in 0..12 {
+            let mid = 0.5 * (lo + hi);
+            let Some((xm, _, _)) = self.step(&sys, x, t, mid) else {
+                break;
+            };
+            match self.intrusion(triplet, solid, &xm) {
+                Some((g, hg)) => {
+                    (f, hit) = (g, hg);
+                    hi = mid;
+                    x_hi = xm;
+                }
+                None => {
+                    lo = mid;
+                    x_lo = xm;
+                }
+            }
+        }
+        let x = &x_lo;
+        let Some((fourth, s4)) = self.hit_segment(f, &hit, v3(&x_hi)) else {
+            let (on, t) = match hit.on {
+                Feature::Face(g) => (Element::Face(g), None),
+                Feature::Edge(e, t) => (Element::Edge(e), Some(t)),
+                Feature::Vertex(v) => (Element::Vertex(v), None),
+            };
+            let why = OpenReason::CloserThanR { on, t };
+            return Some((SeamEnd::Open(why), None));
+        };
+        // A hit reported inside a face but next to one of its reflex edges (the trim test
+        // and the nearest-point search agree only to their tolerances) may be a touch of
+        // the edge: try it when the face has no junction.
+        let located = self
+            .locate_junction(triplet, x, fourth, s4)
+            .map(|jx| (fourth, jx))
+            .or_else(|| {
+                let Element::Face(f) = fourth else {
+                    return None;
+                };
+                let (e, te) = self.nearest_edge_of_face(f, hit.point)?;
+                let edge = Element::Edge(e);
+                (self.is_reflex(e) && !triplet.contains(&edge))
+                    .then(|| self.locate_junction(triplet, x, edge, [te, 0.0]))
+                    .flatten()
+                    .map(|jx| (edge, jx))
+            });
+        // The junction itself must be medial (nothing closer than its radius).
+        let located = located.filter(|(_, jx)| {
+            self.nearest_in(solid, v3(jx))
+                .is_some_and(|(_, h)| h.distance >= jx[3] - 10.0 * self.opts.accuracy)
+        });
+        let Some((fourth, jx)) = located else {
+            let why = OpenReason::NoJunction { element: fourth };
+            return Some((SeamEnd::Open(why), None));
+        };
+        let id = self.add_junction(triplet, fourth, &jx);
+        if let Some(a) = self.arrivals.get_mut(id) {
+            a.push(-v3(t).normalize());
+        }
+        self.visited.insert((sorted(*triplet), Node::Junction(id)));
+        Some((SeamEnd::Junction(id), Some(jx)))
+    }
+
+    /// The nearest boundary point of the solid to the seam point `y` when it is closer than
+    /// `r` and not next to a touch point on the same face (that is the curvature
+    /// criterion's business): the face it was found on and the hit.
+    pub(super) fn intrusion(
+        &self,
+        triplet: &[Element; 3],
+        solid: usize,
+        y: &DVector<f64>,
+    ) -> Option<(usize, FaceHit)> {
+        let r = y[3];
+        let (f, hit) = self.nearest_in(solid, v3(y))?;
+        if hit.distance >= r - self.opts.accuracy {
+            return None;
+        }
+        let far = (0..3).all(|i| {
+            triplet[i] != Element::Face(f)
+                || sys_point(self.model, triplet[i], slot(y, i))
+                    .is_none_or(|p| p.distance(hit.point) > 0.05 * r)
+        });
+        far.then_some((f, hit))
+    }
+
+    /// Solves the 4-segment system from the seam point `x` (before the crossing), starting
+    /// the fourth segment at the foot of `x` near `s4` (where the crossing was seen).
+    pub(super) fn locate_junction(
+        &self,
+        triplet: &[Element; 3],
+        x: &DVector<f64>,
+        fourth: Element,
+        s4: [f64; 2],
+    ) -> Option<DVector<f64>> {
+        let b = v3(x);
+        let uv = match fourth {
+            Element::Face(f) => {
+                let hint = s4[0].is_finite().then_some((s4[0], s4[1]));
+                project_point(&self.model.faces[f].surface, b, hint).or(hint)?
+            }
+            Element::Edge(e) => {
+                let (te, q, d) = crate::geom::nearest_on_edge(self.model, e, b, Some(s4[0]));
+                let th = crate::medial::equations::edge_angle(self.model, e, te, (q - b) / d)?;
+                (te, th)
+            }
+            Element::Vertex(v) => {
+                let a = vertex_angles((self.model.vertices[v].point - b).normalize());
+                (a[0], a[1])
+            }
+        };
+        let mut segs = triplet.to_vec();
+        segs.push(fourth);
+        let sys = MedialSystem::new(segs);
+        let mut x0 = DVector::zeros(12);
+        x0.rows_mut(0, 10).copy_from(x);
+        x0[10] = uv.0;
+        x0[11] = uv.1;
+        let sol = solve(
+            |y| sys.eval(self.model, y),
+            x0,
+            &SolveOptions {
+                tol: 1e-3 * self.opts.accuracy,
+                max_iter: 30,
+            },
+        );
+        if !(sol.status == SolveStatus::Converged && sol.x[3] > 0.0) {
+            return None;
+        }
+        // Every touch point must lie on its face: a ball touching a face's extension beyond
+        // its edges is not a junction (the event there involves an edge or a vertex).
+        let on_faces = (0..4).all(|i| self.on_segment(sys.segments[i], slot(&sol.x, i)));
+        // Two touch points on one face must be two places, not the same one found twice.
+        let r = sol.x[3];
+        let distinct = !touches_meet(
+            self.model,
+            &sys.segments,
+            &sol.x,
+            1e-3 * r,
+            Pairs::SameSegment,
+        );
+        (on_faces && distinct).then_some(sol.x)
+    }
+
+    /// Records a junction (or finds the same one already found) and queues the seams that
+    /// leave it. All faces at distance `r` from the centre touch it (more than four at a
+    /// non-generic junction, such as a cube's centre). A seam leaves along the normal `n` of the
+    /// plane through three touch points, in the sense in which every other touched segment
+    /// moves away (`n·(t₀ − tₖ) ≥ 0`, so its distance grows faster than `r`); for a generic
+    /// junction that is the paper's rule, one seam per omitted segment.
+    pub(super) fn add_junction(
+        &mut self,
+        arriving: &[Element; 3],
+        fourth: Element,
+        jx: &DVector<f64>,
+    ) -> usize {
+        let p = v3(jx);
+        let r = jx[3];
+        let solid = self.solid_of(fourth);
+        let tol = 10.0 * self.opts.accuracy;
+        if let Some(id) = self
+            .junctions
+            .iter()
+            .position(|j| j.solid == solid && DVec3::from_array(j.point).distance(p) <= tol)
+        {
+            return id;
+        }
+        let mut segs = arriving.to_vec();
+        segs.push(fourth);
+        let mut params: Vec<(f64, f64)> = (0..4).map(|i| (jx[4 + 2 * i], jx[5 + 2 * i])).collect();
+        // Other faces touching the same ball (non-generic junctions).
+        for f in self.boundary.within(self.model, p, r + tol) {
+            if self.face_solid[f] != solid {
+                continue;
+            }
+            let hit = self
+                .boundary
+                .nearest_on_face(self.model, f, p, None, f64::INFINITY);
+            // Touching to the output accuracy (the junction itself is solved far tighter),
+            // so every touch point reported is within it; a hit on a face's convex edge is
+            // not a touch of that face.
+            let Some(hit) = hit.filter(|h| (h.distance - r).abs() <= self.opts.accuracy) else {
+                continue;
+            };
+            let seg = match hit.on {
+                Feature::Face(_) => Some((Element::Face(f), (hit.uv.0, hit.uv.1))),
+                Feature::Edge(..) => self
+                    .hit_segment(f, &hit, p)
+                    .filter(|(s, _)| matches!(s, Element::Edge(_)))
+                    .map(|(s, q)| (s, (q[0], q[1]))),
+                Feature::Vertex(_) => self
+                    .hit_segment(f, &hit, p)
+                    .filter(|(s, _)| matches!(s, Element::Vertex(_)))
+                    .map(|(s, q)| (s, (q[0], q[1]))),
+            };
+            // The segment must touch this very ball there: P − r·N = centre.
+            let fits = |seg: Element, uv: (f64, f64)| {
+                seg.eval(self.model, [uv.0, uv.1])
+                    .is_some_and(|e| (e.p - e.n * r - p).length() <= self.opts.accuracy)
+            };
+            if let Some((seg, uv)) = seg {
+                if !segs.contains(&seg) && uv.0.is_finite() && fits(seg, uv) {
+                    segs.push(seg);
+                    params.push(uv);
+                }
+            }
+        }
+        let touch: Vec<DVec3> = segs
+            .iter()
+            .zip(&params)
+            .filter_map(|(s, uv)| sys_point(self.model, *s, [uv.0, uv.1]))
+            .collect();
+        if touch.len() != segs.len() {
+            return usize::MAX;
+        }
+        let id = self.junctions.len();
+        self.junctions.push(Junction {
+            id,
+            solid,
+            point: p.to_array(),
+            radius: r,
+            segments: segs.clone(),
+            touch: touch.iter().map(|t| t.to_array()).collect(),
+        });
+        self.arrivals.push(vec![]);
+        let k = segs.len();
+        let mut dirs: Vec<DVec3> = vec![];
+        for a in 0..k {
+            for b in a + 1..k {
+                for c in b + 1..k {
+                    let (t0, t1, t2) = (touch[a], touch[b], touch[c]);
+                    let n = (t1 - t0).cross(t2 - t0);
+                    if n.length() < 1e-12 * r * r {
+                        continue;
+                    }
+                    let mut n = n.normalize();
+                    let others = (0..k).filter(|&q| q != a && q != b && q != c);
+                    let first = others.clone().next().unwrap_or(a);
+                    if n.dot(t0 - touch[first]) < 0.0 {
+                        n = -n;
+                    }
+                    let eps = 1e-9 * r;
+                    if others.into_iter().any(|q| n.dot(t0 - touch[q]) < -eps) {
+                        continue;
+                    }
+                    if dirs.iter().any(|e| e.distance(n) < 1e-9) {
+                        continue;
+                    }
+                    dirs.push(n);
+                    let x = seam_x(p, r, [a, b, c].map(|q| params[q]));
+                    self.queue.push_back(Start {
+                        triplet: [segs[a], segs[b], segs[c]],
+                        x,
+                        dir: n,
+                        from: Node::Junction(id),
+                    });
+                }
+            }
+        }
+        id
+    }
+}

@@ -1,0 +1,49 @@
+//! The tracer's options and budgets.
+
+use crate::model::{Model, Tolerances};
+
+/// Largest centre step, relative to the diagonal.
+pub const MAX_STEP_REL_DIAGONAL: f64 = 0.02;
+/// Smallest centre step before a seam is abandoned, relative to the diagonal.
+pub const MIN_STEP_REL_DIAGONAL: f64 = 1e-9;
+/// The first step of a march, relative to the diagonal.
+pub const FIRST_STEP_REL_DIAGONAL: f64 = 1e-3;
+/// Largest turn of the seam's direction over one step (radians): the step control by seam
+/// curvature. A step that turns more is retried at half the length, so consecutive points are
+/// never more than this apart in direction and the chord between them stays within
+/// `h·MAX_TURN_RAD/8` of the curve.
+pub const MAX_TURN_RAD: f64 = 0.15;
+/// Budget of points per seam.
+pub const MAX_POINTS: usize = 20_000;
+/// Budget of seams per part (guards against a tracer loop on unexpected geometry).
+pub const MAX_SEAMS: usize = 10_000;
+/// Newton iterations of a corrector step (and of the other polishing solves).
+pub const MAX_CORRECTOR_ITER: usize = 12;
+/// Newton iterations when refining a seed, or solving a junction from a seam point.
+pub const MAX_REFINE_ITER: usize = 30;
+/// Newton iterations of a step that fixes only the centre's advance (near an end).
+pub const MAX_CENTRE_STEP_ITER: usize = 40;
+
+/// Options of [`crate::medial::trace`].
+#[derive(Clone, Debug)]
+pub struct TraceOptions {
+    /// Output accuracy in model units (mm): residuals of every point, and junction location.
+    pub accuracy: f64,
+    /// Newton's residual target (mm), well inside the accuracy.
+    pub solver_tol: f64,
+}
+
+impl TraceOptions {
+    /// The tracer's share of a run's tolerances.
+    pub fn new(tol: &Tolerances) -> TraceOptions {
+        TraceOptions {
+            accuracy: tol.accuracy,
+            solver_tol: tol.solver,
+        }
+    }
+
+    /// Defaults for a model: the default tolerances of its diagonal.
+    pub fn for_model(model: &Model) -> TraceOptions {
+        TraceOptions::new(&Tolerances::for_diagonal(model.diagonal()))
+    }
+}

@@ -1,0 +1,332 @@
+//! Seeds beyond the paper: on faces no seam touches, maximal balls sampled from the
+//! boundary (shrunk from the inward normal until they touch elsewhere) give points to trace
+//! from; balls whose sheet has collapsed are degenerate pieces (a cylinder's axis, a
+//! sphere's centre).
+
+use super::options::MAX_SEAMS;
+use super::tracer::Tracer;
+use super::unknowns::{seam_x, slot, sorted, to_chord, touches_meet, v3, Pairs};
+use crate::geom::project_point;
+use crate::medial::axis::{Degenerate, DegenerateKind, Handover, SeamEnd, SeamPoint};
+use crate::medial::equations::{MedialSystem, NormalField};
+use crate::medial::maximal::curvature_allows;
+use crate::medial::solver::{solve, SolveOptions, SolveStatus};
+use crate::model::Element;
+use glam::DVec3;
+use nalgebra::DVector;
+
+/// A point near a seam to trace from in both directions: a ball found by sampling (solids
+/// without convex corners, sheets no corner reaches), or given by the caller.
+#[derive(Clone, Debug)]
+pub struct Seed {
+    /// The three elements; a face may appear twice (two touch points on it).
+    pub triplet: [Element; 3],
+    /// Unknowns `[B, r, s₁, s₂, s₃]` near the seam; refined before tracing.
+    pub x: DVector<f64>,
+}
+
+impl Seed {
+    /// A seed from a centre, a radius and the three elements' parameters.
+    pub fn new(triplet: [Element; 3], centre: DVec3, r: f64, params: [(f64, f64); 3]) -> Seed {
+        Seed {
+            triplet,
+            x: seam_x(centre, r, params),
+        }
+    }
+}
+
+impl Tracer<'_> {
+    /// Completes the trace beyond the paper (DESIGN.md, "Termination and completeness"): on
+    /// every face no seam touches yet, samples boundary points, grows the maximal ball at
+    /// each (shrinking from the inward normal until it touches elsewhere), and from the two
+    /// touches and the nearest third segment solves for a seam point to trace from. Balls
+    /// whose sheet has collapsed (a cylinder's axis, a sphere's centre) are reported as
+    /// [`Degenerate`] instead.
+    pub(super) fn seed_by_sampling(&mut self) {
+        const GRID: usize = 4;
+        for f in 0..self.model.faces.len() {
+            let d = self.model.faces[f].domain;
+            for k in 0..GRID * GRID {
+                if self.touched[f] || self.seams.len() >= MAX_SEAMS {
+                    break;
+                }
+                let u = d.u.0 + (d.u.1 - d.u.0) * ((k % GRID) as f64 + 0.5) / GRID as f64;
+                let v = d.v.0 + (d.v.1 - d.v.0) * ((k / GRID) as f64 + 0.5) / GRID as f64;
+                if !self.on_segment(Element::Face(f), [u, v]) {
+                    continue;
+                }
+                for seed in self.sample_seeds(f, [u, v]) {
+                    let before = self.seams.len();
+                    self.trace_seed(&seed);
+                    self.run_queue();
+                    if self.seams.len() > before {
+                        break;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The maximal ball touching face `f` at `s` and seeds from it (see
+    /// [`Self::seed_by_sampling`]): with the nearest third segment, or with one of the two
+    /// touched faces touched again (the foot on it nearest the point opposite the touch
+    /// across the ball). None when the ball is degenerate (then recorded).
+    pub(super) fn sample_seeds(&mut self, f: usize, s: [f64; 2]) -> Vec<Seed> {
+        self.sample_ball(f, s).unwrap_or_default()
+    }
+
+    pub(super) fn sample_ball(&mut self, f: usize, s: [f64; 2]) -> Option<Vec<Seed>> {
+        let solid = self.face_solid[f];
+        let diag = self.model.diagonal();
+        let ev = Element::Face(f).eval(self.model, s)?;
+        let nearest = |b: DVec3| self.nearest_in(solid, b);
+        // Largest r with nothing closer than r to p − r·n: bisection.
+        let fits =
+            |r: f64| nearest(ev.p - ev.n * r).is_some_and(|(_, h)| h.distance >= r * (1.0 - 1e-9));
+        let (mut lo, mut hi) = (0.0, diag);
+        for _ in 0..48 {
+            let mid = 0.5 * (lo + hi);
+            if fits(mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+            if hi - lo <= 1e-3 * self.opts.accuracy {
+                break;
+            }
+        }
+        let r = lo;
+        let b = ev.p - ev.n * r;
+        // The other touch: the nearest point just past the maximal ball, away from p.
+        let (g, hit) = nearest(ev.p - ev.n * hi)?;
+        if r <= 10.0 * self.opts.accuracy || hit.point.distance(ev.p) <= 1e-3 * r {
+            return None; // at a convex edge, or where the ball osculates the face
+        }
+        let (seg2, s2) = self.hit_segment(g, &hit, b)?;
+        let first = Element::Face(f);
+        if self.collapsed(first, s, seg2, s2, b, r) {
+            return None;
+        }
+        let mut thirds = vec![];
+        if let Some((k, hit3)) = self.boundary.nearest_face_where(self.model, b, |h| {
+            self.face_solid[h] == solid && h != f && Element::Face(h) != seg2
+        }) {
+            thirds.extend(self.hit_segment(k, &hit3, b));
+        }
+        for (seg, touch) in [(first, ev.p), (seg2, hit.point)] {
+            if let Element::Face(h) = seg {
+                let opposite = b * 2.0 - touch;
+                if let Some(uv) = project_point(&self.model.faces[h].surface, opposite, None) {
+                    thirds.push((seg, [uv.0, uv.1]));
+                }
+            }
+        }
+        Some(
+            thirds
+                .into_iter()
+                .map(|(seg3, s3)| {
+                    Seed::new(
+                        [first, seg2, seg3],
+                        b,
+                        r,
+                        [(s[0], s[1]), (s2[0], s2[1]), (s3[0], s3[1])],
+                    )
+                })
+                .collect(),
+        )
+    }
+
+    /// True (and recorded as [`Degenerate`]) when the sheet of balls touching `a` at `sa` and
+    /// `b` at `sb` has collapsed at centre `c`, radius `r`: the directions in which the two
+    /// touch points can move together (the null space of the 2-segment Jacobian, 6 × 8) move
+    /// the centre along fewer than two dimensions.
+    pub(super) fn collapsed(
+        &mut self,
+        a: Element,
+        sa: [f64; 2],
+        b: Element,
+        sb: [f64; 2],
+        c: DVec3,
+        r: f64,
+    ) -> bool {
+        let sys = MedialSystem::new(vec![a, b]);
+        let mut x = DVector::zeros(8);
+        x[0] = c.x;
+        x[1] = c.y;
+        x[2] = c.z;
+        x[3] = r;
+        x[4] = sa[0];
+        x[5] = sa[1];
+        x[6] = sb[0];
+        x[7] = sb[1];
+        let Some((_, j)) = sys.eval(self.model, &x) else {
+            return false;
+        };
+        let mut m = nalgebra::DMatrix::zeros(8, 8);
+        m.view_mut((0, 0), (6, 8)).copy_from(&j);
+        let svd = m.svd(false, true);
+        let Some(vt) = svd.v_t else {
+            return false;
+        };
+        let smax = svd.singular_values.max();
+        // The null space: right singular vectors of (near-)zero singular values.
+        let null: Vec<DVec3> = (0..8)
+            .filter(|&i| svd.singular_values[i] <= 1e-6 * smax)
+            .map(|i| DVec3::new(vt[(i, 0)], vt[(i, 1)], vt[(i, 2)]))
+            .collect();
+        let rank = match null.len() {
+            0 | 1 => return false,
+            _ => {
+                let big = null.iter().map(|v| v.length()).fold(0.0, f64::max);
+                let area = (0..null.len())
+                    .flat_map(|i| (i + 1..null.len()).map(move |k| (i, k)))
+                    .map(|(i, k)| null[i].cross(null[k]).length())
+                    .fold(0.0, f64::max);
+                if area > 1e-6 {
+                    return false;
+                }
+                usize::from(big > 1e-6)
+            }
+        };
+        let kind = if rank == 0 {
+            DegenerateKind::Point
+        } else {
+            DegenerateKind::Curve
+        };
+        let segments = vec![a, b];
+        let solid = self.solid_of(a);
+        let ball = [c.x, c.y, c.z, r];
+        match self
+            .degenerate
+            .iter_mut()
+            .find(|d| d.solid == solid && d.kind == kind && d.segments == segments)
+        {
+            Some(d) => d.balls.push(ball),
+            None => self.degenerate.push(Degenerate {
+                solid,
+                kind,
+                segments,
+                balls: vec![ball],
+            }),
+        }
+        if let Element::Face(f) = a {
+            self.touched[f] = true;
+        }
+        true
+    }
+
+    /// Refines `seed` onto its seam and, unless it is not a medial point or lies on a seam
+    /// already traced, traces that seam both ways (queueing what its junctions lead to).
+    pub(super) fn trace_seed(&mut self, seed: &Seed) {
+        let sys = MedialSystem::new(seed.triplet.to_vec());
+        let sol = solve(
+            |y| sys.eval(self.model, y),
+            seed.x.clone(),
+            &SolveOptions {
+                tol: 1e-3 * self.opts.accuracy,
+                max_iter: 30,
+            },
+        );
+        let x = sol.x;
+        let r = x[3];
+        // A ball that osculates one of its faces (a fillet's axis: radius = the fillet's,
+        // touching it along a whole arc) is a degenerate piece, not a seam point, although
+        // the three-segment system is solvable there.
+        let osculates = (0..3).any(|i| {
+            matches!(seed.triplet[i], Element::Face(_))
+                && !curvature_allows(self.model, seed.triplet[i], slot(&x, i), r * (1.0 + 1e-6))
+        });
+        let valid = sol.status == SolveStatus::Converged
+            && r > self.opts.accuracy
+            && !osculates
+            && self.is_medial(&seed.triplet, &x)
+            && !self.on_traced_seam(&seed.triplet, &x);
+        let dir = valid.then(|| self.null_direction(&sys, &x)).flatten();
+        let Some(dir) = dir else {
+            self.stats.skipped_seeds += 1;
+            return;
+        };
+        let fwd = self.march(seed.triplet, x.clone(), dir, Some(&x));
+        if fwd.end == SeamEnd::Closed {
+            let ends = [SeamEnd::Closed, SeamEnd::Closed];
+            self.push_seam(seed.triplet, fwd.triplet, ends, fwd.points, fwd.handovers);
+            return;
+        }
+        let back = self.march(seed.triplet, x, -dir, None);
+        // The backward run reversed, then the forward run after the seed point; the
+        // backward run's hand-overs reversed in order and sense.
+        let nb = back.points.len();
+        let mut handovers: Vec<Handover> = back
+            .handovers
+            .into_iter()
+            .rev()
+            .map(|h| Handover {
+                point: nb - 1 - h.point,
+                from: h.to,
+                to: h.from,
+            })
+            .collect();
+        handovers.extend(fwd.handovers.into_iter().map(|h| Handover {
+            point: h.point + nb - 1,
+            ..h
+        }));
+        let mut points: Vec<SeamPoint> = back.points.into_iter().rev().collect();
+        points.extend(fwd.points.into_iter().skip(1));
+        self.push_seam(
+            back.triplet,
+            fwd.triplet,
+            [back.end, fwd.end],
+            points,
+            handovers,
+        );
+    }
+
+    /// True when the seam point `x` is medial: its touch points lie on their faces, nothing
+    /// of the solid is closer than `r`, and no touched face curves through the ball.
+    pub(super) fn is_medial(&self, triplet: &[Element; 3], x: &DVector<f64>) -> bool {
+        let r = x[3];
+        let solid = self.solid_of(triplet[0]);
+        let on_faces = (0..3).all(|i| self.on_segment(triplet[i], slot(x, i)));
+        // A segment touched twice must be touched in two places, not once counted twice
+        // (that is a sheet point, where Newton also converges).
+        let distinct = !touches_meet(self.model, triplet, x, 1e-3 * r, Pairs::SameSegment);
+        let nearest = self.nearest_in(solid, v3(x));
+        on_faces
+            && distinct
+            && nearest.is_some_and(|(_, h)| h.distance >= r - self.opts.accuracy)
+            && (0..3).all(|i| curvature_allows(self.model, triplet[i], slot(x, i), r))
+    }
+
+    /// True when `x` lies on a seam of the same segments traced already.
+    pub(super) fn on_traced_seam(&self, triplet: &[Element; 3], x: &DVector<f64>) -> bool {
+        let b = v3(x);
+        let tol = 1e-3 * self.model.diagonal();
+        let ids: Vec<Element> = sorted(*triplet).to_vec();
+        self.seams.iter().any(|s| {
+            let mut same = s.segments.clone();
+            same.sort();
+            let mut want = ids.clone();
+            want.sort();
+            same == want
+                && s.points.windows(2).any(|w| {
+                    let a = DVec3::new(w[0].point[0], w[0].point[1], w[0].point[2]);
+                    let c = DVec3::new(w[1].point[0], w[1].point[1], w[1].point[2]);
+                    to_chord(b, a, c) <= tol
+                })
+        })
+    }
+
+    /// The seam's direction at `x` without a preferred orientation: the null vector of the
+    /// Jacobian (smallest singular value of `J` padded to a square).
+    pub(super) fn null_direction(&self, sys: &MedialSystem, x: &DVector<f64>) -> Option<DVec3> {
+        let (_, j) = sys.eval(self.model, x)?;
+        let n = x.len();
+        let mut a = nalgebra::DMatrix::zeros(n, n);
+        a.view_mut((0, 0), (n - 1, n)).copy_from(&j);
+        let svd = a.svd(false, true);
+        let vt = svd.v_t?;
+        let k = svd.singular_values.imin();
+        let d = DVec3::new(vt[(k, 0)], vt[(k, 1)], vt[(k, 2)]);
+        (d.length() > 1e-9).then(|| d.normalize())
+    }
+}

@@ -1,0 +1,682 @@
+//! The tracer on the reference samples: seams, junctions and ends where the analytic medial
+//! axis has them, every point verified.
+
+use super::options::MAX_TURN_RAD;
+use super::*;
+use crate::geom::{project_point, Boundary};
+use crate::medial::axis::{DegenerateKind, Junction, MedialAxis, Seam, SeamEnd};
+use crate::medial::maximal::curvature_allows;
+use crate::model::{Element, Model};
+use glam::DVec3;
+
+fn traced(name: &str) -> (Model, MedialAxis) {
+    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("samples")
+        .join(name);
+    let m = crate::ingest::read_model(&p).unwrap();
+    let c = crate::classify(&m, &Default::default());
+    let mat = trace(&m, &c, &TraceOptions::for_model(&m));
+    (m, mat)
+}
+
+/// The worst error of [`crate::medial::verify`] over every seam point and junction.
+fn verify(m: &Model, mat: &MedialAxis) -> f64 {
+    crate::medial::verify(m, &Boundary::new(m), mat).worst()
+}
+
+/// Box [0,60]×[0,40]×[0,20] (c < b < a): 12 seams, 4 junctions at
+/// (a/2 ± (a−c)/2, b/2 ± (b−c)/2, c/2) = (10|50, 10|30, 10), radius c/2 = 10 (DESIGN.md).
+#[test]
+fn box_has_twelve_seams_and_four_junctions() {
+    for file in ["box.step", "box_nurbs.step"] {
+        let (m, mat) = traced(file);
+        assert_eq!(mat.junctions.len(), 4, "{file}");
+        assert_eq!(mat.seams.len(), 12, "{file}");
+        let diag = m.diagonal();
+        for j in &mat.junctions {
+            let p = DVec3::from_array(j.point);
+            let want = [10.0, 50.0]
+                .iter()
+                .flat_map(|&x| [10.0, 30.0].map(|y| DVec3::new(x, y, 10.0)))
+                .map(|q| q.distance(p))
+                .fold(f64::INFINITY, f64::min);
+            // DESIGN.md: junctions within 1e-9 × diagonal of the analytic position.
+            assert!(want <= 1e-9 * diag, "{file}: junction {p} off by {want:e}");
+            assert!(
+                (j.radius - 10.0).abs() <= 1e-9 * diag,
+                "{file}: radius {}",
+                j.radius
+            );
+        }
+        for s in &mat.seams {
+            assert!(
+                s.ends.iter().all(|e| !matches!(e, SeamEnd::Open(_))),
+                "{file}: seam {:?} ends {:?}",
+                s.segments,
+                s.ends
+            );
+        }
+        // 8 corner seams (vertex → junction) and 4 inner seams (junction → junction).
+        let corner = mat
+            .seams
+            .iter()
+            .filter(|s| matches!(s.ends[0], SeamEnd::Vertex(_)))
+            .count();
+        assert_eq!(corner, 8, "{file}");
+        let worst = verify(&m, &mat);
+        assert!(
+            worst <= 1e-6 * diag,
+            "{file}: worst verified error {worst:e}"
+        );
+    }
+}
+
+/// Checks a traced convex part: seam and junction counts, every seam closed (no open
+/// end), junctions at the expected points and radii (to 1e-9 × diagonal), every point
+/// verified maximal to 1e-6 × diagonal (the default accuracy).
+fn check(file: &str, seams: usize, junctions: &[([f64; 3], f64)]) {
+    let (m, mat) = traced(file);
+    let diag = m.diagonal();
+    assert_eq!(
+        mat.seams.len(),
+        seams,
+        "{file}: seams {:#?}",
+        mat.seams
+            .iter()
+            .map(|s| (&s.segments, &s.ends))
+            .collect::<Vec<_>>()
+    );
+    assert_eq!(mat.junctions.len(), junctions.len(), "{file}");
+    for (p, r) in junctions {
+        assert_junction_at(file, &m, &mat, *p, *r);
+    }
+    for s in &mat.seams {
+        assert!(
+            s.ends.iter().all(|e| !matches!(e, SeamEnd::Open(_))),
+            "{file}: {:?} {:?}",
+            s.segments,
+            s.ends
+        );
+    }
+    let worst = verify(&m, &mat);
+    assert!(
+        worst <= 1e-6 * diag,
+        "{file}: worst verified error {worst:e}"
+    );
+}
+
+/// The sphere sample (radius 15, outward normals): a ball of radius 14 fits against its
+/// wall, one of radius 16 pokes through; a plane never fails.
+#[test]
+fn curvature_criterion_on_a_sphere() {
+    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/sphere.step");
+    let m = crate::ingest::read_model(&p).unwrap();
+    let s = [1.0, 0.3];
+    assert!(curvature_allows(&m, Element::Face(0), s, 14.0));
+    assert!(curvature_allows(&m, Element::Face(0), s, 15.0));
+    assert!(!curvature_allows(&m, Element::Face(0), s, 16.0));
+    let (b, _) = traced("box.step");
+    assert!(curvature_allows(&b, Element::Face(0), [1.0, 1.0], 1e6));
+}
+
+/// Tetrahedron (0,0,0), (36,0,0), (0,28,0), (0,0,24): four seams meet at the incentre
+/// (6, 6, 6) with the inradius 6 (manifest, from Σ Aᵢ·Vᵢ / Σ Aᵢ and 3V / Σ Aᵢ).
+#[test]
+fn tetrahedron_seams_meet_at_the_incentre() {
+    check("tetrahedron.step", 4, &[([6.0, 6.0, 6.0], 6.0)]);
+}
+
+/// Cube of side 30: a non-generic junction at the centre touching all six faces; the
+/// eight corner seams end there and nothing else leaves it.
+#[test]
+fn cube_seams_meet_at_the_centre() {
+    check("cube.step", 8, &[([15.0, 15.0, 15.0], 15.0)]);
+}
+
+/// Wedge (a triangular prism, manifest): junctions (10,10,10) and (10,10,50), radius 10;
+/// six corner seams and one seam between the junctions.
+#[test]
+fn wedge() {
+    check(
+        "wedge.step",
+        7,
+        &[([10.0, 10.0, 10.0], 10.0), ([10.0, 10.0, 50.0], 10.0)],
+    );
+}
+
+/// Square pyramid: the apex, where four faces meet, starts one seam down the axis; it
+/// and the four base-corner seams meet at (15, 15, 7.5), radius 7.5, a junction touching
+/// all five faces.
+#[test]
+fn pyramid_apex_is_a_non_generic_start() {
+    check("pyramid.step", 5, &[([15.0, 15.0, 7.5], 7.5)]);
+}
+
+/// The box with a bicubic B-spline top: 12 seams and 4 junctions like the box (the bump
+/// moves them), symmetric about x = 30 and y = 20 as the part is, all points verified.
+#[test]
+fn box_with_bspline_top() {
+    let (m, mat) = traced("box_bspline_top.step");
+    assert_eq!(mat.seams.len(), 12);
+    assert_eq!(mat.junctions.len(), 4);
+    let diag = m.diagonal();
+    let r0 = mat.junctions[0].radius;
+    for j in &mat.junctions {
+        assert!(
+            (j.radius - r0).abs() <= 1e-9 * diag,
+            "radii {} vs {r0}",
+            j.radius
+        );
+        let p = DVec3::from_array(j.point);
+        let mirrored = DVec3::new(60.0 - p.x, 40.0 - p.y, p.z);
+        let e = mat
+            .junctions
+            .iter()
+            .map(|k| DVec3::from_array(k.point).distance(mirrored))
+            .fold(f64::INFINITY, f64::min);
+        assert!(e <= 1e-9 * diag, "no mirror image of {p}: {e:e}");
+    }
+    assert!(verify(&m, &mat) <= 1e-6 * diag);
+}
+
+/// Distance from (x, 0) to the ellipse x²/a² + y²/b² = 1 (a > b, |x| < a − b²/a): the
+/// two nearest points are at the parameter with cos t = a·x / (a² − b²).
+fn ellipse_distance(a: f64, b: f64, x: f64) -> f64 {
+    let c = a * x / (a * a - b * b);
+    ((a * c - x).powi(2) + b * b * (1.0 - c * c)).sqrt()
+}
+
+/// Elliptic cylinder (semi-axes 30 and 15, height 40; manifest): the seam where the ball
+/// touches the lateral face twice and the top, traced from a seed at x = 0 both ways.
+/// Every point is (x, 0, 40 − r) with r the distance from (x, 0) to the ellipse, the two
+/// lateral touch points mirror each other in y = 0, and both ends are where the ball
+/// osculates the lateral face: the centres of curvature of the ellipse's vertices,
+/// x = ±(a − b²/a) = ±22.5, r = b²/a = 7.5. The lateral face is an extrusion in one
+/// file and a rational B-spline in the other (two touch points on one free-form face).
+#[test]
+fn seam_touching_one_face_twice_from_a_seed() {
+    let (a, b, h) = (30.0, 15.0, 40.0);
+    for file in ["elliptic_cylinder.step", "elliptic_cylinder_nurbs.step"] {
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("samples")
+            .join(file);
+        let m = crate::ingest::read_model(&p).unwrap();
+        let class = crate::classify(&m, &Default::default());
+        // The lateral face owns the seam edge (the same face on both sides); the top is
+        // the other face with the higher middle.
+        let lat = m
+            .edges
+            .iter()
+            .find(|e| e.faces[0] == e.faces[1])
+            .unwrap()
+            .faces[0];
+        let middle_z = |f: usize| {
+            let d = m.faces[f].domain;
+            let (u, v) = (0.5 * (d.u.0 + d.u.1), 0.5 * (d.v.0 + d.v.1));
+            crate::geom::surface_point(&m.faces[f].surface, u, v).z
+        };
+        let top = (0..m.faces.len())
+            .filter(|&f| f != lat)
+            .max_by(|&f, &g| middle_z(f).total_cmp(&middle_z(g)))
+            .unwrap();
+        let foot = |f: usize, q: DVec3| project_point(&m.faces[f].surface, q, None).unwrap();
+        let seed = Seed::new(
+            [Element::Face(lat), Element::Face(lat), Element::Face(top)],
+            DVec3::new(0.0, 0.0, h - b),
+            b,
+            [
+                foot(lat, DVec3::new(0.0, b, h - b)),
+                foot(lat, DVec3::new(0.0, -b, h - b)),
+                foot(top, DVec3::new(0.0, 0.0, h)),
+            ],
+        );
+        let boundary = Boundary::new(&m);
+        let opts = TraceOptions::for_model(&m);
+        let mat = trace_with_seeds(&m, &boundary, &class, &opts, &[seed]);
+        // The seed's seam comes first; sampling then finds the bottom one.
+        assert_eq!(mat.seams.len(), 2, "{file}");
+        let seam = &mat.seams[0];
+        let diag = m.diagonal();
+        for e in &seam.ends {
+            assert_eq!(
+                *e,
+                SeamEnd::CurvatureLimit {
+                    segment: Element::Face(lat)
+                },
+                "{file}"
+            );
+        }
+        let xs: Vec<f64> = seam.points.iter().map(|q| q.point[0]).collect();
+        let (lo, hi) = xs
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), &x| {
+                (l.min(x), u.max(x))
+            });
+        let x_end = a - b * b / a;
+        // The ends within 20× the accuracy: the bisection stops within the accuracy, but
+        // where the two touch points nearly meet the system is ill-conditioned (the
+        // centre moves along a near-null direction of the Jacobian), so a converged
+        // residual places the centre only to about the accuracy itself.
+        let end_tol = 2e-5 * diag;
+        assert!(
+            (lo + x_end).abs() <= end_tol && (hi - x_end).abs() <= end_tol,
+            "{file}: ends at x = {lo}, {hi}"
+        );
+        for q in &seam.points {
+            let [x, y, z, r] = q.point;
+            let want = ellipse_distance(a, b, x.clamp(-x_end, x_end));
+            assert!(y.abs() <= 1e-9 * diag, "{file}: y = {y}");
+            assert!(
+                (z - (h - r)).abs() <= 1e-9 * diag,
+                "{file}: z = {z}, r = {r}"
+            );
+            // (An end point's x may lie past the exact end by the end tolerance.)
+            let past = (x.abs() - x_end).max(0.0);
+            assert!(
+                (r - want).abs() <= 1e-6 * diag + 2.0 * past,
+                "{file}: r({x}) = {r}, not {want}"
+            );
+            let (t0, t1) = (DVec3::from_array(q.touch[0]), DVec3::from_array(q.touch[1]));
+            assert!((t0 - DVec3::new(t1.x, -t1.y, t1.z)).length() <= 1e-6 * diag);
+        }
+        // Points are spaced by the step control: the direction turns at most MAX_TURN_RAD.
+        for w in seam.points.windows(3) {
+            let d0 = DVec3::from_slice(&w[1].point[..3]) - DVec3::from_slice(&w[0].point[..3]);
+            let d1 = DVec3::from_slice(&w[2].point[..3]) - DVec3::from_slice(&w[1].point[..3]);
+            assert!(d0.angle_between(d1) <= 2.0 * MAX_TURN_RAD, "{file}");
+        }
+        assert!(verify(&m, &mat) <= 1e-6 * diag, "{file}");
+    }
+}
+
+/// No seam of `mat` has an open end, the seam–junction graph is consistent, and every
+/// ball verifies to the default accuracy.
+fn complete_and_verified(file: &str, m: &Model, mat: &MedialAxis) {
+    for s in &mat.seams {
+        assert!(
+            s.ends.iter().all(|e| !matches!(e, SeamEnd::Open(_))),
+            "{file}: seam {} {:?} ends {:?}",
+            s.id,
+            s.segments,
+            s.ends
+        );
+    }
+    let class = crate::classify(m, &Default::default());
+    let sheets = crate::medial::sheets(m, &class, mat);
+    let topo = crate::medial::verify::check_topology(mat, &sheets);
+    assert!(
+        topo.inconsistencies.is_empty(),
+        "{file}: {:?}",
+        topo.inconsistencies
+    );
+    // Where the sheets are complete, the medial axis is homotopy-equivalent to the solid.
+    for e in &topo.euler {
+        if let Some(chi) = e.mat_euler {
+            assert_eq!(chi, e.solid_euler, "{file}: Euler characteristics {e:?}");
+        }
+    }
+    let worst = verify(m, mat);
+    assert!(
+        worst <= 1e-6 * m.diagonal(),
+        "{file}: worst verified error {worst:e}"
+    );
+}
+
+/// Asserts a junction of `mat` at `p` with radius `r`, both to 1e-9 × the diagonal (the
+/// junction accuracy DESIGN.md asks for), and returns it.
+fn assert_junction_at<'m>(
+    file: &str,
+    m: &Model,
+    mat: &'m MedialAxis,
+    p: [f64; 3],
+    r: f64,
+) -> &'m Junction {
+    let diag = m.diagonal();
+    let (j, e) = junction_near(mat, DVec3::from_array(p));
+    assert!(e <= 1e-9 * diag, "{file}: junction near {p:?} off by {e:e}");
+    assert!(
+        (j.radius - r).abs() <= 1e-9 * diag,
+        "{file}: radius {} vs {r}",
+        j.radius
+    );
+    j
+}
+
+/// The junction of `mat` nearest `p`, and its distance from `p`.
+fn junction_near(mat: &MedialAxis, p: DVec3) -> (&Junction, f64) {
+    mat.junctions
+        .iter()
+        .map(|j| (j, DVec3::from_array(j.point).distance(p)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap()
+}
+
+/// L-bracket (profile [0,60]×[0,10] ∪ [0,10]×[0,40] in xz, 30 deep in y; one reflex
+/// edge E8 along x = 10, z = 10). Ten convex corners start ten seams. The four box-like
+/// junctions are at the ends of the two legs, radius 5 (half the thickness):
+/// (55, 5|25, 5) and (5, 5|25, 35). At the inner corner, the ball touching the bottom
+/// z = 0, the back x = 0, a side y = 0|30 and the reflex edge has centre (c, c|30−c, c)
+/// with √2·(10 − c) = c: c = 10·(2 − √2) = 5.858, radius c. Seams: 10 corner seams, one
+/// along each leg between its two end junctions, one between the two inner-corner
+/// junctions (bottom, back, edge), and four from the leg junctions to the inner ones,
+/// each handing its touch point from the leg's inner face onto the reflex edge: 17.
+#[test]
+fn l_bracket_with_a_reflex_edge() {
+    for file in ["l_bracket.step", "l_bracket_nurbs.step"] {
+        let (m, mat) = traced(file);
+        assert_eq!(mat.seams.len(), 17, "{file}");
+        assert_eq!(mat.junctions.len(), 6, "{file}");
+        let c = 10.0 * (2.0 - 2f64.sqrt());
+        let want = [
+            ([55.0, 5.0, 5.0], 5.0),
+            ([55.0, 25.0, 5.0], 5.0),
+            ([5.0, 5.0, 35.0], 5.0),
+            ([5.0, 25.0, 35.0], 5.0),
+            ([c, c, c], c),
+            ([c, 30.0 - c, c], c),
+        ];
+        for (p, r) in want {
+            let j = assert_junction_at(file, &m, &mat, p, r);
+            if r == c {
+                assert!(
+                    j.segments.iter().any(|s| matches!(s, Element::Edge(_))),
+                    "{file}: {:?}",
+                    j.segments
+                );
+            }
+        }
+        let handed = mat.seams.iter().filter(|s| !s.handovers.is_empty()).count();
+        assert_eq!(handed, 4, "{file}");
+        complete_and_verified(file, &m, &mat);
+    }
+}
+
+/// U-channel (base [0,60]×[0,10], uprights x ∈ [0,10] and [50,60] up to z = 40, 30 deep;
+/// two reflex edges): the L-bracket's inner-corner junctions at both inner corners,
+/// (c | 60 − c, c | 30 − c, c) with c = 10·(2 − √2), and the box-like junctions at the
+/// tops of the uprights, (5 | 55, 5 | 25, 35), radius 5. 12 corner seams, 2 up the
+/// uprights' tops, 2 between the inner junctions across y, 2 along the base between
+/// the inner corners (handing over from edge to the base's top face and onto the other
+/// edge), 4 from the upright tops down to the inner corners: 22.
+#[test]
+fn u_channel_with_two_reflex_edges() {
+    let (m, mat) = traced("u_channel.step");
+    assert_eq!(mat.seams.len(), 22);
+    assert_eq!(mat.junctions.len(), 8);
+    let c = 10.0 * (2.0 - 2f64.sqrt());
+    for x in [c, 60.0 - c] {
+        for y in [c, 30.0 - c] {
+            assert_junction_at("u_channel.step", &m, &mat, [x, y, c], c);
+        }
+    }
+    for x in [5.0, 55.0] {
+        for y in [5.0, 25.0] {
+            assert_junction_at("u_channel.step", &m, &mat, [x, y, 35.0], 5.0);
+        }
+    }
+    complete_and_verified("u_channel.step", &m, &mat);
+}
+
+/// Plate [0,80]×[0,50]×[0,10] with through holes r = 5, 8, 5 at x = 15, 40, 65 (y = 25):
+/// the box's 12 seams and 4 junctions (radius 5, half the thickness), plus around each
+/// hole a closed seam (top, bottom, hole wall) no corner reaches — found by seeding:
+/// the circle z = 5 at distance r_hole + 5 from the hole's axis, ball radius 5.
+#[test]
+fn plate_with_holes_has_a_closed_seam_around_each_hole() {
+    let (m, mat) = traced("plate_with_holes.step");
+    assert_eq!(mat.junctions.len(), 4);
+    assert_eq!(mat.seams.len(), 15);
+    let diag = m.diagonal();
+    let loops: Vec<&Seam> = mat
+        .seams
+        .iter()
+        .filter(|s| s.ends[0] == SeamEnd::Closed)
+        .collect();
+    assert_eq!(loops.len(), 3);
+    for s in loops {
+        let p0 = s.points[0].point;
+        let (cx, rh) = [(15.0, 5.0), (40.0, 8.0), (65.0, 5.0)]
+            .into_iter()
+            .min_by(|a, b| (a.0 - p0[0]).abs().total_cmp(&(b.0 - p0[0]).abs()))
+            .unwrap();
+        for q in &s.points {
+            let [x, y, z, r] = q.point;
+            let rho = ((x - cx).powi(2) + (y - 25.0).powi(2)).sqrt();
+            assert!(
+                (rho - (rh + 5.0)).abs() <= 1e-6 * diag,
+                "hole at {cx}: ρ = {rho}"
+            );
+            assert!((z - 5.0).abs() <= 1e-6 * diag && (r - 5.0).abs() <= 1e-6 * diag);
+        }
+    }
+    complete_and_verified("plate_with_holes.step", &m, &mat);
+}
+
+/// Solids without a convex corner. The elliptic cylinder's two seams (the ball touching
+/// the lateral face twice and one cap) are found by seeding and end at the centres of
+/// curvature x = ±22.5, r = 7.5 (see the seed test). The washer from OpenSCAD (inner
+/// radius 15, outer 25, height 8) has two closed seams, the circles of radius 19 and 21
+/// at z = 4, ball radius 4 (manifest). Cylinder, sphere and torus have degenerate medial
+/// axes, reported as such: the cylinder's axis (x = y = 0, r = 10), the sphere's centre
+/// (r = 15), the torus's core circle (x² + y² = 20², z = 0, r = 5).
+#[test]
+fn solids_without_convex_corners() {
+    for file in ["elliptic_cylinder.step", "elliptic_cylinder_nurbs.step"] {
+        let (m, mat) = traced(file);
+        assert_eq!(mat.seams.len(), 2, "{file}");
+        for s in &mat.seams {
+            assert!(
+                s.ends
+                    .iter()
+                    .all(|e| matches!(e, SeamEnd::CurvatureLimit { .. })),
+                "{file}: {:?}",
+                s.ends
+            );
+            let ends = [s.points[0].point, s.points[s.points.len() - 1].point];
+            assert!(
+                ends.iter()
+                    .all(|p| (p[0].abs() - 22.5).abs() <= 2e-5 * m.diagonal()),
+                "{file}: {ends:?}"
+            );
+        }
+        complete_and_verified(file, &m, &mat);
+    }
+    let (m, mat) = traced("scad_rotate_extrude.step");
+    assert_eq!(mat.seams.len(), 2);
+    let mut radii: Vec<f64> = mat
+        .seams
+        .iter()
+        .map(|s| {
+            assert_eq!(s.ends, [SeamEnd::Closed, SeamEnd::Closed]);
+            let [x, y, z, r] = s.points[0].point;
+            assert!(
+                (z - 4.0).abs() <= 1e-6 * m.diagonal() && (r - 4.0).abs() <= 1e-6 * m.diagonal()
+            );
+            (x * x + y * y).sqrt()
+        })
+        .collect();
+    radii.sort_by(f64::total_cmp);
+    assert!(
+        (radii[0] - 19.0).abs() <= 1e-6 * m.diagonal()
+            && (radii[1] - 21.0).abs() <= 1e-6 * m.diagonal(),
+        "{radii:?}"
+    );
+    complete_and_verified("scad_rotate_extrude.step", &m, &mat);
+    type Check = fn([f64; 4]) -> f64;
+    let cases: [(&str, &str, Check); 5] = [
+        ("cylinder.step", "curve", |b| {
+            b[0].hypot(b[1]) + (b[3] - 10.0).abs()
+        }),
+        ("cylinder_nurbs.step", "curve", |b| {
+            b[0].hypot(b[1]) + (b[3] - 10.0).abs()
+        }),
+        ("sphere.step", "point", |b| {
+            DVec3::new(b[0], b[1], b[2]).length() + (b[3] - 15.0).abs()
+        }),
+        ("sphere_nurbs.step", "point", |b| {
+            DVec3::new(b[0], b[1], b[2]).length() + (b[3] - 15.0).abs()
+        }),
+        ("torus.step", "curve", |b| {
+            (b[0].hypot(b[1]) - 20.0).abs() + b[2].abs() + (b[3] - 5.0).abs()
+        }),
+    ];
+    for (file, kind, err) in cases {
+        let (m, mat) = traced(file);
+        assert!(mat.seams.is_empty(), "{file}");
+        assert!(!mat.degenerate.is_empty(), "{file}");
+        for d in &mat.degenerate {
+            assert_eq!(d.kind.as_str(), kind, "{file}");
+            for b in &d.balls {
+                assert!(err(*b) <= 1e-6 * m.diagonal(), "{file}: {b:?}");
+            }
+        }
+        assert!(verify(&m, &mat) <= 1e-6 * m.diagonal(), "{file}");
+    }
+}
+
+/// Two solids in one file: the box [0,30]×[0,20]×[0,10] gets the box's MAT (junctions
+/// (5|25, 5|15, 5), radius 5) computed against its own faces only; the cylinder beside it
+/// (radius 5) gets its degenerate axis, as solid 1.
+#[test]
+fn each_solid_gets_its_own_medial_axis() {
+    let (m, mat) = traced("two_solids.step");
+    assert_eq!(mat.seams.len(), 12);
+    assert!(mat.seams.iter().all(|s| s.solid == 0));
+    for x in [5.0, 25.0] {
+        for y in [5.0, 15.0] {
+            let j = assert_junction_at("two_solids.step", &m, &mat, [x, y, 5.0], 5.0);
+            assert_eq!(j.solid, 0);
+        }
+    }
+    assert!(mat
+        .degenerate
+        .iter()
+        .any(|d| d.solid == 1 && d.kind == DegenerateKind::Curve));
+    complete_and_verified("two_solids.step", &m, &mat);
+}
+
+/// Box [0,60]×[0,40]×[0,30] with a spherical void (radius 8 at the centre (30,20,15)):
+/// the void is part of the boundary. The part is symmetric in x = 30 and y = 20, and so
+/// is its traced MAT: every junction has its mirror images, at the same radius.
+#[test]
+fn box_with_a_void() {
+    let (m, mat) = traced("box_with_void.step");
+    let diag = m.diagonal();
+    assert!(mat.junctions.len() >= 8);
+    for j in &mat.junctions {
+        let p = DVec3::from_array(j.point);
+        for q in [
+            DVec3::new(60.0 - p.x, p.y, p.z),
+            DVec3::new(p.x, 40.0 - p.y, p.z),
+        ] {
+            let (k, e) = junction_near(&mat, q);
+            assert!(
+                e <= 1e-6 * diag && (k.radius - j.radius).abs() <= 1e-6 * diag,
+                "no mirror of {p}"
+            );
+        }
+    }
+    assert!(
+        mat.junctions.iter().any(|j| j
+            .touch
+            .iter()
+            .any(
+                |t| (DVec3::from_array(*t) - DVec3::new(30.0, 20.0, 15.0)).length() <= 8.0 + 1e-6
+            )),
+        "no junction touches the void"
+    );
+    complete_and_verified("box_with_void.step", &m, &mat);
+}
+
+/// Box [0,60]×[0,40]×[0,20] with every edge filleted at radius 4: the inner box
+/// [4,56]×[4,36]×[4,16] offset by 4, so its medial axis is the box's with radii + 4
+/// (manifest): the same 4 junctions, (10|50, 10|30, 10) with radius 10, and 12 seams,
+/// the 8 corner seams now ending at the corner patches' centres (4|56, 4|36, 4|16),
+/// radius 4, where the ball osculates the fillets (a curvature-limit end).
+#[test]
+fn filleted_box_seams_end_at_the_corner_patch_centres() {
+    let (m, mat) = traced("filleted_box.step");
+    let diag = m.diagonal();
+    assert_eq!(mat.seams.len(), 12);
+    assert_eq!(mat.junctions.len(), 4);
+    for x in [10.0, 50.0] {
+        for y in [10.0, 30.0] {
+            assert_junction_at("filleted_box.step", &m, &mat, [x, y, 10.0], 10.0);
+        }
+    }
+    let corner_ends: Vec<[f64; 4]> = mat
+        .seams
+        .iter()
+        .flat_map(|s| {
+            let pts = [s.points[0].point, s.points[s.points.len() - 1].point];
+            s.ends
+                .iter()
+                .zip(pts)
+                .filter(|(e, _)| matches!(e, SeamEnd::CurvatureLimit { .. }))
+                .map(|(_, p)| p)
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert_eq!(corner_ends.len(), 8);
+    for p in corner_ends {
+        let near = |v: f64, a: f64, b: f64| (v - a).abs().min((v - b).abs());
+        let e = near(p[0], 4.0, 56.0) + near(p[1], 4.0, 36.0) + near(p[2], 4.0, 16.0);
+        assert!(
+            e <= 1e-5 * diag && (p[3] - 4.0).abs() <= 1e-5 * diag,
+            "{p:?}"
+        );
+    }
+    complete_and_verified("filleted_box.step", &m, &mat);
+}
+
+/// The L-bracket with its reflex edge replaced by a concave fillet of radius 5 (axis
+/// x = 15, z = 15): the leg-end junctions stay at (55, 5|25, 5) and (5, 5|25, 35),
+/// radius 5. The inner-corner junctions touch bottom, back, a side and the fillet from
+/// outside its cylinder: centre (c, c|30 − c, c) with √2·(15 − c) = c + 5, so
+/// c = (15√2 − 5)/(1 + √2) = 6.7157, radius c. 17 seams as for the sharp bracket.
+#[test]
+fn l_bracket_with_a_concave_fillet() {
+    let (m, mat) = traced("l_bracket_concave_fillet.step");
+    assert_eq!(mat.seams.len(), 17);
+    assert_eq!(mat.junctions.len(), 6);
+    let c = (15.0 * 2f64.sqrt() - 5.0) / (1.0 + 2f64.sqrt());
+    let want = [
+        ([55.0, 5.0, 5.0], 5.0),
+        ([55.0, 25.0, 5.0], 5.0),
+        ([5.0, 5.0, 35.0], 5.0),
+        ([5.0, 25.0, 35.0], 5.0),
+        ([c, c, c], c),
+        ([c, 30.0 - c, c], c),
+    ];
+    for (p, r) in want {
+        assert_junction_at("l_bracket_concave_fillet.step", &m, &mat, p, r);
+    }
+    complete_and_verified("l_bracket_concave_fillet.step", &m, &mat);
+}
+
+/// Plate [0,80]×[0,60]×[0,10] with a boss (radius 12, z from 10 to 30) at (40, 30): the
+/// plate's box-like junctions at (5|75, 5|55, 5), radius 5, far from the boss; and the
+/// boss's axis x = 40, y = 30 as a degenerate curve of balls of radius 12 touching its
+/// whole wall.
+#[test]
+fn boss_on_a_plate() {
+    let (m, mat) = traced("boss_on_plate.step");
+    let diag = m.diagonal();
+    for x in [5.0, 75.0] {
+        for y in [5.0, 55.0] {
+            assert_junction_at("boss_on_plate.step", &m, &mat, [x, y, 5.0], 5.0);
+        }
+    }
+    let axis: Vec<&[f64; 4]> = mat
+        .degenerate
+        .iter()
+        .filter(|d| d.kind == DegenerateKind::Curve)
+        .flat_map(|d| &d.balls)
+        .collect();
+    assert!(!axis.is_empty());
+    for b in axis {
+        let e = (b[0] - 40.0).hypot(b[1] - 30.0) + (b[3] - 12.0).abs();
+        assert!(e <= 1e-6 * diag, "{b:?}");
+    }
+    complete_and_verified("boss_on_plate.step", &m, &mat);
+}

@@ -1,0 +1,288 @@
+//! The tracer's state, and what it asks of the model: which solid an element bounds, whether
+//! a touch point is on its element, the nearest boundary point within a solid.
+
+use super::options::TraceOptions;
+use super::unknowns::{slot, sys_point};
+use crate::classify::{Classification, EdgeKind, VertexKind};
+use crate::geom::{project_point, Boundary, FaceHit, Feature};
+use crate::medial::axis::{Degenerate, Junction, MedialAxis, Node, Seam, SeamPoint, TraceStats};
+use crate::medial::equations::{vertex_angles, MedialSystem, NormalField};
+use crate::medial::segments::SegmentGroups;
+use crate::medial::solver::SolveOptions;
+use crate::model::{Element, Model};
+use glam::DVec3;
+use nalgebra::DVector;
+use std::collections::{HashSet, VecDeque};
+
+/// Where a seam starts.
+pub(super) struct Start {
+    pub(super) triplet: [Element; 3],
+    pub(super) x: DVector<f64>,
+    /// Direction of the centre at the start.
+    pub(super) dir: DVec3,
+    pub(super) from: Node,
+}
+
+/// The state of one trace.
+pub(super) struct Tracer<'a> {
+    pub(super) model: &'a Model,
+    pub(super) boundary: &'a Boundary,
+    pub(super) class: &'a Classification,
+    pub(super) opts: &'a TraceOptions,
+    /// The solid of each face.
+    pub(super) face_solid: Vec<usize>,
+    /// The edges at each vertex, with `true` where the vertex is the edge's end.
+    pub(super) vertex_edges: Vec<Vec<(usize, bool)>>,
+    /// Faces joined by smooth and reflex edges (with those edges and reflex vertices).
+    pub(super) groups: SegmentGroups,
+    /// Each face's loops in runs with bounding boxes, for [`Tracer::stays_on`].
+    pub(super) loop_chunks: Vec<crate::geom::trim::LoopChunks>,
+    pub(super) junctions: Vec<Junction>,
+    pub(super) degenerate: Vec<Degenerate>,
+    /// Faces some output seam point touches.
+    pub(super) touched: Vec<bool>,
+    /// Per junction: unit directions (leaving the junction) of the seams that arrived there,
+    /// so a branch along an arrived seam (same curve, another triplet of a non-generic
+    /// junction) is not traced again.
+    pub(super) arrivals: Vec<Vec<DVec3>>,
+    pub(super) seams: Vec<Seam>,
+    /// The two ends (and the elements there) of every seam between proper ends.
+    pub(super) traced_between: HashSet<[(Node, [Element; 3]); 2]>,
+    /// (sorted triplet, the node where it starts or ends) already traced.
+    pub(super) visited: HashSet<([Element; 3], Node)>,
+    pub(super) queue: VecDeque<Start>,
+    pub(super) stats: TraceStats,
+}
+
+impl<'a> Tracer<'a> {
+    /// A tracer with nothing traced yet.
+    pub(super) fn new(
+        model: &'a Model,
+        boundary: &'a Boundary,
+        class: &'a Classification,
+        opts: &'a TraceOptions,
+    ) -> Tracer<'a> {
+        Tracer {
+            model,
+            boundary,
+            class,
+            opts,
+            face_solid: (0..model.faces.len())
+                .map(|f| model.solid_of_face(f))
+                .collect(),
+            vertex_edges: {
+                let mut ve = vec![vec![]; model.vertices.len()];
+                for (e, edge) in model.edges.iter().enumerate() {
+                    ve[edge.vertices[0]].push((e, false));
+                    ve[edge.vertices[1]].push((e, true));
+                }
+                ve
+            },
+            groups: SegmentGroups::new(model, class),
+            loop_chunks: model
+                .faces
+                .iter()
+                .map(crate::geom::trim::LoopChunks::new)
+                .collect(),
+            junctions: vec![],
+            degenerate: vec![],
+            touched: vec![false; model.faces.len()],
+            arrivals: vec![],
+            seams: vec![],
+            visited: HashSet::new(),
+            traced_between: HashSet::new(),
+            queue: VecDeque::new(),
+            stats: TraceStats::default(),
+        }
+    }
+
+    /// The medial axis traced.
+    pub(super) fn into_axis(self) -> MedialAxis {
+        MedialAxis {
+            seams: self.seams,
+            junctions: self.junctions,
+            degenerate: self.degenerate,
+            stats: self.stats,
+        }
+    }
+    pub(super) fn solve_opts(&self) -> SolveOptions {
+        SolveOptions {
+            // Residuals well inside the output accuracy.
+            tol: 1e-3 * self.opts.accuracy,
+            max_iter: 12,
+        }
+    }
+
+    pub(super) fn solid_of(&self, seg: Element) -> usize {
+        match seg {
+            Element::Face(f) => self.face_solid[f],
+            Element::Edge(e) => self.face_solid[self.model.edges[e].faces[0]],
+            Element::Vertex(v) => self.vertex_edges[v]
+                .first()
+                .map_or(0, |&(e, _)| self.face_solid[self.model.edges[e].faces[0]]),
+        }
+    }
+
+    /// The unit tangents of vertex `v`'s edges, pointing away from it, with the edges.
+    pub(super) fn vertex_tangents(&self, v: usize) -> Vec<(usize, DVec3)> {
+        self.vertex_edges[v]
+            .iter()
+            .filter_map(|&(e, at_end)| {
+                let edge = &self.model.edges[e];
+                let t = if at_end { edge.range.1 } else { edge.range.0 };
+                let d = crate::geom::eval_curve(&edge.curve, t).d1;
+                let d = if at_end { -d } else { d };
+                (d.length() > 0.0).then(|| (e, d.normalize()))
+            })
+            .collect()
+    }
+
+    /// The nearest point of solid `solid`'s boundary to `p`, with the face it is on.
+    pub(super) fn nearest_in(&self, solid: usize, p: DVec3) -> Option<(usize, FaceHit)> {
+        self.boundary
+            .nearest_face_where(self.model, p, |g| self.face_solid[g] == solid)
+    }
+
+    pub(super) fn is_reflex(&self, e: usize) -> bool {
+        self.class.edges[e].kind == EdgeKind::Reflex
+    }
+
+    /// The outward normals of edge `e`'s two faces at curve parameter `t`: the ends of the
+    /// arc of normals the edge owns as a boundary segment.
+    pub(super) fn edge_fan(&self, e: usize, t: f64) -> Option<[DVec3; 2]> {
+        let edge = &self.model.edges[e];
+        let p = crate::geom::eval_curve(&edge.curve, t).p;
+        let normal = |f: usize| {
+            let uv = project_point(&self.model.faces[f].surface, p, None)?;
+            Element::Face(f).eval(self.model, [uv.0, uv.1]).map(|e| e.n)
+        };
+        Some([normal(edge.faces[0])?, normal(edge.faces[1])?])
+    }
+
+    /// Where a touch point with parameters `s` on reflex edge `e` is: within the edge's
+    /// range, and with its normal inside the arc between the edge's faces' normals.
+    pub(super) fn edge_status(&self, e: usize, s: [f64; 2]) -> (bool, bool) {
+        // A touch point that the corrector leaves a hair past an end (the accuracy, in
+        // length along the curve) is still on the edge: where the edge runs on into another
+        // (a circle split at a seam vertex) and the touch point sits at that vertex while
+        // the normal turns, an exact range test would hand it back and forth between the two.
+        let (lo, hi) = self.model.edges[e].range;
+        let end = s[0].clamp(lo, hi);
+        let in_range = end == s[0]
+            || (s[0] - end).abs()
+                * crate::geom::eval_curve(&self.model.edges[e].curve, end)
+                    .d1
+                    .length()
+                <= self.opts.accuracy;
+        let in_arc = match (self.edge_fan(e, s[0]), Element::Edge(e).eval(self.model, s)) {
+            (Some(fan), Some(ev)) => {
+                let span = fan[0].angle_between(fan[1]);
+                ev.n.angle_between(fan[0]) + ev.n.angle_between(fan[1]) <= span + 1e-9
+            }
+            _ => false,
+        };
+        (in_range, in_arc)
+    }
+
+    /// True when a touch point moving from parameters `from` to `to` stays on segment `seg`:
+    /// `to` is on it, and on a face the path between did not cross a trimming loop (a step
+    /// over a hole lands on the face again).
+    pub(super) fn stays_on(&self, seg: Element, from: [f64; 2], to: [f64; 2]) -> bool {
+        self.on_segment(seg, to)
+            && match seg {
+                Element::Face(f) => !crate::geom::trim::path_crosses_loops(
+                    &self.model.faces[f],
+                    &self.loop_chunks[f],
+                    glam::DVec2::from(from),
+                    glam::DVec2::from(to),
+                ),
+                _ => true,
+            }
+    }
+
+    /// True when parameters `s` lie on segment `seg`: inside a face's trim, or on a reflex
+    /// edge within its range with the normal inside the arc between its faces' normals.
+    pub(super) fn on_segment(&self, seg: Element, s: [f64; 2]) -> bool {
+        match seg {
+            Element::Face(f) => {
+                self.boundary
+                    .contains_uv(&self.model.faces[f], f, glam::DVec2::new(s[0], s[1]))
+            }
+            Element::Edge(e) => {
+                let (in_range, in_arc) = self.edge_status(e, s);
+                in_range && in_arc
+            }
+            // Touching at a vertex only, the boundary must not come closer along any of its
+            // edges: N·d ≥ 0 for every edge direction d leaving it.
+            Element::Vertex(v) => {
+                let Some(ev) = seg.eval(self.model, s) else {
+                    return false;
+                };
+                self.vertex_tangents(v)
+                    .iter()
+                    .all(|(_, d)| ev.n.dot(*d) >= -1e-9)
+            }
+        }
+    }
+
+    pub(super) fn seam_point(&mut self, sys: &MedialSystem, x: &DVector<f64>) -> SeamPoint {
+        for seg in &sys.segments {
+            if let Element::Face(f) = *seg {
+                self.touched[f] = true;
+            }
+        }
+        if let Some(f) = sys.residual(self.model, x) {
+            self.stats.worst_residual = self.stats.worst_residual.max(f.amax());
+        }
+        let touch = std::array::from_fn(|i| {
+            sys_point(self.model, sys.segments[i], slot(x, i))
+                .map_or([f64::NAN; 3], |p| p.to_array())
+        });
+        SeamPoint {
+            point: [x[0], x[1], x[2], x[3]],
+            touch,
+        }
+    }
+
+    /// The edge of face `f` nearest to `p`, with the curve parameter of the nearest point.
+    pub(super) fn nearest_edge_of_face(&self, f: usize, p: DVec3) -> Option<(usize, f64)> {
+        self.model.faces[f]
+            .loops
+            .iter()
+            .flat_map(|l| l.edges.iter())
+            .map(|oe| {
+                let (te, _, d) = crate::geom::nearest_on_edge(self.model, oe.edge, p, None);
+                (oe.edge, te, d)
+            })
+            .min_by(|a, b| a.2.total_cmp(&b.2))
+            .map(|(e, te, _)| (e, te))
+    }
+
+    /// The segment a boundary hit of face `f` (from centre `b`) lies on, with its
+    /// parameters: the face itself, or the reflex edge the hit is on. `None` for a hit at a
+    /// vertex that is not convex (a vertex segment).
+    pub(super) fn hit_segment(
+        &self,
+        f: usize,
+        hit: &FaceHit,
+        b: DVec3,
+    ) -> Option<(Element, [f64; 2])> {
+        match hit.on {
+            Feature::Edge(e, te) if self.is_reflex(e) => {
+                let n = (hit.point - b).normalize();
+                let th = crate::medial::equations::edge_angle(self.model, e, te, n)?;
+                Some((Element::Edge(e), [te, th]))
+            }
+            Feature::Vertex(v)
+                if matches!(
+                    self.class.vertices[v],
+                    VertexKind::Reflex | VertexKind::Mixed
+                ) =>
+            {
+                let n = (hit.point - b).normalize();
+                Some((Element::Vertex(v), vertex_angles(n)))
+            }
+            _ => Some((Element::Face(f), [hit.uv.0, hit.uv.1])),
+        }
+    }
+}
