@@ -2,6 +2,7 @@
 //! smooth edge onto the next face, onto a reflex edge and off it, from a reflex edge into the
 //! next one or onto its vertex — as the same ball, re-solved on the new triplet.
 
+use super::options::{OSCULATING_REL_RADIUS, REACH_REL_ACCURACY, SAME_PLACE_REL_ACCURACY};
 use super::tracer::Tracer;
 use super::unknowns::{new_triplet, slot, sys_point, v3};
 use crate::classify::{EdgeKind, VertexKind};
@@ -100,7 +101,9 @@ impl Tracer<'_> {
                 xc.clone(),
                 &self.solve_opts(),
             );
-            if sol.status == SolveStatus::Converged && v3(&sol.x).distance(v3(&xc)) <= 10.0 * acc {
+            if sol.status == SolveStatus::Converged
+                && v3(&sol.x).distance(v3(&xc)) <= SAME_PLACE_REL_ACCURACY * acc
+            {
                 xc = sol.x;
             }
         }
@@ -132,7 +135,7 @@ impl Tracer<'_> {
                     .nearest_edge_of_face(f, ev.p)
                     .filter(|&(e, te)| {
                         let q = crate::geom::eval_curve(&self.model.edges[e].curve, te).p;
-                        q.distance(ev.p) <= 1e3 * acc
+                        q.distance(ev.p) <= REACH_REL_ACCURACY * acc
                     })
                     .ok_or(OpenReason::LeftFaceAwayFromEdges { face: seg })?;
                 let edge = &self.model.edges[e];
@@ -176,7 +179,7 @@ impl Tracer<'_> {
                             .point
                             .distance(ev.p)
                             .min(self.model.vertices[edge.vertices[1]].point.distance(ev.p))
-                            <= 10.0 * acc;
+                            <= SAME_PLACE_REL_ACCURACY * acc;
                         (te - lo).min(hi - te) <= 1e-6 * (hi - lo)
                             || (near_end
                                 && self.edge_fan(e, te).is_some_and(|fan| {
@@ -300,7 +303,10 @@ impl Tracer<'_> {
     ) -> Option<(Element, DVector<f64>)> {
         let ev = triplet[i].eval(self.model, slot(xc, i))?;
         let v = (0..self.model.vertices.len())
-            .filter(|&v| self.model.vertices[v].point.distance(ev.p) <= 10.0 * self.opts.accuracy)
+            .filter(|&v| {
+                self.model.vertices[v].point.distance(ev.p)
+                    <= SAME_PLACE_REL_ACCURACY * self.opts.accuracy
+            })
             .min_by(|&a, &b| {
                 let da = self.model.vertices[a].point.distance(ev.p);
                 da.total_cmp(&self.model.vertices[b].point.distance(ev.p))
@@ -335,7 +341,12 @@ impl Tracer<'_> {
         let xc = xc.clone();
         // The ball osculates the next face (a fillet or a corner patch of its own radius):
         // it touches it along a curve, and the seam ends there, at that centre of curvature.
-        if !curvature_allows(self.model, to, params, xc[3] * (1.0 + 1e-6)) {
+        if !curvature_allows(
+            self.model,
+            to,
+            params,
+            xc[3] * (1.0 + OSCULATING_REL_RADIUS),
+        ) {
             return Err(HandOverError::Osculates(to));
         }
         let mut new = *triplet;

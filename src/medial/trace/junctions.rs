@@ -2,6 +2,10 @@
 //! ball touching four elements, located exactly; the other triplets of that ball leave it as
 //! new seams.
 
+use super::options::{
+    DISTINCT_TOUCH_REL_RADIUS, MAX_REFINE_ITER, SAME_DIRECTION, SAME_PLACE_REL_ACCURACY,
+    UNIT_ROUNDING,
+};
 use super::tracer::{Start, Tracer};
 use super::unknowns::{seam_x, slot, sorted, sys_point, touches_meet, v3, Pairs};
 use crate::geom::{project_point, FaceHit, Feature};
@@ -80,8 +84,9 @@ impl Tracer<'_> {
             });
         // The junction itself must be medial (nothing closer than its radius).
         let located = located.filter(|(_, jx)| {
-            self.nearest_in(solid, v3(jx))
-                .is_some_and(|(_, h)| h.distance >= jx[3] - 10.0 * self.opts.accuracy)
+            self.nearest_in(solid, v3(jx)).is_some_and(|(_, h)| {
+                h.distance >= jx[3] - SAME_PLACE_REL_ACCURACY * self.opts.accuracy
+            })
         });
         let Some((fourth, jx)) = located else {
             let why = OpenReason::NoJunction { element: fourth };
@@ -153,8 +158,8 @@ impl Tracer<'_> {
             |y| sys.eval(self.model, y),
             x0,
             &SolveOptions {
-                tol: 1e-3 * self.opts.accuracy,
-                max_iter: 30,
+                tol: self.opts.solver_tol,
+                max_iter: MAX_REFINE_ITER,
             },
         );
         if !(sol.status == SolveStatus::Converged && sol.x[3] > 0.0) {
@@ -169,7 +174,7 @@ impl Tracer<'_> {
             self.model,
             &sys.segments,
             &sol.x,
-            1e-3 * r,
+            DISTINCT_TOUCH_REL_RADIUS * r,
             Pairs::SameSegment,
         );
         (on_faces && distinct).then_some(sol.x)
@@ -190,7 +195,7 @@ impl Tracer<'_> {
         let p = v3(jx);
         let r = jx[3];
         let solid = self.solid_of(fourth);
-        let tol = 10.0 * self.opts.accuracy;
+        let tol = SAME_PLACE_REL_ACCURACY * self.opts.accuracy;
         if let Some(id) = self
             .junctions
             .iter()
@@ -272,11 +277,11 @@ impl Tracer<'_> {
                     if n.dot(t0 - touch[first]) < 0.0 {
                         n = -n;
                     }
-                    let eps = 1e-9 * r;
+                    let eps = UNIT_ROUNDING * r;
                     if others.into_iter().any(|q| n.dot(t0 - touch[q]) < -eps) {
                         continue;
                     }
-                    if dirs.iter().any(|e| e.distance(n) < 1e-9) {
+                    if dirs.iter().any(|e| e.distance(n) < SAME_DIRECTION) {
                         continue;
                     }
                     dirs.push(n);

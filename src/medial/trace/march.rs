@@ -2,7 +2,11 @@
 //! the events that end a march or change its elements.
 
 use super::handover::HandOverError;
-use super::options::{MAX_POINTS, MAX_STEP_REL_DIAGONAL, MAX_TURN_RAD, MIN_STEP_REL_DIAGONAL};
+use super::options::{
+    FAST_CONVERGENCE_ITER, FIRST_STEP_REL_DIAGONAL, MAX_CENTRE_STEP_ITER, MAX_POINTS,
+    MAX_STEP_REL_DIAGONAL, MAX_TURN_RAD, MERGED_TOUCH_REL_RADIUS, MIN_STEP_REL_DIAGONAL,
+    REACH_REL_ACCURACY, SAME_PLACE_REL_ACCURACY, STEP_GROWTH, STEP_SHRINK,
+};
 use super::tracer::Tracer;
 use super::unknowns::{new_triplet, slot, sys_point, to_chord, touches_meet, v3, Pairs};
 use crate::medial::axis::{Handover, OpenReason, SeamEnd, SeamPoint};
@@ -22,283 +26,366 @@ pub(super) struct Run {
     pub(super) handovers: Vec<Handover>,
 }
 
+/// The state of one march.
+struct March<'c> {
+    /// The elements touched now, and at the start.
+    triplet: [Element; 3],
+    first: [Element; 3],
+    sys: MedialSystem,
+    solid: usize,
+    /// Where a march from a seed closes.
+    close_at: Option<&'c DVector<f64>>,
+    /// The last seam point, the unit tangent there, the next step's length (mm of centre
+    /// travel) and the travel so far.
+    x: DVector<f64>,
+    t: DVector<f64>,
+    h: f64,
+    travel: f64,
+    points: Vec<SeamPoint>,
+    handovers: Vec<Handover>,
+}
+
+/// What one step of a march leads to.
+enum Flow {
+    /// The next step.
+    Next,
+    /// The end of the march.
+    End(SeamEnd),
+}
+
+/// True when handing touch point `i` to `to` undoes the hand-over made at the last point.
+fn handed_back(m: &March, i: usize, to: Element) -> bool {
+    m.handovers
+        .last()
+        .is_some_and(|h| h.point + 1 >= m.points.len() && h.to == m.triplet[i] && h.from == to)
+}
+
 impl Tracer<'_> {
     /// Marches along the seam of `triplet` from the seam point `x0`, leaving along `dir0`,
     /// until it ends (see [`SeamEnd`]). With `close_at`, a march that comes back to that
     /// point ends [`SeamEnd::Closed`].
     pub(super) fn march(
         &mut self,
-        mut triplet: [Element; 3],
+        triplet: [Element; 3],
         x0: DVector<f64>,
         dir0: DVec3,
         close_at: Option<&DVector<f64>>,
     ) -> Run {
-        let mut sys = MedialSystem::new(triplet.to_vec());
-        let mut handovers = vec![];
-        let first = triplet;
-        let solid = self.solid_of(triplet[0]);
-        let diag = self.model.diagonal();
-        let acc = self.opts.accuracy;
-        let mut x = x0;
-        let mut points = vec![self.seam_point(&sys, &x)];
+        let sys = MedialSystem::new(triplet.to_vec());
+        let points = vec![self.seam_point(&sys, &x0)];
         // The first tangent is oriented by the centre's direction alone (no weight on r).
         let mut dir = DVector::zeros(10);
         dir[0] = dir0.x;
         dir[1] = dir0.y;
         dir[2] = dir0.z;
-        let Some(mut t) = self.tangent(&sys, &x, &dir) else {
-            let end = SeamEnd::Open(OpenReason::SingularTangent);
+        let Some(t) = self.tangent(&sys, &x0, &dir) else {
             return Run {
                 points,
-                end,
+                end: SeamEnd::Open(OpenReason::SingularTangent),
                 triplet,
-                handovers,
+                handovers: vec![],
             };
         };
-        let mut h = 1e-3 * diag;
-        let mut travel = 0.0;
-        let end: SeamEnd;
-        loop {
-            if points.len() >= MAX_POINTS {
-                end = SeamEnd::Open(OpenReason::PointBudgetExhausted);
-                break;
-            }
-            let Some((xn, tn, iterations)) = self.step(&sys, &x, &t, h) else {
-                self.stats.corrector_failures += 1;
-                h *= 0.5;
-                if h < MIN_STEP_REL_DIAGONAL * diag {
-                    end = SeamEnd::Open(OpenReason::StepSizeUnderflow);
-                    break;
-                }
-                continue;
-            };
-            let r = xn[3];
-            // Back to a convex vertex: r returns to zero.
-            // (Away from a vertex with a touch point off its segment, the step overshot a
-            // hand-over or a junction: that is handled below.)
-            if r <= acc && points.len() > 1 {
-                let (xe, v) = self.land_at_vertex(&sys, xn.clone());
-                let off = (0..3).any(|i| !self.on_segment(triplet[i], slot(&xn, i)));
-                if v.is_some() || !off {
-                    points.push(self.seam_point(&sys, &xe));
-                    end = v.map_or_else(
-                        || SeamEnd::Open(OpenReason::ZeroRadiusAwayFromVertex),
-                        SeamEnd::Vertex,
-                    );
-                    break;
-                }
-            }
-            // Back at the seed: a closed seam.
-            // (Only on the segments it started with: the seed's parameters are theirs.)
-            if let Some(xs) = close_at.filter(|_| triplet == first) {
-                let step = v3(&xn).distance(v3(&x));
-                if travel > 3.0 * step
-                    && to_chord(v3(xs), v3(&x), v3(&xn)) <= 0.05 * step + 10.0 * acc
-                    && (xs[3] - r).abs() <= 0.05 * step + 10.0 * acc
-                {
-                    points.push(self.seam_point(&sys, xs));
-                    end = SeamEnd::Closed;
-                    break;
-                }
-            }
-            // A touch point that leaves its segment is handed over to the next one across
-            // the edge it crossed (xn itself, off the segment, is not output).
-            if let Some(mut i) =
-                (0..3).find(|&i| !self.stays_on(triplet[i], slot(&x, i), slot(&xn, i)))
-            {
-                match self.hand_over(&triplet, &mut i, &x, &t, h) {
-                    Ok((to, xc, _))
-                        if handovers.last().is_some_and(|h: &Handover| {
-                            h.point + 1 >= points.len() && h.to == triplet[i] && h.from == to
-                        }) =>
-                    {
-                        // The touch point sits at a vertex while the normal turns: it is
-                        // on the vertex (a corner of two reflex edges, or of faceted faces
-                        // meeting at small angles), not on either neighbour.
-                        let from = triplet[i];
-                        match self.onto_vertex(&triplet, i, &xc, &t) {
-                            Some((v, xv)) => {
-                                handovers.push(Handover {
-                                    point: points.len(),
-                                    from,
-                                    to: v,
-                                });
-                                triplet[i] = v;
-                                sys = MedialSystem::new(triplet.to_vec());
-                                points.push(self.seam_point(&sys, &xv));
-                                let mut d = DVector::zeros(10);
-                                d.rows_mut(0, 3).copy_from(&t.rows(0, 3));
-                                let Some(tc) = self.tangent(&sys, &xv, &d) else {
-                                    end = SeamEnd::Open(OpenReason::SingularTangentAfterHandover);
-                                    break;
-                                };
-                                travel += v3(&xv).distance(v3(&x));
-                                x = xv;
-                                t = tc;
-                                continue;
-                            }
-                            None => {
-                                end = SeamEnd::Open(OpenReason::Oscillates { from, to });
-                                break;
-                            }
-                        }
-                    }
-                    Ok((to, crossing, xnew)) => {
-                        // The crossing point must itself be medial: a junction may come first.
-                        if let Some((e, jx)) =
-                            self.junction_between(&triplet, solid, &x, &crossing, &t)
-                        {
-                            if let Some(jx) = jx {
-                                points.push(self.seam_point(&sys, &jx.rows(0, 10).into_owned()));
-                            }
-                            end = e;
-                            break;
-                        }
-                        let xc = xnew;
-                        let nt = new_triplet(&triplet, i, to);
-                        if self.coincident(&nt, &xc, true) {
-                            // Two touch points on one part of the boundary (faces and the
-                            // reflex edges and vertices joining them, across which a touch
-                            // point moves on) have met: the ball osculates it there, like a
-                            // face touched twice at its curvature limit, and the seam ends.
-                            let at = |k: usize| sys_point(self.model, nt[k], slot(&xc, k));
-                            let merged = (0..3).find(|&k| {
-                                k != i
-                                    && self.groups.of(nt[k]) == self.groups.of(to)
-                                    && matches!((at(k), at(i)), (Some(a), Some(b)) if a.distance(b) <= 1e-4 * xc[3])
-                            });
-                            end = match merged {
-                                Some(_) => {
-                                    points.push(self.seam_point(&sys, &crossing));
-                                    SeamEnd::CurvatureLimit { segment: to }
-                                }
-                                None => SeamEnd::Open(OpenReason::CoincideAfterHandover {
-                                    from: triplet[i],
-                                    to,
-                                }),
-                            };
-                            break;
-                        }
-                        handovers.push(Handover {
-                            point: points.len(),
-                            from: triplet[i],
-                            to,
-                        });
-                        triplet[i] = to;
-                        sys = MedialSystem::new(triplet.to_vec());
-                        points.push(self.seam_point(&sys, &xc));
-                        let mut d = DVector::zeros(10);
-                        d.rows_mut(0, 3).copy_from(&t.rows(0, 3));
-                        let Some(tc) = self.tangent(&sys, &xc, &d) else {
-                            end = SeamEnd::Open(OpenReason::SingularTangentAfterHandover);
-                            break;
-                        };
-                        travel += v3(&xc).distance(v3(&x));
-                        x = xc;
-                        t = tc;
-                        continue;
-                    }
-                    Err((e, xc)) => {
-                        // A junction before the crossing ends the seam there instead (the
-                        // step that left the segment may have passed it).
-                        if let Some((e, jx)) = self.junction_between(&triplet, solid, &x, &xc, &t) {
-                            if let Some(jx) = jx {
-                                points.push(self.seam_point(&sys, &jx.rows(0, 10).into_owned()));
-                            }
-                            end = e;
-                            break;
-                        }
-                        // The crossing point itself is a seam point when it is medial.
-                        if self.is_medial(&triplet, &xc) {
-                            points.push(self.seam_point(&sys, &xc));
-                        }
-                        end = match e {
-                            HandOverError::Osculates(seg) => {
-                                SeamEnd::CurvatureLimit { segment: seg }
-                            }
-                            HandOverError::Stop(why) => SeamEnd::Open(why),
-                        };
-                        break;
-                    }
-                }
-            }
-            // Another part of the boundary closer than r: a junction between x and xn.
-            if let Some((e, jx)) = self.junction_between(&triplet, solid, &x, &xn, &t) {
-                if let Some(jx) = jx {
-                    points.push(self.seam_point(&sys, &jx.rows(0, 10).into_owned()));
-                }
-                end = e;
-                break;
-            }
-            // The curvature criterion: the ball must not poke through a touched face. Where
-            // the ball touches a face twice, the two touch points must not meet (or pass
-            // through each other): where they meet the ball osculates the face, r·κmax = 1,
-            // and the seam ends at that centre of curvature.
-            let touches = |y: &DVector<f64>| -> [Option<DVec3>; 3] {
-                std::array::from_fn(|i| sys_point(self.model, triplet[i], slot(y, i)))
-            };
-            let before = touches(&x);
-            let poked = |y: &DVector<f64>| {
-                let now = touches(y);
-                (0..3).find(|&i| {
-                    !curvature_allows(self.model, triplet[i], slot(y, i), y[3])
-                        || (0..i).any(|j| {
-                            triplet[j] == triplet[i]
-                                && match (before[i], before[j], now[i], now[j]) {
-                                    // Separated by less than 1e-4·r, the centre is within
-                                    // ~(1e-4·r)²/ρ of the end: far below the accuracy.
-                                    (Some(a), Some(b), Some(c), Some(d)) => {
-                                        (c - d).dot(a - b) <= 0.0 || c.distance(d) <= 1e-4 * y[3]
-                                    }
-                                    _ => true,
-                                }
-                        })
-                })
-            };
-            // Two different segments touched at one place (where a face meets its edge): the
-            // ball touches fewer than three places, so the point is no seam point.
-            if self.coincident(&triplet, &xn, false) {
-                end = SeamEnd::Open(OpenReason::TouchPointsCoincide);
-                break;
-            }
-            if let Some(i) = poked(&xn) {
-                // Bisect the arclength from x to where the ball osculates, to the accuracy.
-                let (mut lo, mut hi) = (0.0, h);
-                let mut last = None;
-                while hi - lo > acc {
-                    let mid = 0.5 * (lo + hi);
-                    match self.centre_step(&sys, &x, &t, mid) {
-                        Some(xm) if poked(&xm).is_none() => {
-                            lo = mid;
-                            last = Some(xm);
-                        }
-                        _ => hi = mid,
-                    }
-                }
-                if let Some(xm) = last {
-                    points.push(self.seam_point(&sys, &xm));
-                }
-                end = SeamEnd::CurvatureLimit {
-                    segment: triplet[i],
-                };
-                break;
-            }
-            points.push(self.seam_point(&sys, &xn));
-            travel += v3(&xn).distance(v3(&x));
-            x = xn;
-            t = tn;
-            h = if iterations <= 3 {
-                (h * 1.5).min(MAX_STEP_REL_DIAGONAL * diag)
-            } else {
-                h * 0.7
-            };
-        }
-        Run {
-            points,
-            end,
+        let mut m = March {
             triplet,
-            handovers,
+            first: triplet,
+            sys,
+            solid: self.solid_of(triplet[0]),
+            close_at,
+            x: x0,
+            t,
+            h: FIRST_STEP_REL_DIAGONAL * self.model.diagonal(),
+            travel: 0.0,
+            points,
+            handovers: vec![],
+        };
+        let end = loop {
+            if let Flow::End(end) = self.march_step(&mut m) {
+                break end;
+            }
+        };
+        Run {
+            points: m.points,
+            end,
+            triplet: m.triplet,
+            handovers: m.handovers,
         }
+    }
+
+    /// One step of a march: the next seam point, or the event that ends the march or hands a
+    /// touch point over, in this order: the point budget, the corrector (halving the step
+    /// when it fails), a convex vertex, the seed (a closed seam), a touch point leaving its
+    /// element, a junction, the curvature limit.
+    fn march_step(&mut self, m: &mut March) -> Flow {
+        let diag = self.model.diagonal();
+        if m.points.len() >= MAX_POINTS {
+            return Flow::End(SeamEnd::Open(OpenReason::PointBudgetExhausted));
+        }
+        let Some((xn, tn, iterations)) = self.step(&m.sys, &m.x, &m.t, m.h) else {
+            self.stats.corrector_failures += 1;
+            m.h *= 0.5;
+            if m.h < MIN_STEP_REL_DIAGONAL * diag {
+                return Flow::End(SeamEnd::Open(OpenReason::StepSizeUnderflow));
+            }
+            return Flow::Next;
+        };
+        if let Some(end) = self.end_at_vertex(m, &xn) {
+            return Flow::End(end);
+        }
+        if let Some(end) = self.close_at_seed(m, &xn) {
+            return Flow::End(end);
+        }
+        // A touch point that leaves its element is handed over to the next one across the
+        // edge it crossed (xn itself, off the element, is not output).
+        if let Some(i) = (0..3).find(|&i| !self.stays_on(m.triplet[i], slot(&m.x, i), slot(&xn, i)))
+        {
+            return self.cross_over(m, i);
+        }
+        // Another part of the boundary closer than r: a junction between x and xn.
+        if let Some(end) = self.junction_end(m, &xn) {
+            return Flow::End(end);
+        }
+        if let Some(end) = self.curvature_end(m, &xn) {
+            return Flow::End(end);
+        }
+        m.points.push(self.seam_point(&m.sys, &xn));
+        m.travel += v3(&xn).distance(v3(&m.x));
+        m.x = xn;
+        m.t = tn;
+        m.h = if iterations <= FAST_CONVERGENCE_ITER {
+            (m.h * STEP_GROWTH).min(MAX_STEP_REL_DIAGONAL * diag)
+        } else {
+            m.h * STEP_SHRINK
+        };
+        Flow::Next
+    }
+
+    /// Back to a convex vertex: `r` returns to zero at `xn`. (Away from a vertex with a touch
+    /// point off its element, the step overshot a hand-over or a junction: that is left to
+    /// those.)
+    fn end_at_vertex(&mut self, m: &mut March, xn: &DVector<f64>) -> Option<SeamEnd> {
+        if !(xn[3] <= self.opts.accuracy && m.points.len() > 1) {
+            return None;
+        }
+        let (xe, v) = self.land_at_vertex(&m.sys, xn.clone());
+        let off = (0..3).any(|i| !self.on_segment(m.triplet[i], slot(xn, i)));
+        if v.is_none() && off {
+            return None;
+        }
+        m.points.push(self.seam_point(&m.sys, &xe));
+        Some(v.map_or_else(
+            || SeamEnd::Open(OpenReason::ZeroRadiusAwayFromVertex),
+            SeamEnd::Vertex,
+        ))
+    }
+
+    /// Back at the seed: a closed seam. (Only on the elements it started with: the seed's
+    /// parameters are theirs.)
+    fn close_at_seed(&mut self, m: &mut March, xn: &DVector<f64>) -> Option<SeamEnd> {
+        let acc = self.opts.accuracy;
+        let xs = m.close_at.filter(|_| m.triplet == m.first)?;
+        let step = v3(xn).distance(v3(&m.x));
+        let back = m.travel > 3.0 * step
+            && to_chord(v3(xs), v3(&m.x), v3(xn)) <= 0.05 * step + SAME_PLACE_REL_ACCURACY * acc
+            && (xs[3] - xn[3]).abs() <= 0.05 * step + SAME_PLACE_REL_ACCURACY * acc;
+        if !back {
+            return None;
+        }
+        m.points.push(self.seam_point(&m.sys, xs));
+        Some(SeamEnd::Closed)
+    }
+
+    /// Touch point `i` left its element between `m.x` and the next point: hands it over, or
+    /// ends the march where it cannot be.
+    fn cross_over(&mut self, m: &mut March, mut i: usize) -> Flow {
+        match self.hand_over(&m.triplet, &mut i, &m.x, &m.t, m.h) {
+            Ok((to, xc, _)) if handed_back(m, i, to) => self.stay_on_vertex(m, i, to, &xc),
+            Ok((to, crossing, xnew)) => self.continue_on(m, i, to, &crossing, xnew),
+            Err((e, xc)) => Flow::End(self.end_at_crossing(m, e, &xc)),
+        }
+    }
+
+    /// The touch point sits at a vertex while the normal turns (it was just handed the other
+    /// way): it is on the vertex (a corner of two reflex edges, or of faceted faces meeting
+    /// at small angles), not on either neighbour.
+    fn stay_on_vertex(&mut self, m: &mut March, i: usize, to: Element, xc: &DVector<f64>) -> Flow {
+        let from = m.triplet[i];
+        match self.onto_vertex(&m.triplet, i, xc, &m.t) {
+            Some((v, xv)) => {
+                m.handovers.push(Handover {
+                    point: m.points.len(),
+                    from,
+                    to: v,
+                });
+                self.switch_to(m, i, v, xv)
+            }
+            None => Flow::End(SeamEnd::Open(OpenReason::Oscillates { from, to })),
+        }
+    }
+
+    /// A hand-over of touch point `i` to `to` at `crossing` (`xnew`: the same ball on the new
+    /// triplet): unless a junction comes first or two touch points meet there, the march
+    /// goes on from `xnew`.
+    fn continue_on(
+        &mut self,
+        m: &mut March,
+        i: usize,
+        to: Element,
+        crossing: &DVector<f64>,
+        xnew: DVector<f64>,
+    ) -> Flow {
+        // The crossing point must itself be medial: a junction may come first.
+        if let Some(end) = self.junction_end(m, crossing) {
+            return Flow::End(end);
+        }
+        let nt = new_triplet(&m.triplet, i, to);
+        if self.coincident(&nt, &xnew, true) {
+            return Flow::End(self.merged_end(m, i, to, crossing, &xnew));
+        }
+        m.handovers.push(Handover {
+            point: m.points.len(),
+            from: m.triplet[i],
+            to,
+        });
+        self.switch_to(m, i, to, xnew)
+    }
+
+    /// Two touch points coincide after handing touch point `i` to `to`. When they are on one
+    /// part of the boundary (faces and the reflex edges and vertices joining them, across
+    /// which a touch point moves on), the ball osculates it there, like a face touched twice
+    /// at its curvature limit, and the seam ends at the crossing; otherwise it ends open.
+    fn merged_end(
+        &mut self,
+        m: &mut March,
+        i: usize,
+        to: Element,
+        crossing: &DVector<f64>,
+        xc: &DVector<f64>,
+    ) -> SeamEnd {
+        let nt = new_triplet(&m.triplet, i, to);
+        let at = |k: usize| sys_point(self.model, nt[k], slot(xc, k));
+        let merged = (0..3).find(|&k| {
+            k != i
+                && self.groups.of(nt[k]) == self.groups.of(to)
+                && matches!((at(k), at(i)), (Some(a), Some(b)) if a.distance(b) <= MERGED_TOUCH_REL_RADIUS * xc[3])
+        });
+        match merged {
+            Some(_) => {
+                m.points.push(self.seam_point(&m.sys, crossing));
+                SeamEnd::CurvatureLimit { segment: to }
+            }
+            None => SeamEnd::Open(OpenReason::CoincideAfterHandover {
+                from: m.triplet[i],
+                to,
+            }),
+        }
+    }
+
+    /// Moves touch point `i` onto `to` and goes on from `xnew` (the ball on the new triplet),
+    /// along the tangent there oriented like the last one.
+    fn switch_to(&mut self, m: &mut March, i: usize, to: Element, xnew: DVector<f64>) -> Flow {
+        m.triplet[i] = to;
+        m.sys = MedialSystem::new(m.triplet.to_vec());
+        m.points.push(self.seam_point(&m.sys, &xnew));
+        let mut d = DVector::zeros(10);
+        d.rows_mut(0, 3).copy_from(&m.t.rows(0, 3));
+        let Some(tc) = self.tangent(&m.sys, &xnew, &d) else {
+            return Flow::End(SeamEnd::Open(OpenReason::SingularTangentAfterHandover));
+        };
+        m.travel += v3(&xnew).distance(v3(&m.x));
+        m.x = xnew;
+        m.t = tc;
+        Flow::Next
+    }
+
+    /// A hand-over failed at the crossing point `xc`: the march ends at a junction before it
+    /// (the step that left the element may have passed one), or at the crossing.
+    fn end_at_crossing(&mut self, m: &mut March, e: HandOverError, xc: &DVector<f64>) -> SeamEnd {
+        if let Some(end) = self.junction_end(m, xc) {
+            return end;
+        }
+        // The crossing point itself is a seam point when it is medial.
+        if self.is_medial(&m.triplet, xc) {
+            m.points.push(self.seam_point(&m.sys, xc));
+        }
+        match e {
+            HandOverError::Osculates(seg) => SeamEnd::CurvatureLimit { segment: seg },
+            HandOverError::Stop(why) => SeamEnd::Open(why),
+        }
+    }
+
+    /// The junction between `m.x` and `to`, if another part of the boundary comes closer than
+    /// `r` there: its point ends the march.
+    fn junction_end(&mut self, m: &mut March, to: &DVector<f64>) -> Option<SeamEnd> {
+        let (end, jx) = self.junction_between(&m.triplet, m.solid, &m.x, to, &m.t)?;
+        if let Some(jx) = jx {
+            m.points
+                .push(self.seam_point(&m.sys, &jx.rows(0, 10).into_owned()));
+        }
+        Some(end)
+    }
+
+    /// The curvature criterion at `xn`: the ball must not poke through a touched face. Where
+    /// the ball touches a face twice, the two touch points must not meet (or pass through
+    /// each other): where they meet the ball osculates the face, `r·κmax = 1`, and the seam
+    /// ends at that centre of curvature, located by bisection to the accuracy. Before that,
+    /// two different elements touched at one place (where a face meets its edge) end the
+    /// march open: the ball touches fewer than three places there.
+    fn curvature_end(&mut self, m: &mut March, xn: &DVector<f64>) -> Option<SeamEnd> {
+        let before = self.touches(&m.triplet, &m.x);
+        if self.coincident(&m.triplet, xn, false) {
+            return Some(SeamEnd::Open(OpenReason::TouchPointsCoincide));
+        }
+        let i = self.poked(&m.triplet, &before, xn)?;
+        // Bisect the arclength from x to where the ball osculates, to the accuracy.
+        let (mut lo, mut hi) = (0.0, m.h);
+        let mut last = None;
+        while hi - lo > self.opts.accuracy {
+            let mid = 0.5 * (lo + hi);
+            match self.centre_step(&m.sys, &m.x, &m.t, mid) {
+                Some(xm) if self.poked(&m.triplet, &before, &xm).is_none() => {
+                    lo = mid;
+                    last = Some(xm);
+                }
+                _ => hi = mid,
+            }
+        }
+        if let Some(xm) = last {
+            m.points.push(self.seam_point(&m.sys, &xm));
+        }
+        Some(SeamEnd::CurvatureLimit {
+            segment: m.triplet[i],
+        })
+    }
+
+    /// The touch points of `y` on `triplet`.
+    fn touches(&self, triplet: &[Element; 3], y: &DVector<f64>) -> [Option<DVec3>; 3] {
+        std::array::from_fn(|i| sys_point(self.model, triplet[i], slot(y, i)))
+    }
+
+    /// The first touch point of `y` where the ball pokes through its face, or where two
+    /// touch points on one face (at `before` on the last point) have met or passed through
+    /// each other.
+    fn poked(
+        &self,
+        triplet: &[Element; 3],
+        before: &[Option<DVec3>; 3],
+        y: &DVector<f64>,
+    ) -> Option<usize> {
+        let now = self.touches(triplet, y);
+        (0..3).find(|&i| {
+            !curvature_allows(self.model, triplet[i], slot(y, i), y[3])
+                || (0..i).any(|j| {
+                    triplet[j] == triplet[i]
+                        && match (before[i], before[j], now[i], now[j]) {
+                            (Some(a), Some(b), Some(c), Some(d)) => {
+                                (c - d).dot(a - b) <= 0.0
+                                    || c.distance(d) <= MERGED_TOUCH_REL_RADIUS * y[3]
+                            }
+                            _ => true,
+                        }
+                })
+        })
     }
 
     /// True when two touch points of the seam point `x` are one place (closer than 1e-4·r):
@@ -310,7 +397,13 @@ impl Tracer<'_> {
         } else {
             Pairs::DifferentSegments
         };
-        touches_meet(self.model, triplet, x, 1e-4 * x[3], pairs)
+        touches_meet(
+            self.model,
+            triplet,
+            x,
+            MERGED_TOUCH_REL_RADIUS * x[3],
+            pairs,
+        )
     }
 
     /// One predictor–corrector step of length `h` from `x` along the unit tangent `t`: the new
@@ -367,8 +460,8 @@ impl Tracer<'_> {
             |y| sys.eval_with_row(self.model, y, &row, c),
             start,
             &SolveOptions {
-                tol: 1e-3 * self.opts.accuracy,
-                max_iter: 40,
+                tol: self.opts.solver_tol,
+                max_iter: MAX_CENTRE_STEP_ITER,
             },
         );
         self.stats.newton_iterations += sol.iterations;
@@ -416,7 +509,9 @@ impl Tracer<'_> {
                 let va = self.model.vertices[a].point.distance(b);
                 va.total_cmp(&self.model.vertices[c].point.distance(b))
             })
-            .filter(|&v| self.model.vertices[v].point.distance(b) <= 1e3 * self.opts.accuracy);
+            .filter(|&v| {
+                self.model.vertices[v].point.distance(b) <= REACH_REL_ACCURACY * self.opts.accuracy
+            });
         (xe, v)
     }
 }

@@ -24,6 +24,36 @@ pub const MAX_REFINE_ITER: usize = 30;
 /// Newton iterations of a step that fixes only the centre's advance (near an end).
 pub const MAX_CENTRE_STEP_ITER: usize = 40;
 
+/// Growth of the step after a corrector that converged in at most
+/// [`FAST_CONVERGENCE_ITER`] iterations (up to [`MAX_STEP_REL_DIAGONAL`]).
+pub const STEP_GROWTH: f64 = 1.5;
+/// Shrinking of the step after a corrector that needed more iterations.
+pub const STEP_SHRINK: f64 = 0.7;
+/// Corrector iterations that count as fast convergence.
+pub const FAST_CONVERGENCE_ITER: usize = 3;
+
+/// Points, or radii, closer than this times the accuracy are taken as the same (a seam back
+/// at its seed, a junction found twice, a touch point at an edge's end or at a vertex, a ball
+/// too small to be told from a convex edge).
+pub const SAME_PLACE_REL_ACCURACY: f64 = 10.0;
+/// How far, in accuracies, a centre may be from the vertex it lands at, or a touch point from
+/// the edge it is taken to have crossed.
+pub const REACH_REL_ACCURACY: f64 = 1e3;
+/// Two touch points closer than this times `r` are one place, when refining a seed or a
+/// junction (the solve found one touch twice) or sampling a ball (it osculates the face).
+pub const DISTINCT_TOUCH_REL_RADIUS: f64 = 1e-3;
+/// While marching, two touch points closer than this times `r` have met: the centre is then
+/// within about `(1e-4·r)²/ρ` of the end, far below the accuracy.
+pub const MERGED_TOUCH_REL_RADIUS: f64 = 1e-4;
+/// A ball within this relative margin of osculating an element (`r·κmax ≥ 1 − margin`)
+/// counts as osculating it.
+pub const OSCULATING_REL_RADIUS: f64 = 1e-6;
+/// Two unit directions closer than this are one direction.
+pub const SAME_DIRECTION: f64 = 1e-9;
+/// Allowance for rounding in comparisons of quantities of order one (angles in radians, dot
+/// products and determinants of unit vectors, relative lengths).
+pub const UNIT_ROUNDING: f64 = 1e-9;
+
 /// Options of [`crate::medial::trace`].
 #[derive(Clone, Debug)]
 pub struct TraceOptions {

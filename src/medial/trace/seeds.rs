@@ -3,7 +3,10 @@
 //! from; balls whose sheet has collapsed are degenerate pieces (a cylinder's axis, a
 //! sphere's centre).
 
-use super::options::MAX_SEAMS;
+use super::options::{
+    DISTINCT_TOUCH_REL_RADIUS, MAX_REFINE_ITER, MAX_SEAMS, OSCULATING_REL_RADIUS,
+    SAME_PLACE_REL_ACCURACY, UNIT_ROUNDING,
+};
 use super::tracer::Tracer;
 use super::unknowns::{seam_x, slot, sorted, to_chord, touches_meet, v3, Pairs};
 use crate::geom::project_point;
@@ -81,8 +84,9 @@ impl Tracer<'_> {
         let ev = Element::Face(f).eval(self.model, s)?;
         let nearest = |b: DVec3| self.nearest_in(solid, b);
         // Largest r with nothing closer than r to p − r·n: bisection.
-        let fits =
-            |r: f64| nearest(ev.p - ev.n * r).is_some_and(|(_, h)| h.distance >= r * (1.0 - 1e-9));
+        let fits = |r: f64| {
+            nearest(ev.p - ev.n * r).is_some_and(|(_, h)| h.distance >= r * (1.0 - UNIT_ROUNDING))
+        };
         let (mut lo, mut hi) = (0.0, diag);
         for _ in 0..48 {
             let mid = 0.5 * (lo + hi);
@@ -91,7 +95,8 @@ impl Tracer<'_> {
             } else {
                 hi = mid;
             }
-            if hi - lo <= 1e-3 * self.opts.accuracy {
+            // Bisected as far as the solver's residuals go.
+            if hi - lo <= self.opts.solver_tol {
                 break;
             }
         }
@@ -99,7 +104,9 @@ impl Tracer<'_> {
         let b = ev.p - ev.n * r;
         // The other touch: the nearest point just past the maximal ball, away from p.
         let (g, hit) = nearest(ev.p - ev.n * hi)?;
-        if r <= 10.0 * self.opts.accuracy || hit.point.distance(ev.p) <= 1e-3 * r {
+        if r <= SAME_PLACE_REL_ACCURACY * self.opts.accuracy
+            || hit.point.distance(ev.p) <= DISTINCT_TOUCH_REL_RADIUS * r
+        {
             return None; // at a convex edge, or where the ball osculates the face
         }
         let (seg2, s2) = self.hit_segment(g, &hit, b)?;
@@ -223,8 +230,8 @@ impl Tracer<'_> {
             |y| sys.eval(self.model, y),
             seed.x.clone(),
             &SolveOptions {
-                tol: 1e-3 * self.opts.accuracy,
-                max_iter: 30,
+                tol: self.opts.solver_tol,
+                max_iter: MAX_REFINE_ITER,
             },
         );
         let x = sol.x;
@@ -234,7 +241,12 @@ impl Tracer<'_> {
         // the three-segment system is solvable there.
         let osculates = (0..3).any(|i| {
             matches!(seed.triplet[i], Element::Face(_))
-                && !curvature_allows(self.model, seed.triplet[i], slot(&x, i), r * (1.0 + 1e-6))
+                && !curvature_allows(
+                    self.model,
+                    seed.triplet[i],
+                    slot(&x, i),
+                    r * (1.0 + OSCULATING_REL_RADIUS),
+                )
         });
         let valid = sol.status == SolveStatus::Converged
             && r > self.opts.accuracy
@@ -289,7 +301,13 @@ impl Tracer<'_> {
         let on_faces = (0..3).all(|i| self.on_segment(triplet[i], slot(x, i)));
         // A segment touched twice must be touched in two places, not once counted twice
         // (that is a sheet point, where Newton also converges).
-        let distinct = !touches_meet(self.model, triplet, x, 1e-3 * r, Pairs::SameSegment);
+        let distinct = !touches_meet(
+            self.model,
+            triplet,
+            x,
+            DISTINCT_TOUCH_REL_RADIUS * r,
+            Pairs::SameSegment,
+        );
         let nearest = self.nearest_in(solid, v3(x));
         on_faces
             && distinct
@@ -327,6 +345,6 @@ impl Tracer<'_> {
         let vt = svd.v_t?;
         let k = svd.singular_values.imin();
         let d = DVec3::new(vt[(k, 0)], vt[(k, 1)], vt[(k, 2)]);
-        (d.length() > 1e-9).then(|| d.normalize())
+        (d.length() > UNIT_ROUNDING).then(|| d.normalize())
     }
 }

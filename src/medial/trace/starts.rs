@@ -1,5 +1,6 @@
 //! Seams leaving convex vertices, where the ball shrinks to nothing.
 
+use super::options::{SAME_DIRECTION, UNIT_ROUNDING};
 use super::tracer::{Start, Tracer};
 use super::unknowns::seam_x;
 use crate::geom::project_point;
@@ -51,16 +52,16 @@ impl Tracer<'_> {
             for b in a + 1..k {
                 for c in b + 1..k {
                     let m = glam::DMat3::from_cols(normals[a], normals[b], normals[c]).transpose();
-                    if m.determinant().abs() < 1e-9 {
+                    if m.determinant().abs() < UNIT_ROUNDING {
                         continue;
                     }
                     let d = m.inverse() * DVec3::splat(-1.0);
                     // Every other plane at least as far: −nₘ·d ≥ 1 (to rounding).
-                    if (0..k).any(|q| normals[q].dot(d) > -1.0 + 1e-9 * d.length()) {
+                    if (0..k).any(|q| normals[q].dot(d) > -1.0 + UNIT_ROUNDING * d.length()) {
                         continue;
                     }
                     let u = d.normalize();
-                    if dirs.iter().any(|e| e.distance(u) < 1e-9) {
+                    if dirs.iter().any(|e| e.distance(u) < SAME_DIRECTION) {
                         continue;
                     }
                     dirs.push(u);

@@ -1,7 +1,7 @@
 //! The tracer's state, and what it asks of the model: which solid an element bounds, whether
 //! a touch point is on its element, the nearest boundary point within a solid.
 
-use super::options::TraceOptions;
+use super::options::{TraceOptions, MAX_CORRECTOR_ITER, UNIT_ROUNDING};
 use super::unknowns::{slot, sys_point};
 use crate::classify::{Classification, EdgeKind, VertexKind};
 use crate::geom::{project_point, Boundary, FaceHit, Feature};
@@ -107,9 +107,8 @@ impl<'a> Tracer<'a> {
     }
     pub(super) fn solve_opts(&self) -> SolveOptions {
         SolveOptions {
-            // Residuals well inside the output accuracy.
-            tol: 1e-3 * self.opts.accuracy,
-            max_iter: 12,
+            tol: self.opts.solver_tol,
+            max_iter: MAX_CORRECTOR_ITER,
         }
     }
 
@@ -177,7 +176,7 @@ impl<'a> Tracer<'a> {
         let in_arc = match (self.edge_fan(e, s[0]), Element::Edge(e).eval(self.model, s)) {
             (Some(fan), Some(ev)) => {
                 let span = fan[0].angle_between(fan[1]);
-                ev.n.angle_between(fan[0]) + ev.n.angle_between(fan[1]) <= span + 1e-9
+                ev.n.angle_between(fan[0]) + ev.n.angle_between(fan[1]) <= span + UNIT_ROUNDING
             }
             _ => false,
         };
@@ -220,7 +219,7 @@ impl<'a> Tracer<'a> {
                 };
                 self.vertex_tangents(v)
                     .iter()
-                    .all(|(_, d)| ev.n.dot(*d) >= -1e-9)
+                    .all(|(_, d)| ev.n.dot(*d) >= -UNIT_ROUNDING)
             }
         }
     }
