@@ -99,6 +99,40 @@ struct Arc {
 /// Finds the sheets of `mat` and the Euler characteristics of each solid and its medial axis.
 pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets {
     let groups = SegmentGroups::new(model, class);
+    let mut arcs = seam_arcs(mat, &groups);
+    let mixed = add_rims(model, class, &groups, &mut arcs);
+    let (mut uf, paired, unpaired) = pair_ends(&arcs);
+    let (by_sheet, incomplete) = loops_by_sheet(&arcs, &mut uf, &paired);
+    let mut out = Sheets {
+        unpaired,
+        ..Default::default()
+    };
+    for ((solid, _), loops) in by_sheet {
+        let first = &arcs[loops[0][0]];
+        let segments = first.pair;
+        let loops: Vec<Vec<BoundaryRef>> = loops
+            .iter()
+            .map(|l| l.iter().map(|&k| arcs[k].element).collect())
+            .collect();
+        out.sheets.push(Sheet {
+            id: out.sheets.len(),
+            solid,
+            segments,
+            boundary: loops.concat(),
+            loops,
+        });
+    }
+
+    out.solids = (0..model.solids.len())
+        .map(|solid| {
+            solid_and_axis_euler(model, mat, &arcs, &out.sheets, solid, &mixed, &incomplete)
+        })
+        .collect();
+    out
+}
+
+/// The three arcs of every seam (one per pair of its touch slots).
+fn seam_arcs(mat: &MedialAxis, groups: &SegmentGroups) -> Vec<Arc> {
     let mut arcs: Vec<Arc> = vec![];
     for s in &mat.seams {
         let closed = s.ends.iter().all(|e| matches!(e, SeamEnd::Closed));
@@ -120,6 +154,17 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
             });
         }
     }
+    arcs
+}
+
+/// Adds the rims (convex edges between two faces) to `arcs`; returns the solids with mixed
+/// edges.
+fn add_rims(
+    model: &Model,
+    class: &Classification,
+    groups: &SegmentGroups,
+    arcs: &mut Vec<Arc>,
+) -> BTreeSet<usize> {
     let mut mixed = BTreeSet::new();
     for (e, edge) in model.edges.iter().enumerate() {
         match class.edges[e].kind {
@@ -146,7 +191,12 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
         }
     }
 
-    // Pair arc ends at each node by group pair, then (if ambiguous) by segment pair.
+    mixed
+}
+
+/// Pairs the arc ends at each node by group pair, then (where that is ambiguous) by segment
+/// pair: the union of paired arcs, which ends are paired, and the ends that could not be.
+fn pair_ends(arcs: &[Arc]) -> (UnionFind, Vec<[bool; 2]>, Vec<String>) {
     let mut at: BTreeMap<Node, Vec<(usize, usize)>> = BTreeMap::new();
     for (k, arc) in arcs.iter().enumerate() {
         for (end, e) in arc.ends.iter().enumerate() {
@@ -201,7 +251,17 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
         }
     }
 
-    // Loops: components of paired arcs; complete when every end is paired.
+    (uf, paired, unpaired)
+}
+
+/// Loops (components of paired arcs, complete when every end is paired) by sheet: (solid,
+/// group pair) → loops, and the solids with incomplete loops.
+type LoopsBySheet = BTreeMap<(usize, [usize; 2]), Vec<Vec<usize>>>;
+fn loops_by_sheet(
+    arcs: &[Arc],
+    uf: &mut UnionFind,
+    paired: &[[bool; 2]],
+) -> (LoopsBySheet, BTreeSet<usize>) {
     let mut components: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
     for k in 0..arcs.len() {
         components.entry(uf.find(k)).or_default().push(k);
@@ -223,107 +283,111 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
             .push(order_loop(&arcs, &members));
     }
 
-    let mut out = Sheets {
-        unpaired,
-        ..Default::default()
-    };
-    for ((solid, _), loops) in by_sheet {
-        let first = &arcs[loops[0][0]];
-        let segments = first.pair;
-        let loops: Vec<Vec<BoundaryRef>> = loops
-            .iter()
-            .map(|l| l.iter().map(|&k| arcs[k].element).collect())
-            .collect();
-        out.sheets.push(Sheet {
-            id: out.sheets.len(),
-            solid,
-            segments,
-            boundary: loops.concat(),
-            loops,
-        });
-    }
+    (by_sheet, incomplete_solids)
+}
 
-    for (solid, _) in model.solids.iter().enumerate() {
-        let faces: Vec<usize> = (0..model.faces.len())
-            .filter(|&f| model.solid_of_face(f) == solid)
-            .collect();
-        let mut edges = BTreeSet::new();
-        let mut vertices = BTreeSet::new();
-        for &f in &faces {
-            for l in &model.faces[f].loops {
-                vertices.extend(l.vertex);
-                for oe in &l.edges {
-                    edges.insert(oe.edge);
-                    vertices.extend(model.edges[oe.edge].vertices);
-                }
-            }
-        }
-        // χ of the boundary surface by Euler–Poincaré (a face with k loops is a disc with
-        // k − 1 holes; a face with no loop at all is a closed surface: a torus, or else a
-        // sphere), and the solid's χ is half of it.
-        let boundary_euler: i64 = vertices.len() as i64 - edges.len() as i64
-            + faces
-                .iter()
-                .map(|&f| match model.faces[f].loops.len() {
-                    0 if crate::geom::surface_kind(&model.faces[f].surface) == "torus" => 0,
-                    0 => 2,
-                    k => 2 - k as i64,
-                })
-                .sum::<i64>();
-        let solid_euler = boundary_euler / 2;
-        let mine: Vec<&Arc> = arcs.iter().filter(|a| a.solid == solid).collect();
-        let nodes: BTreeSet<Node> = mine
-            .iter()
-            .flat_map(|a| a.ends.iter().flatten().map(|(n, _)| *n))
-            .collect();
-        let mut elements: BTreeSet<BoundaryRef> = BTreeSet::new();
-        let mut closed_seams = BTreeSet::new();
-        for a in &mine {
-            if a.closed {
-                closed_seams.insert(a.element);
-            } else {
-                elements.insert(a.element);
-            }
-        }
-        let sheets: Vec<&Sheet> = out.sheets.iter().filter(|s| s.solid == solid).collect();
-        let seams_of_solid = mat.seams.iter().filter(|s| s.solid == solid);
-        let reason = if mixed.contains(&solid) {
-            Some("the solid has mixed edges (convex along part, reflex along the rest)".into())
-        } else if mat.degenerate.iter().any(|d| d.solid == solid) {
-            Some(
-                "the medial axis has degenerate pieces (sampled, not yet in the cell count)".into(),
-            )
-        } else if seams_of_solid.clone().any(|s| {
-            s.ends
-                .iter()
-                .any(|e| matches!(e, SeamEnd::CurvatureLimit { .. }))
-        }) {
-            Some("seams end at curvature limits, where untraced skeletal edges begin".into())
-        } else if seams_of_solid
-            .clone()
-            .any(|s| s.ends.iter().any(|e| matches!(e, SeamEnd::Open(_))))
-        {
-            Some("seams end open".into())
-        } else if incomplete_solids.contains(&solid) {
-            Some("some sheet boundaries do not close (see `unpaired`)".into())
+/// The Euler characteristics of `solid` and of its medial axis (`V − E + Σ χ(sheet)`, or why
+/// that is withheld).
+fn solid_and_axis_euler(
+    model: &Model,
+    mat: &MedialAxis,
+    arcs: &[Arc],
+    sheets: &[Sheet],
+    solid: usize,
+    mixed: &BTreeSet<usize>,
+    incomplete: &BTreeSet<usize>,
+) -> SolidEuler {
+    let solid_euler = solid_euler(model, solid);
+    let mine: Vec<&Arc> = arcs.iter().filter(|a| a.solid == solid).collect();
+    let nodes: BTreeSet<Node> = mine
+        .iter()
+        .flat_map(|a| a.ends.iter().flatten().map(|(n, _)| *n))
+        .collect();
+    let mut elements: BTreeSet<BoundaryRef> = BTreeSet::new();
+    let mut closed_seams = BTreeSet::new();
+    for a in &mine {
+        if a.closed {
+            closed_seams.insert(a.element);
         } else {
-            None
-        };
-        // A closed seam is a loop with one node of its own: it adds 1 − 1 = 0.
-        let chi_sheets: i64 = sheets.iter().map(|s| 2 - s.loops.len() as i64).sum();
-        out.solids.push(SolidEuler {
-            solid,
-            solid_euler,
-            mat_euler: reason
-                .is_none()
-                .then(|| nodes.len() as i64 - elements.len() as i64 + chi_sheets),
-            nodes: nodes.len() + closed_seams.len(),
-            arcs: elements.len() + closed_seams.len(),
-            sheets: sheets.len(),
-            unknown: reason,
-        });
+            elements.insert(a.element);
+        }
     }
-    out
+    let sheets: Vec<&Sheet> = sheets.iter().filter(|s| s.solid == solid).collect();
+    let reason = withheld(mat, solid, mixed, incomplete);
+    // A closed seam is a loop with one node of its own: it adds 1 − 1 = 0.
+    let chi_sheets: i64 = sheets.iter().map(|s| 2 - s.loops.len() as i64).sum();
+    SolidEuler {
+        solid,
+        solid_euler,
+        mat_euler: reason
+            .is_none()
+            .then(|| nodes.len() as i64 - elements.len() as i64 + chi_sheets),
+        nodes: nodes.len() + closed_seams.len(),
+        arcs: elements.len() + closed_seams.len(),
+        sheets: sheets.len(),
+        unknown: reason,
+    }
+}
+
+/// The Euler characteristic of `solid`: half its boundary's.
+fn solid_euler(model: &Model, solid: usize) -> i64 {
+    let faces: Vec<usize> = (0..model.faces.len())
+        .filter(|&f| model.solid_of_face(f) == solid)
+        .collect();
+    let mut edges = BTreeSet::new();
+    let mut vertices = BTreeSet::new();
+    for &f in &faces {
+        for l in &model.faces[f].loops {
+            vertices.extend(l.vertex);
+            for oe in &l.edges {
+                edges.insert(oe.edge);
+                vertices.extend(model.edges[oe.edge].vertices);
+            }
+        }
+    }
+    // χ of the boundary surface by Euler–Poincaré (a face with k loops is a disc with
+    // k − 1 holes; a face with no loop at all is a closed surface: a torus, or else a
+    // sphere), and the solid's χ is half of it.
+    let boundary_euler: i64 = vertices.len() as i64 - edges.len() as i64
+        + faces
+            .iter()
+            .map(|&f| match model.faces[f].loops.len() {
+                0 if crate::geom::surface_kind(&model.faces[f].surface) == "torus" => 0,
+                0 => 2,
+                k => 2 - k as i64,
+            })
+            .sum::<i64>();
+    boundary_euler / 2
+}
+
+/// Why the medial axis's Euler characteristic of `solid` is not counted, if it is not.
+fn withheld(
+    mat: &MedialAxis,
+    solid: usize,
+    mixed: &BTreeSet<usize>,
+    incomplete: &BTreeSet<usize>,
+) -> Option<String> {
+    let seams_of_solid = mat.seams.iter().filter(|s| s.solid == solid);
+    if mixed.contains(&solid) {
+        Some("the solid has mixed edges (convex along part, reflex along the rest)".into())
+    } else if mat.degenerate.iter().any(|d| d.solid == solid) {
+        Some("the medial axis has degenerate pieces (sampled, not yet in the cell count)".into())
+    } else if seams_of_solid.clone().any(|s| {
+        s.ends
+            .iter()
+            .any(|e| matches!(e, SeamEnd::CurvatureLimit { .. }))
+    }) {
+        Some("seams end at curvature limits, where untraced skeletal edges begin".into())
+    } else if seams_of_solid
+        .clone()
+        .any(|s| s.ends.iter().any(|e| matches!(e, SeamEnd::Open(_))))
+    {
+        Some("seams end open".into())
+    } else if incomplete.contains(&solid) {
+        Some("some sheet boundaries do not close (see `unpaired`)".into())
+    } else {
+        None
+    }
 }
 
 /// Orders a loop's arcs so consecutive arcs share a node (for the report; the count does not

@@ -8,7 +8,7 @@ use super::unknowns::{new_triplet, slot, sys_point, v3};
 use crate::classify::{EdgeKind, VertexKind};
 use crate::geom::project_point;
 use crate::medial::axis::OpenReason;
-use crate::medial::equations::{vertex_angles, MedialSystem, NormalField};
+use crate::medial::equations::{vertex_angles, FieldEval, MedialSystem, NormalField};
 use crate::medial::maximal::curvature_allows;
 use crate::medial::solver::{solve, SolveStatus};
 use crate::model::Element;
@@ -123,172 +123,194 @@ impl Tracer<'_> {
         t: &DVector<f64>,
         exit: Option<(bool, bool)>,
     ) -> Result<(Element, DVector<f64>), HandOverError> {
-        let acc = self.opts.accuracy;
         let xc = xc.clone();
         let seg = triplet[i];
         let ev = seg
             .eval(self.model, slot(&xc, i))
             .ok_or(OpenReason::UndefinedNormal { element: seg })?;
         let (to, params) = match seg {
-            Element::Face(f) => {
-                let (e, te) = self
-                    .nearest_edge_of_face(f, ev.p)
-                    .filter(|&(e, te)| {
-                        let q = crate::geom::eval_curve(&self.model.edges[e].curve, te).p;
-                        q.distance(ev.p) <= REACH_REL_ACCURACY * acc
-                    })
-                    .ok_or(OpenReason::LeftFaceAwayFromEdges { face: seg })?;
-                let edge = &self.model.edges[e];
-                match self.class.edges[e].kind {
-                    EdgeKind::Reflex => {
-                        let th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)
-                            .ok_or(OpenReason::NoNormalFrame { edge: e })?;
-                        (Element::Edge(e), [te, th])
-                    }
-                    EdgeKind::Smooth => {
-                        let g = if edge.faces[0] == f {
-                            edge.faces[1]
-                        } else {
-                            edge.faces[0]
-                        };
-                        let uv = project_point(&self.model.faces[g].surface, ev.p, None)
-                            .ok_or(OpenReason::NotFoundOnFace { face: g })?;
-                        (Element::Face(g), [uv.0, uv.1])
-                    }
-                    kind => {
-                        return Err(HandOverError::Stop(OpenReason::ReachedEdge {
-                            element: seg,
-                            kind,
-                            edge: e,
-                        }))
-                    }
-                }
-            }
-            Element::Edge(e) => {
-                let edge = &self.model.edges[e];
-                let te = slot(&xc, i)[0];
-                let (lo, hi) = edge.range;
-                // Off the edge's end or off its arc? The crossing is bisected on the centre's
-                // travel, so the touch point may stop short of the end by more than a
-                // relative 1e-6: an end within 10× the accuracy, or a normal well inside
-                // the arc, means the end.
-                let at_end = match exit {
-                    Some((in_range, in_arc)) => !in_range && in_arc,
-                    None => {
-                        let near_end = self.model.vertices[edge.vertices[0]]
-                            .point
-                            .distance(ev.p)
-                            .min(self.model.vertices[edge.vertices[1]].point.distance(ev.p))
-                            <= SAME_PLACE_REL_ACCURACY * acc;
-                        (te - lo).min(hi - te) <= 1e-6 * (hi - lo)
-                            || (near_end
-                                && self.edge_fan(e, te).is_some_and(|fan| {
-                                    ev.n.angle_between(fan[0]).min(ev.n.angle_between(fan[1]))
-                                        > 1e-4
-                                }))
-                    }
-                };
-                if at_end {
-                    // On to the vertex at that end, with the same normal.
-                    let v = if te - lo < hi - te {
-                        edge.vertices[0]
-                    } else {
-                        edge.vertices[1]
-                    };
-                    // A reflex edge continued by another (a circle split at a seam vertex, a
-                    // line running into an arc, a closed edge into its own start): the touch
-                    // point goes on along it.
-                    let next: Vec<(usize, f64)> = self.vertex_edges[v]
-                        .iter()
-                        .filter(|&&(g, at_end)| {
-                            self.is_reflex(g) && !(g == e && at_end == (te - lo >= hi - te))
-                        })
-                        .map(|&(g, at_end)| {
-                            let r = self.model.edges[g].range;
-                            (g, if at_end { r.1 } else { r.0 })
-                        })
-                        .collect();
-                    // (Only where the two run on tangentially. At a corner of two reflex
-                    // edges the touch point stays on the vertex while the normal turns.)
-                    if let [(g, tg)] = next[..] {
-                        let tangents = self.vertex_tangents(v);
-                        let leaving =
-                            |k: usize| tangents.iter().find(|(h, _)| *h == k).map(|(_, d)| *d);
-                        let tangential = match (leaving(e), leaving(g)) {
-                            // Leaving v along e is arriving along −e; g goes on from there.
-                            (Some(de), Some(dg)) if e != g => {
-                                (-de).angle_between(dg)
-                                    <= crate::classify::DEFAULT_ANGLE_TOL_DEG.to_radians()
-                            }
-                            _ => true,
-                        };
-                        if let Some(th) = tangential
-                            .then(|| crate::medial::equations::edge_angle(self.model, g, tg, ev.n))
-                            .flatten()
-                        {
-                            let to = Element::Edge(g);
-                            return self.polish_hand_over(triplet, i, &xc, t, to, [tg, th], ev.p);
-                        }
-                    }
-                    if !matches!(
-                        self.class.vertices[v],
-                        VertexKind::Reflex | VertexKind::Mixed
-                    ) {
-                        return Err(HandOverError::Stop(OpenReason::ReachedEdgeEnd {
-                            edge: e,
-                            vertex_kind: self.class.vertices[v],
-                        }));
-                    }
-                    let to = Element::Vertex(v);
-                    return self.polish_hand_over(
-                        triplet,
-                        i,
-                        &xc,
-                        t,
-                        to,
-                        vertex_angles(ev.n),
-                        ev.p,
-                    );
-                }
-                let fan = self
-                    .edge_fan(e, te)
-                    .ok_or(OpenReason::NoFaceNormals { edge: e })?;
-                let k = if ev.n.angle_between(fan[0]) <= ev.n.angle_between(fan[1]) {
-                    0
-                } else {
-                    1
-                };
-                let g = edge.faces[k];
-                let uv = project_point(&self.model.faces[g].surface, ev.p, None)
-                    .ok_or(OpenReason::NotFoundOnFace { face: g })?;
-                (Element::Face(g), [uv.0, uv.1])
-            }
-            Element::Vertex(v) => {
-                // Off the vertex over the edge whose direction the normal turned away from.
-                let (e, _) = self
-                    .vertex_tangents(v)
-                    .into_iter()
-                    .min_by(|a, b| ev.n.dot(a.1).total_cmp(&ev.n.dot(b.1)))
-                    .ok_or(OpenReason::VertexWithoutEdges { vertex: v })?;
-                if !self.is_reflex(e) {
-                    return Err(HandOverError::Stop(OpenReason::ReachedEdge {
-                        element: Element::Vertex(v),
-                        kind: self.class.edges[e].kind,
-                        edge: e,
-                    }));
-                }
-                let edge = &self.model.edges[e];
-                let te = if edge.vertices[0] == v {
-                    edge.range.0
-                } else {
-                    edge.range.1
-                };
-                let th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)
-                    .ok_or(OpenReason::NoNormalFrame { edge: e })?;
-                (Element::Edge(e), [te, th])
-            }
+            Element::Face(f) => self.next_from_face(f, &ev)?,
+            Element::Edge(e) => self.next_from_edge(e, slot(&xc, i)[0], exit, &ev)?,
+            Element::Vertex(v) => self.next_from_vertex(v, &ev)?,
         };
         self.polish_hand_over(triplet, i, &xc, t, to, params, ev.p)
+    }
+
+    /// Where a touch point at `ev` that left face `f` goes on: the reflex edge it reached,
+    /// or across a smooth edge the next face (with its parameters there).
+    fn next_from_face(
+        &self,
+        f: usize,
+        ev: &FieldEval,
+    ) -> Result<(Element, [f64; 2]), HandOverError> {
+        let acc = self.opts.accuracy;
+        let seg = Element::Face(f);
+        let (e, te) = self
+            .nearest_edge_of_face(f, ev.p)
+            .filter(|&(e, te)| {
+                let q = crate::geom::eval_curve(&self.model.edges[e].curve, te).p;
+                q.distance(ev.p) <= REACH_REL_ACCURACY * acc
+            })
+            .ok_or(OpenReason::LeftFaceAwayFromEdges { face: seg })?;
+        let edge = &self.model.edges[e];
+        match self.class.edges[e].kind {
+            EdgeKind::Reflex => {
+                let th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)
+                    .ok_or(OpenReason::NoNormalFrame { edge: e })?;
+                Ok((Element::Edge(e), [te, th]))
+            }
+            EdgeKind::Smooth => {
+                let g = if edge.faces[0] == f {
+                    edge.faces[1]
+                } else {
+                    edge.faces[0]
+                };
+                let uv = project_point(&self.model.faces[g].surface, ev.p, None)
+                    .ok_or(OpenReason::NotFoundOnFace { face: g })?;
+                Ok((Element::Face(g), [uv.0, uv.1]))
+            }
+            kind => Err(HandOverError::Stop(OpenReason::ReachedEdge {
+                element: seg,
+                kind,
+                edge: e,
+            })),
+        }
+    }
+
+    /// Where a touch point at `ev`, parameter `te` on reflex edge `e`, goes on: past the
+    /// edge's end (see [`Self::next_at_edge_end`]), or off its arc onto the face at that end
+    /// of the arc.
+    fn next_from_edge(
+        &self,
+        e: usize,
+        te: f64,
+        exit: Option<(bool, bool)>,
+        ev: &FieldEval,
+    ) -> Result<(Element, [f64; 2]), HandOverError> {
+        let acc = self.opts.accuracy;
+        let edge = &self.model.edges[e];
+        let (lo, hi) = edge.range;
+        // Off the edge's end or off its arc? The crossing is bisected on the centre's
+        // travel, so the touch point may stop short of the end by more than a relative 1e-6:
+        // an end within SAME_PLACE_REL_ACCURACY × the accuracy, or a normal well inside the
+        // arc, means the end.
+        let at_end = match exit {
+            Some((in_range, in_arc)) => !in_range && in_arc,
+            None => {
+                let near_end = self.model.vertices[edge.vertices[0]]
+                    .point
+                    .distance(ev.p)
+                    .min(self.model.vertices[edge.vertices[1]].point.distance(ev.p))
+                    <= SAME_PLACE_REL_ACCURACY * acc;
+                (te - lo).min(hi - te) <= 1e-6 * (hi - lo)
+                    || (near_end
+                        && self.edge_fan(e, te).is_some_and(|fan| {
+                            ev.n.angle_between(fan[0]).min(ev.n.angle_between(fan[1])) > 1e-4
+                        }))
+            }
+        };
+        if at_end {
+            return self.next_at_edge_end(e, te, ev);
+        }
+        let fan = self
+            .edge_fan(e, te)
+            .ok_or(OpenReason::NoFaceNormals { edge: e })?;
+        let k = if ev.n.angle_between(fan[0]) <= ev.n.angle_between(fan[1]) {
+            0
+        } else {
+            1
+        };
+        let g = edge.faces[k];
+        let uv = project_point(&self.model.faces[g].surface, ev.p, None)
+            .ok_or(OpenReason::NotFoundOnFace { face: g })?;
+        Ok((Element::Face(g), [uv.0, uv.1]))
+    }
+
+    /// Past the end of reflex edge `e` (at parameter `te`), with the same normal: along the
+    /// reflex edge that continues it tangentially (a circle split at a seam vertex, a line
+    /// running into an arc, a closed edge into its own start), or onto the vertex there when
+    /// it is reflex or mixed. At a corner of two reflex edges the touch point stays on the
+    /// vertex while the normal turns.
+    fn next_at_edge_end(
+        &self,
+        e: usize,
+        te: f64,
+        ev: &FieldEval,
+    ) -> Result<(Element, [f64; 2]), HandOverError> {
+        let edge = &self.model.edges[e];
+        let (lo, hi) = edge.range;
+        let v = if te - lo < hi - te {
+            edge.vertices[0]
+        } else {
+            edge.vertices[1]
+        };
+        let next: Vec<(usize, f64)> = self.vertex_edges[v]
+            .iter()
+            .filter(|&&(g, at_end)| {
+                self.is_reflex(g) && !(g == e && at_end == (te - lo >= hi - te))
+            })
+            .map(|&(g, at_end)| {
+                let r = self.model.edges[g].range;
+                (g, if at_end { r.1 } else { r.0 })
+            })
+            .collect();
+        if let [(g, tg)] = next[..] {
+            let tangents = self.vertex_tangents(v);
+            let leaving = |k: usize| tangents.iter().find(|(h, _)| *h == k).map(|(_, d)| *d);
+            let tangential = match (leaving(e), leaving(g)) {
+                // Leaving v along e is arriving along −e; g goes on from there.
+                (Some(de), Some(dg)) if e != g => {
+                    (-de).angle_between(dg) <= self.opts.tangent_angle_rad
+                }
+                _ => true,
+            };
+            if let Some(th) = tangential
+                .then(|| crate::medial::equations::edge_angle(self.model, g, tg, ev.n))
+                .flatten()
+            {
+                return Ok((Element::Edge(g), [tg, th]));
+            }
+        }
+        if !matches!(
+            self.class.vertices[v],
+            VertexKind::Reflex | VertexKind::Mixed
+        ) {
+            return Err(HandOverError::Stop(OpenReason::ReachedEdgeEnd {
+                edge: e,
+                vertex_kind: self.class.vertices[v],
+            }));
+        }
+        Ok((Element::Vertex(v), vertex_angles(ev.n)))
+    }
+
+    /// Where a touch point at `ev` leaves vertex `v`: onto the reflex edge whose direction the
+    /// normal turned away from.
+    fn next_from_vertex(
+        &self,
+        v: usize,
+        ev: &FieldEval,
+    ) -> Result<(Element, [f64; 2]), HandOverError> {
+        let (e, _) = self
+            .vertex_tangents(v)
+            .into_iter()
+            .min_by(|a, b| ev.n.dot(a.1).total_cmp(&ev.n.dot(b.1)))
+            .ok_or(OpenReason::VertexWithoutEdges { vertex: v })?;
+        if !self.is_reflex(e) {
+            return Err(HandOverError::Stop(OpenReason::ReachedEdge {
+                element: Element::Vertex(v),
+                kind: self.class.edges[e].kind,
+                edge: e,
+            }));
+        }
+        let edge = &self.model.edges[e];
+        let te = if edge.vertices[0] == v {
+            edge.range.0
+        } else {
+            edge.range.1
+        };
+        let th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)
+            .ok_or(OpenReason::NoNormalFrame { edge: e })?;
+        Ok((Element::Edge(e), [te, th]))
     }
 
     /// Moves touch point `i` of the seam point `xc` onto the vertex it sits at (within 10×

@@ -61,6 +61,9 @@ pub struct TraceOptions {
     pub accuracy: f64,
     /// Newton's residual target (mm), well inside the accuracy.
     pub solver_tol: f64,
+    /// Two reflex edges meeting at less than this angle (radians) continue each other: a
+    /// touch point runs on from one into the other.
+    pub tangent_angle_rad: f64,
 }
 
 impl TraceOptions {
@@ -69,6 +72,7 @@ impl TraceOptions {
         TraceOptions {
             accuracy: tol.accuracy,
             solver_tol: tol.solver,
+            tangent_angle_rad: tol.angle_deg.to_radians(),
         }
     }
 
