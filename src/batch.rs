@@ -475,7 +475,7 @@ pub fn run_batch(
 /// The report of `input` if its outputs are complete and were made with `opts`: the report
 /// `<stem>.mat.json` exists, parses, is not older than the input file, lists exactly the
 /// outputs `opts` asks for, every one of them exists, and its options agree with `opts`
-/// (verify, mesh, picture, `--tol`, `--fit-tol`; `--with-solid` is not recorded in reports and
+/// (verify, mesh, picture, `--accuracy`, `--fit-tol`; `--with-solid` is not recorded in reports and
 /// not checked).
 pub fn completed_report(input: &Input, opts: &BatchOptions) -> Option<serde_json::Value> {
     let dir = input.out_dir(&opts.out_dir);
@@ -500,7 +500,7 @@ pub fn completed_report(input: &Input, opts: &BatchOptions) -> Option<serde_json
     let o = &report["options"];
     let same = o["verify"].as_bool() == Some(opts.part.verify)
         && (o["mesh_samples"].as_u64() != Some(0)) == opts.part.mesh
-        && match opts.part.tol {
+        && match opts.part.accuracy {
             Some(t) => o["accuracy_from"] == "--tol" && o["accuracy"].as_f64() == Some(t),
             None => o["accuracy_from"] != "--tol",
         }
@@ -594,8 +594,8 @@ fn part_command(
     args.push(input.out_dir(&opts.out_dir).into_os_string());
     args.push("--stem".into());
     args.push(input.stem().into());
-    if let Some(t) = opts.part.tol {
-        args.push("--tol".into());
+    if let Some(t) = opts.part.accuracy {
+        args.push("--accuracy".into());
         args.push(t.to_string().into());
     }
     if let Some(t) = opts.part.fit_tol {

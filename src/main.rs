@@ -90,9 +90,10 @@ enum Command {
 /// What to compute and write for each part: shared by `trace` and `batch`.
 #[derive(clap::Args)]
 struct TraceArgs {
-    /// Accuracy in mm (default: 1e-6 × the part's bounding-box diagonal).
-    #[arg(long)]
-    tol: Option<f64>,
+    /// Accuracy in mm: every output ball is medial to within it (default: 1e-6 × the part's
+    /// bounding-box diagonal). `--tol` is an alias.
+    #[arg(long, visible_alias = "tol", value_name = "MM")]
+    accuracy: Option<f64>,
     /// Check every output ball against the definition (nearest boundary at distance r, touch
     /// points on the boundary at r). `trace` exits 1, and `batch` counts the part as failed,
     /// when the worst error exceeds the accuracy.
@@ -107,7 +108,7 @@ struct TraceArgs {
     /// Largest distance in mm from a traced point to its seam's B-spline curve in the
     /// .mat.step file, and largest radius error (default: 1e-4 × the part's diagonal; never
     /// below the accuracy).
-    #[arg(long)]
+    #[arg(long, value_name = "MM")]
     fit_tol: Option<f64>,
     /// Include the input part in the .mat.step file (one open shows part and MAT).
     #[arg(long)]
@@ -243,11 +244,11 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     }
 }
 
-/// Checks `--tol` and `--fit-tol`.
+/// Checks `--accuracy` and `--fit-tol`.
 impl TraceArgs {
     /// Refuses lengths that are not positive and finite.
     fn check(&self) -> anyhow::Result<()> {
-        for (name, t) in [("--tol", self.tol), ("--fit-tol", self.fit_tol)] {
+        for (name, t) in [("--accuracy", self.accuracy), ("--fit-tol", self.fit_tol)] {
             if let Some(t) = t {
                 if !(t.is_finite() && t > 0.0) {
                     anyhow::bail!("{name} must be a positive length in mm, got {t}");
@@ -260,7 +261,7 @@ impl TraceArgs {
     /// The library's per-part options.
     fn part_options(&self) -> matrace::pipeline::PartOptions {
         matrace::pipeline::PartOptions {
-            tol: self.tol,
+            accuracy: self.accuracy,
             fit_tol: self.fit_tol,
             verify: self.verify,
             mesh: !self.no_mesh,

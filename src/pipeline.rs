@@ -2,8 +2,11 @@
 //! verification, and the outputs written atomically beside each other. The `trace` command
 //! and the batch runner both call [`trace_part`]; neither prints from here.
 
+use crate::classify::Classification;
 use crate::error::{Error, Result};
 use crate::export::report::{OptionsReport, Timings, TraceReport};
+use crate::medial::MedialAxis;
+use crate::model::{Model, Tolerances};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -11,8 +14,10 @@ use std::time::Instant;
 /// `matrace batch` (which passes them on to its workers and records them in its summary).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PartOptions {
-    /// Output accuracy in mm; `None`: 1e-6 × the part's bounding-box diagonal.
-    pub tol: Option<f64>,
+    /// Output accuracy in mm; `None`: the default, 1e-6 × the part's bounding-box diagonal.
+    /// (`tol` in the batch summary, the option's name when summaries began.)
+    #[serde(rename = "tol")]
+    pub accuracy: Option<f64>,
     /// Fit tolerance in mm for the seams' B-splines; `None`: 1e-4 × the diagonal (never
     /// below the accuracy).
     pub fit_tol: Option<f64>,
@@ -30,7 +35,7 @@ impl Default for PartOptions {
     /// Every output, default tolerances, no verification.
     fn default() -> PartOptions {
         PartOptions {
-            tol: None,
+            accuracy: None,
             fit_tol: None,
             verify: false,
             mesh: true,
@@ -116,87 +121,148 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
         });
     }
     let started = Instant::now();
-    let mut t = Timings::default();
-    let lap = |since: &mut Instant| {
-        let s = since.elapsed().as_secs_f64();
-        *since = Instant::now();
-        s
-    };
-    let mut clock = Instant::now();
-    let model = crate::ingest::read_model(part)?;
-    t.read = lap(&mut clock);
-    let class = crate::classify(&model, &Default::default());
-    t.classify = lap(&mut clock);
-    let mut trace_opts = crate::medial::TraceOptions::for_model(&model);
-    let accuracy_from = match opts.part.tol {
-        Some(tol) if tol.is_finite() && tol > 0.0 => {
-            trace_opts.accuracy = tol;
-            "--tol"
-        }
-        Some(tol) => {
-            return Err(Error::Model {
-                path: part.into(),
-                reason: format!("the accuracy must be a positive length in mm, got {tol}"),
-            })
-        }
-        None => "1e-6 x diagonal",
-    };
-    let boundary = crate::geom::Boundary::new(&model);
-    let mat = crate::medial::trace_with_boundary(&model, &boundary, &class, &trace_opts);
-    t.trace = lap(&mut clock);
-    let sheets = crate::medial::sheets(&model, &class, &mat);
-    t.sheets = lap(&mut clock);
-    let mut fit_opts = crate::fit::FitOptions::for_model(model.diagonal(), trace_opts.accuracy);
-    if let Some(tol) = opts.part.fit_tol {
-        fit_opts.tol = tol.max(trace_opts.accuracy);
-    }
-    let options = OptionsReport {
-        accuracy: trace_opts.accuracy,
-        accuracy_from: accuracy_from.into(),
-        diagonal: model.diagonal(),
-        solver_tolerance: 1e-3 * trace_opts.accuracy,
-        angle_tol_deg: crate::classify::DEFAULT_ANGLE_TOL_DEG,
-        fit_tolerance: fit_opts.tol,
-        mesh_samples: opts.mesh_points(),
-        verify: opts.part.verify,
-    };
-    let mut report = TraceReport::new(&model, &class, &mat, &sheets, options);
-
+    let mut clock = Clock::default();
+    let traced = trace_stages(part, opts, &mut clock)?;
     std::fs::create_dir_all(&opts.out_dir).map_err(|source| Error::Write {
         path: opts.out_dir.clone(),
         source,
     })?;
     let stem = opts.stem.clone().unwrap_or_else(|| stem(part));
+    let mut outcome = write_outputs(part, opts, &stem, &traced, &mut clock)?;
+    let mut t = clock.timings;
+    t.total = started.elapsed().as_secs_f64();
+    outcome.report.stats.seconds = t.total;
+    outcome.report.stats.timings = t;
+    let json = serde_json::to_string_pretty(&outcome.report).map_err(|e| Error::Model {
+        path: part.into(),
+        reason: format!("report not serialisable: {e}"),
+    })?;
+    crate::export::write_atomic(&outcome.report_path, json.as_bytes())?;
+    Ok(outcome)
+}
+
+/// The stage timings of one part, and the clock between laps.
+struct Clock {
+    timings: Timings,
+    since: Instant,
+}
+
+impl Default for Clock {
+    fn default() -> Clock {
+        Clock {
+            timings: Timings::default(),
+            since: Instant::now(),
+        }
+    }
+}
+
+impl Clock {
+    /// Seconds since the last lap.
+    fn lap(&mut self) -> f64 {
+        let s = self.since.elapsed().as_secs_f64();
+        self.since = Instant::now();
+        s
+    }
+}
+
+/// What the computing stages made of a part.
+struct Traced {
+    model: Model,
+    class: Classification,
+    tol: Tolerances,
+    boundary_axis: (crate::geom::Boundary, MedialAxis),
+    sheets: crate::medial::Sheets,
+}
+
+/// Reads, classifies, traces and finds the sheets.
+fn trace_stages(part: &Path, opts: &RunOptions, clock: &mut Clock) -> Result<Traced> {
+    let model = crate::ingest::read_model(part)?;
+    clock.timings.read = clock.lap();
+    let class = crate::classify::classify(&model, &Default::default());
+    clock.timings.classify = clock.lap();
+    let tol = Tolerances::new(model.diagonal(), opts.part.accuracy, opts.part.fit_tol).map_err(
+        |reason| Error::Model {
+            path: part.into(),
+            reason,
+        },
+    )?;
+    let boundary = crate::geom::Boundary::new(&model);
+    let axis = crate::medial::trace_with_boundary(
+        &model,
+        &boundary,
+        &class,
+        &crate::medial::TraceOptions::new(&tol),
+    );
+    clock.timings.trace = clock.lap();
+    let sheets = crate::medial::sheets(&model, &class, &axis);
+    clock.timings.sheets = clock.lap();
+    Ok(Traced {
+        model,
+        class,
+        tol,
+        boundary_axis: (boundary, axis),
+        sheets,
+    })
+}
+
+/// Writes the seams' STEP file, the sheet mesh and the picture, verifies when asked, and
+/// returns the report (not yet written) with every output it describes.
+fn write_outputs(
+    part: &Path,
+    opts: &RunOptions,
+    stem: &str,
+    traced: &Traced,
+    clock: &mut Clock,
+) -> Result<PartOutcome> {
+    let Traced {
+        model,
+        class,
+        tol,
+        boundary_axis: (boundary, axis),
+        sheets,
+    } = traced;
+    let options = OptionsReport {
+        accuracy: tol.accuracy,
+        accuracy_from: tol.accuracy_from.as_str().into(),
+        diagonal: tol.diagonal,
+        solver_tolerance: tol.solver,
+        angle_tol_deg: tol.angle_deg,
+        fit_tolerance: tol.fit,
+        mesh_samples: opts.mesh_points(),
+        verify: opts.part.verify,
+    };
+    let mut report = TraceReport::new(model, class, axis, sheets, options);
     let mut written = vec![];
     // The seams as B-splines in STEP, beside the part (optionally with it).
-    let fits = crate::fit::fit_mat(&mat, &fit_opts);
-    report.mat.fit = Some(crate::fit::FitReport::new(&mat, &fits, fit_opts.tol));
+    let fit_opts = crate::fit::FitOptions { tol: tol.fit };
+    let fits = crate::fit::fit_mat(axis, &fit_opts);
+    report.mat.fit = Some(crate::fit::FitReport::new(axis, &fits, fit_opts.tol));
     let path = opts.out_dir.join(format!("{stem}.mat.step"));
     crate::export::step::write_mat_step(
         &path,
-        &stem,
-        &mat,
+        stem,
+        axis,
         &fits,
         opts.part.with_solid.then_some(part),
     )?;
     written.push(path);
-    t.fit = lap(&mut clock);
+    clock.timings.fit = clock.lap();
     if opts.mesh_points() > 0 {
         let mesh = crate::medial::sheet_mesh(
-            &model,
-            &boundary,
-            &class,
-            &sheets,
+            model,
+            boundary,
+            class,
+            sheets,
             &crate::medial::MeshOptions {
                 samples: opts.mesh_points(),
-                ..crate::medial::MeshOptions::new(trace_opts.accuracy)
+                ..crate::medial::MeshOptions::new(tol.accuracy)
             },
         );
         let path = opts.out_dir.join(format!("{stem}.sheets.obj"));
         crate::export::write_atomic(&path, mesh.to_obj(&part.display().to_string()).as_bytes())?;
         report.stats.mesh_triangles = mesh.triangles();
         written.push(path);
-        t.mesh = lap(&mut clock);
+        clock.timings.mesh = clock.lap();
     }
     if opts.part.picture {
         let svg_opts = crate::export::svg::SvgOptions {
@@ -204,18 +270,18 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default(),
-            accuracy: Some(trace_opts.accuracy),
+            accuracy: Some(tol.accuracy),
             ..Default::default()
         };
-        let svg = crate::export::svg::render_svg(&model, &class, &mat, &svg_opts);
+        let svg = crate::export::svg::render_svg(model, class, axis, &svg_opts);
         let path = opts.out_dir.join(format!("{stem}.mat.svg"));
         crate::export::svg::write_svg(&path, &svg)?;
         written.push(path);
-        t.picture = lap(&mut clock);
+        clock.timings.picture = clock.lap();
     }
     if opts.part.verify {
-        report.stats.verification = Some(crate::medial::verify(&model, &boundary, &mat));
-        t.verify = lap(&mut clock);
+        report.stats.verification = Some(crate::medial::verify(model, boundary, axis));
+        clock.timings.verify = clock.lap();
     }
     let report_path = opts.out_dir.join(format!("{stem}.mat.json"));
     written.push(report_path.clone());
@@ -223,14 +289,6 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
         .iter()
         .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
         .collect();
-    t.total = started.elapsed().as_secs_f64();
-    report.stats.seconds = t.total;
-    report.stats.timings = t;
-    let json = serde_json::to_string_pretty(&report).map_err(|e| Error::Model {
-        path: part.into(),
-        reason: format!("report not serialisable: {e}"),
-    })?;
-    crate::export::write_atomic(&report_path, json.as_bytes())?;
     Ok(PartOutcome {
         report,
         report_path,

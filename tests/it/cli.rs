@@ -109,12 +109,19 @@ fn trace_writes_the_report_and_prints_a_summary() {
     let j = &v["mat"]["junctions"][0];
     assert!((j["radius"].as_f64().unwrap() - 10.0).abs() < 1e-9);
     assert_eq!(v["stats"]["seams"], 12);
-    // A bad --tol is an argument error.
-    let bad = matrace(
-        &["trace", sample("box.step").to_str().unwrap(), "--tol", "0"],
-        &root(),
-    );
-    assert_eq!(bad.status.code(), Some(2));
+    // A bad --accuracy (or --tol, its alias) is an argument error naming the option.
+    for flag in ["--accuracy", "--tol"] {
+        let bad = matrace(
+            &["trace", sample("box.step").to_str().unwrap(), flag, "0"],
+            &root(),
+        );
+        assert_eq!(bad.status.code(), Some(2), "{flag}");
+        let err = String::from_utf8_lossy(&bad.stderr);
+        assert!(
+            err.contains("--accuracy must be a positive length"),
+            "{flag}: {err}"
+        );
+    }
 }
 
 /// Whatever the first tracer leaves open (reflex edges, holes: the next issue), every ball it
