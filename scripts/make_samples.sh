@@ -3,9 +3,8 @@
 #
 #   scripts/make_samples.sh [OUTDIR]
 #
-# Needs: Debian's FreeCAD and OpenSCAD (apt-get install -y --no-install-recommends
-# freecad-python3 openscad) and the OCP venv .venv-ocp (created here if missing:
-# python3 -m venv .venv-ocp && .venv-ocp/bin/pip install cadquery-ocp-novtk).
+# Needs: Debian's FreeCAD and OpenSCAD and the OCP venv .venv-ocp, which
+# scripts/setup_tools.sh installs (this script installs nothing: it runs inside the tests).
 # FreeCAD scripts run with /usr/bin/python3 (not freecadcmd, not the pyenv python).
 #
 # Steps: FreeCAD Part solids -> OpenSCAD solids (via .csg and FreeCAD's importCSG) -> OCP
@@ -24,14 +23,13 @@ VENV="$ROOT/.venv-ocp"
 
 for tool in /usr/lib/freecad-python3/lib/FreeCAD.so /usr/bin/openscad; do
     if [ ! -e "$tool" ]; then
-        echo "missing $tool: apt-get install -y --no-install-recommends freecad-python3 openscad" >&2
+        echo "missing $tool: run scripts/setup_tools.sh" >&2
         exit 1
     fi
 done
 if [ ! -x "$VENV/bin/python" ] || ! "$VENV/bin/python" -c "import OCP" 2>/dev/null; then
-    echo "creating $VENV (cadquery-ocp-novtk)" >&2
-    python3 -m venv "$VENV"
-    "$VENV/bin/pip" install -q cadquery-ocp-novtk
+    echo "missing $VENV with OCP: run scripts/setup_tools.sh" >&2
+    exit 1
 fi
 
 META="$(mktemp -d /tmp/matrace-samples-meta.XXXXXX)"

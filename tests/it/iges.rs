@@ -406,19 +406,16 @@ fn damaged_iges_never_panics() {
 
 /// Regenerating the IGES samples with the two scripts (from the committed STEP samples) gives
 /// files that read to the same topology and classification as the committed ones. Needs
-/// FreeCAD and the OCP venv; without them the test says so and passes, except under CI.
+/// FreeCAD and the OCP venv; without them the test is skipped loudly (a failure under CI).
 #[test]
 fn regenerated_iges_samples_read_the_same() {
-    let venv = root().join(".venv-ocp/bin/python");
-    let freecad = Path::new("/usr/lib/freecad-python3/lib/FreeCAD.so");
-    if !venv.exists() || !freecad.exists() {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI must install FreeCAD and the OCP venv (see .ci/run)"
-        );
-        eprintln!("FreeCAD or the OCP venv missing: IGES regeneration check not run");
+    if !crate::tools::require(
+        "iges::regenerated_iges_samples_read_the_same",
+        &[crate::tools::Tool::FreeCad, crate::tools::Tool::Occt],
+    ) {
         return;
     }
+    let venv = crate::tools::occt_python();
     let dir = tempfile::tempdir().unwrap();
     for (python, script) in [
         (venv.as_path(), "scripts/ocp/make_iges.py"),

@@ -1,4 +1,5 @@
-//! Integration tests (one binary, see HOUSE-STYLE.md).
+//! Integration tests, compiled into one binary (`cargo test --test it`); `docs/testing.md`
+//! says what each needs and how tests that need a missing tool are skipped.
 
 mod architecture;
 mod bad_input;
@@ -13,3 +14,4 @@ mod regenerate;
 mod samples;
 mod step_out;
 mod svg;
+mod tools;

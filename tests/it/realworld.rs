@@ -54,7 +54,10 @@ const CORPUS: &[(&str, &str, [f64; 3])] = &[
 #[test]
 fn every_realworld_solid_reads_with_all_its_entities_and_units() {
     let Some(dir) = realworld_dir() else {
-        eprintln!("../shared/realworld not present; skipping");
+        crate::tools::require(
+            "realworld::every_realworld_solid_reads_with_all_its_entities_and_units",
+            &[crate::tools::Tool::Corpus],
+        );
         return;
     };
     let mut bad = vec![];

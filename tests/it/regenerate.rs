@@ -1,23 +1,17 @@
 //! Regenerating the reference solids with the scripts gives the same topology as the
 //! committed files (the generators are deterministic; see scripts/README.md). Needs FreeCAD,
-//! OpenSCAD and the OCP venv: `.ci/run` installs them. Where they are missing the test says
-//! so and passes, except under CI (`CI=true`), where a missing tool is a failure.
+//! OpenSCAD and the OCP venv (`scripts/setup_tools.sh`); without them the test is skipped
+//! loudly, and under CI it fails (see `tools.rs`).
 
 use crate::common::{root, sample};
-
-fn tools_present() -> bool {
-    std::path::Path::new("/usr/lib/freecad-python3/lib/FreeCAD.so").exists()
-        && std::path::Path::new("/usr/bin/openscad").exists()
-}
+use crate::tools::{require, Tool};
 
 #[test]
 fn regenerated_samples_have_the_same_topology() {
-    if !tools_present() {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI must install FreeCAD and OpenSCAD (see .ci/run)"
-        );
-        eprintln!("FreeCAD/OpenSCAD not installed: regeneration check not run");
+    if !require(
+        "regenerate::regenerated_samples_have_the_same_topology",
+        &[Tool::FreeCad, Tool::OpenScad, Tool::Occt],
+    ) {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

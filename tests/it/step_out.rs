@@ -5,6 +5,7 @@
 //! truck's STEP reader finds one B-spline curve per seam.
 
 use crate::common::{matrace, realworld_dir, root, sample};
+use crate::tools::{require, Tool};
 use std::path::{Path, PathBuf};
 use truck_geometry::prelude::{BSplineCurve, BoundedCurve, MetricSpace, ParametricCurve, Point3};
 use truck_stepio::r#in::ruststep::ast::Name;
@@ -65,6 +66,9 @@ fn report_path(step: &Path) -> PathBuf {
 
 #[test]
 fn freecad_sees_one_edge_per_seam_within_the_fit_tolerance_and_the_junctions() {
+    if !require("step_out::freecad_sees_one_edge_per_seam_within_the_fit_tolerance_and_the_junctions", &[Tool::FreeCad]) {
+        return;
+    }
     let dir = tempfile::tempdir().unwrap();
     for name in SAMPLES {
         let (report, step) = trace(&sample(name), dir.path(), &[]);
@@ -107,6 +111,9 @@ fn freecad_sees_one_edge_per_seam_within_the_fit_tolerance_and_the_junctions() {
 
 #[test]
 fn a_part_without_seams_gives_a_file_freecad_opens_empty() {
+    if !require("step_out::a_part_without_seams_gives_a_file_freecad_opens_empty", &[Tool::FreeCad]) {
+        return;
+    }
     // A sphere's MAT is its centre (a degenerate point, not a seam or a junction).
     let dir = tempfile::tempdir().unwrap();
     let (report, step) = trace(&sample("sphere.step"), dir.path(), &[]);
@@ -117,6 +124,9 @@ fn a_part_without_seams_gives_a_file_freecad_opens_empty() {
 
 #[test]
 fn with_solid_freecad_sees_the_part_and_the_seams() {
+    if !require("step_out::with_solid_freecad_sees_the_part_and_the_seams", &[Tool::FreeCad]) {
+        return;
+    }
     let dir = tempfile::tempdir().unwrap();
     // An inch file and a moved part: the copied entities keep their own units and placement,
     // and the check finds every junction inside the solid. NIST CTC-01 (from the real-world
@@ -125,7 +135,12 @@ fn with_solid_freecad_sees_the_part_and_the_seams() {
         .iter()
         .map(|n| sample(n))
         .collect();
-    parts.extend(realworld_dir().map(|d| d.join("stepswift_nist_ctc_01_asme1_rd.stp")));
+    match realworld_dir() {
+        Some(d) => parts.push(d.join("stepswift_nist_ctc_01_asme1_rd.stp")),
+        None => {
+            require("step_out::with_solid (NIST CTC 01)", &[Tool::Corpus]);
+        }
+    }
     for part in parts {
         let name = part.file_name().unwrap().to_str().unwrap();
         let (_, step) = trace(&part, dir.path(), &["--with-solid"]);
@@ -141,6 +156,9 @@ fn with_solid_freecad_sees_the_part_and_the_seams() {
 
 #[test]
 fn the_freecad_check_fails_on_a_wrong_report() {
+    if !require("step_out::the_freecad_check_fails_on_a_wrong_report", &[Tool::FreeCad]) {
+        return;
+    }
     let dir = tempfile::tempdir().unwrap();
     let (report, step) = trace(&sample("plate_with_holes.step"), dir.path(), &[]);
     let write = |name: &str, v: &serde_json::Value| {
