@@ -121,7 +121,8 @@ fn failure(part: &std::path::Path, out_dir: &std::path::Path, occt: bool) -> Opt
 
 #[test]
 fn every_part_traces_completely_and_passes_the_opencascade_crosscheck() {
-    const TEST: &str = "crosscheck::every_part_traces_completely_and_passes_the_opencascade_crosscheck";
+    const TEST: &str =
+        "crosscheck::every_part_traces_completely_and_passes_the_opencascade_crosscheck";
     let corpus = crate::tools::require(&format!("{TEST} (on the corpus)"), &[Tool::Corpus]);
     let occt = crate::tools::require(&format!("{TEST} (OCCT half)"), &[Tool::Occt]);
     let parts = parts();

@@ -66,7 +66,10 @@ fn report_path(step: &Path) -> PathBuf {
 
 #[test]
 fn freecad_sees_one_edge_per_seam_within_the_fit_tolerance_and_the_junctions() {
-    if !require("step_out::freecad_sees_one_edge_per_seam_within_the_fit_tolerance_and_the_junctions", &[Tool::FreeCad]) {
+    if !require(
+        "step_out::freecad_sees_one_edge_per_seam_within_the_fit_tolerance_and_the_junctions",
+        &[Tool::FreeCad],
+    ) {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -111,7 +114,10 @@ fn freecad_sees_one_edge_per_seam_within_the_fit_tolerance_and_the_junctions() {
 
 #[test]
 fn a_part_without_seams_gives_a_file_freecad_opens_empty() {
-    if !require("step_out::a_part_without_seams_gives_a_file_freecad_opens_empty", &[Tool::FreeCad]) {
+    if !require(
+        "step_out::a_part_without_seams_gives_a_file_freecad_opens_empty",
+        &[Tool::FreeCad],
+    ) {
         return;
     }
     // A sphere's MAT is its centre (a degenerate point, not a seam or a junction).
@@ -124,7 +130,10 @@ fn a_part_without_seams_gives_a_file_freecad_opens_empty() {
 
 #[test]
 fn with_solid_freecad_sees_the_part_and_the_seams() {
-    if !require("step_out::with_solid_freecad_sees_the_part_and_the_seams", &[Tool::FreeCad]) {
+    if !require(
+        "step_out::with_solid_freecad_sees_the_part_and_the_seams",
+        &[Tool::FreeCad],
+    ) {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -156,7 +165,10 @@ fn with_solid_freecad_sees_the_part_and_the_seams() {
 
 #[test]
 fn the_freecad_check_fails_on_a_wrong_report() {
-    if !require("step_out::the_freecad_check_fails_on_a_wrong_report", &[Tool::FreeCad]) {
+    if !require(
+        "step_out::the_freecad_check_fails_on_a_wrong_report",
+        &[Tool::FreeCad],
+    ) {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

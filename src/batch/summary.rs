@@ -1,0 +1,245 @@
+//! The batch summary, schema `matrace.batch/1`: one record per part, `summary.json` and
+//! `summary.csv`, written atomically.
+
+use super::inputs::Input;
+use super::options::{BatchOptions, PartOptions};
+use super::shard::Shard;
+use crate::error::{Error, Result};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// The schema name written into `summary.json`.
+pub const SCHEMA: &str = "matrace.batch/1";
+
+/// Longest error message in the summary (characters).
+const ERROR_MAX_CHARS: usize = 2000;
+
+/// How a part ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PartStatus {
+    /// Traced, every output written (and verified within the accuracy, when verifying).
+    Ok,
+    /// An error, a crash, or a verification above the accuracy: see the message.
+    Failed,
+    /// Killed at the time limit.
+    Timeout,
+}
+
+impl PartStatus {
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            PartStatus::Ok => "ok",
+            PartStatus::Failed => "failed",
+            PartStatus::Timeout => "timeout",
+        }
+    }
+}
+
+/// One line of the summary.
+#[derive(Clone, Debug, Serialize)]
+pub struct PartRecord {
+    /// The input file.
+    pub part: String,
+    /// Output location inside the output folder, without suffixes (`sub/part`).
+    pub output: String,
+    pub status: PartStatus,
+    /// Not run: its outputs were complete (`--resume`); the numbers are its report's.
+    pub resumed: bool,
+    pub error: Option<String>,
+    pub faces: Option<usize>,
+    pub seams: Option<usize>,
+    pub junctions: Option<usize>,
+    /// The trace's own time (`stats.seconds` of its report) when it has one, else the
+    /// wall-clock time of the failed attempt.
+    pub seconds: f64,
+    /// Worst verification error (mm) when verified.
+    pub worst_error: Option<f64>,
+    /// Output files written, relative to the output folder.
+    pub outputs: Vec<String>,
+}
+
+/// Per-status counts.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Counts {
+    pub ok: usize,
+    pub failed: usize,
+    pub timeout: usize,
+    /// Parts skipped by `--resume` (counted in `ok`, or in `failed` when their report shows a
+    /// verification above the accuracy).
+    pub resumed: usize,
+}
+
+/// The options a batch ran with, as written into the summary.
+#[derive(Clone, Debug, Serialize)]
+pub struct SummaryOptions {
+    #[serde(flatten)]
+    pub part: PartOptions,
+    pub resume: bool,
+}
+
+/// `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    pub schema: &'static str,
+    /// `K/N` when sharded.
+    pub shard: Option<String>,
+    /// Inputs found before sharding.
+    pub inputs: usize,
+    pub jobs: usize,
+    pub timeout_seconds: Option<f64>,
+    /// The address-space limit actually applied to each part (`null`: none).
+    pub memory_limit_bytes: Option<u64>,
+    pub options: SummaryOptions,
+    pub counts: Counts,
+    /// Wall-clock seconds of the whole batch.
+    pub seconds: f64,
+    /// One record per part, in input order.
+    pub parts: Vec<PartRecord>,
+}
+
+impl Summary {
+    /// True when every part is `ok`.
+    pub fn all_ok(&self) -> bool {
+        self.counts.failed == 0 && self.counts.timeout == 0
+    }
+}
+
+/// The summary record of a part from its report.
+pub(super) fn record_from_report(
+    input: &Input,
+    opts: &BatchOptions,
+    report: &serde_json::Value,
+    resumed: bool,
+) -> PartRecord {
+    let stats = &report["stats"];
+    let count = |v: &serde_json::Value| v.as_u64().map(|n| n as usize);
+    let worst_error = stats["verification"].as_object().map(|v| {
+        [
+            "worst_distance_error",
+            "worst_touch_error",
+            "worst_touch_off_boundary",
+        ]
+        .iter()
+        .filter_map(|k| v.get(*k).and_then(|x| x.as_f64()))
+        .fold(0.0, f64::max)
+    });
+    let accuracy = report["options"]["accuracy"].as_f64().unwrap_or(0.0);
+    let mut error = None;
+    if let Some(w) = worst_error.filter(|w| *w > accuracy) {
+        error = Some(format!(
+            "{}: verification failed: worst error {w:.2e} mm exceeds the accuracy {accuracy:.2e} mm",
+            input.path.display()
+        ));
+    }
+    let dir_rel = input.out_rel.parent().unwrap_or(Path::new(""));
+    PartRecord {
+        part: input.path.display().to_string(),
+        output: input.out_rel.display().to_string(),
+        status: if error.is_some() {
+            PartStatus::Failed
+        } else {
+            PartStatus::Ok
+        },
+        resumed,
+        error,
+        faces: report["model"]["faces"].as_array().map(|f| f.len()),
+        seams: count(&stats["seams"]),
+        junctions: count(&stats["junctions"]),
+        seconds: stats["seconds"].as_f64().unwrap_or(0.0),
+        worst_error,
+        outputs: opts
+            .output_names(&input.stem())
+            .iter()
+            .map(|o| dir_rel.join(o).display().to_string())
+            .collect(),
+    }
+}
+
+/// A record for a part that did not finish.
+pub(super) fn failed_record(
+    input: &Input,
+    status: PartStatus,
+    error: String,
+    seconds: f64,
+) -> PartRecord {
+    let mut error = error;
+    if error.chars().count() > ERROR_MAX_CHARS {
+        error = error.chars().take(ERROR_MAX_CHARS).collect::<String>() + " …";
+    }
+    PartRecord {
+        part: input.path.display().to_string(),
+        output: input.out_rel.display().to_string(),
+        status,
+        resumed: false,
+        error: Some(error),
+        faces: None,
+        seams: None,
+        junctions: None,
+        seconds,
+        worst_error: None,
+        outputs: vec![],
+    }
+}
+
+/// Writes `summary.json` and `summary.csv` (or `summary.K-of-N.*` for a shard) into
+/// `out_dir`, atomically; returns the JSON path.
+pub fn write_summary(summary: &Summary, out_dir: &Path, shard: Option<Shard>) -> Result<PathBuf> {
+    let name = |ext: &str| match shard {
+        Some(s) => s.summary_name(ext),
+        None => format!("summary.{ext}"),
+    };
+    let json_path = out_dir.join(name("json"));
+    let json = serde_json::to_string_pretty(summary).map_err(|e| Error::Write {
+        path: json_path.clone(),
+        source: std::io::Error::other(e),
+    })?;
+    crate::export::write_atomic(&out_dir.join(name("csv")), summary_csv(summary).as_bytes())?;
+    crate::export::write_atomic(&json_path, (json + "\n").as_bytes())?;
+    Ok(json_path)
+}
+
+/// The CSV table: `part,status,error,faces,seams,junctions,seconds,worst_error,resumed,output`
+/// (RFC 4180 quoting; empty cells for unknown numbers).
+pub fn summary_csv(summary: &Summary) -> String {
+    let mut s = String::from(
+        "part,status,error,faces,seams,junctions,seconds,worst_error,resumed,output\n",
+    );
+    let num = |n: Option<usize>| n.map(|n| n.to_string()).unwrap_or_default();
+    for p in &summary.parts {
+        let cells = [
+            csv_cell(&p.part),
+            p.status.as_str().to_string(),
+            csv_cell(p.error.as_deref().unwrap_or("")),
+            num(p.faces),
+            num(p.seams),
+            num(p.junctions),
+            format!("{:.3}", p.seconds),
+            p.worst_error.map(|w| format!("{w:e}")).unwrap_or_default(),
+            p.resumed.to_string(),
+            csv_cell(&p.output),
+        ];
+        s.push_str(&cells.join(","));
+        s.push('\n');
+    }
+    s
+}
+
+fn csv_cell(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_cells_are_quoted() {
+        assert_eq!(csv_cell("a.step"), "a.step");
+        assert_eq!(csv_cell("x, \"y\""), "\"x, \"\"y\"\"\"");
+    }
+}
