@@ -193,7 +193,10 @@ pub fn trace_part(part: &Path, opts: &RunOptions) -> Result<PartOutcome> {
             },
         );
         let path = opts.out_dir.join(format!("{stem}.sheets.obj"));
-        crate::export::write_atomic(&path, mesh.to_obj(&part.display().to_string()).as_bytes())?;
+        crate::export::write_atomic(
+            &path,
+            crate::export::obj::sheet_mesh_obj(&mesh, &part.display().to_string()).as_bytes(),
+        )?;
         report.stats.mesh_triangles = mesh.triangles();
         written.push(path);
         t.mesh = lap(&mut clock);

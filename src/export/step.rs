@@ -53,7 +53,7 @@ pub fn write_mat_step(
         fits,
         solid.as_ref().map(|(p, t)| (*p, t.as_str())),
     )?;
-    super::write_atomic(path, text.as_bytes())
+    super::atomic::write_atomic(path, text.as_bytes())
 }
 
 /// The text of the `.mat.step` file to be written at `path` (see [`write_mat_step`]); `solid`
