@@ -17,7 +17,7 @@ const CORRECTION_START_REL_TOL: f64 = 10.0;
 /// An interpolating cubic longer than this many times the polyline swings between points.
 const MAX_LENGTH_REL_POLYLINE: f64 = 1.05;
 /// Consecutive points whose coordinates all differ by at most this, relative to the largest
-/// coordinate (at least 1 mm), are repeats.
+/// coordinate (taken as at least 1), are repeats.
 const REPEAT_REL_MAX_COORD: f64 = 1e-14;
 
 /// Fits `points` (`[x, y, z, r]`, in order along the seam) within `tol` (see the module
