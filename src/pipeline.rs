@@ -259,7 +259,10 @@ fn write_outputs(
             },
         );
         let path = opts.out_dir.join(format!("{stem}.sheets.obj"));
-        crate::export::write_atomic(&path, mesh.to_obj(&part.display().to_string()).as_bytes())?;
+        crate::export::write_atomic(
+            &path,
+            crate::export::obj::sheet_mesh_obj(&mesh, &part.display().to_string()).as_bytes(),
+        )?;
         report.stats.mesh_triangles = mesh.triangles();
         written.push(path);
         clock.timings.mesh = clock.lap();

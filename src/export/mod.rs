@@ -1,28 +1,11 @@
 //! Writers of the outputs: the JSON report's schema ([`report`]), the STEP file of the seams
-//! and junctions ([`step`]), the picture ([`svg`]), each written atomically.
+//! and junctions ([`step`]), the OBJ mesh of the sheets ([`obj`]), the picture ([`svg`]),
+//! each written atomically ([`write_atomic`]).
 
+mod atomic;
+pub mod obj;
 pub mod report;
 pub mod step;
 pub mod svg;
 
-use crate::error::{Error, Result};
-use std::path::Path;
-
-/// Writes `bytes` to `path` atomically: into a temporary file in the same folder, then
-/// renamed over `path`, so a reader (or a batch resumed after a crash) never sees half a file.
-/// The error names the file.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "out".into());
-    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    let result = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
-    result.map_err(|source| {
-        let _ = std::fs::remove_file(&tmp);
-        Error::Write {
-            path: path.to_owned(),
-            source,
-        }
-    })
-}
+pub use atomic::write_atomic;

@@ -1,4 +1,4 @@
-//! The JSON report, schema `matrace.report/1` (DESIGN.md, "Outputs").
+//! The JSON report, schema `matrace.report/1` (`<stem>.mat.json`).
 //!
 //! This module builds the `input` and `model` objects (what `matrace inspect --json` prints);
 //! the `mat` and `stats` objects are added by the tracer. Everything is plain serde data so

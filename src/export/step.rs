@@ -1,4 +1,4 @@
-//! Writing the traced MAT as a STEP AP214 wireframe (`<stem>.mat.step`, DESIGN.md "Outputs").
+//! Writing the traced MAT as a STEP AP214 wireframe (`<stem>.mat.step`).
 //!
 //! ISO 10303-21 text, schema `AUTOMOTIVE_DESIGN` (AP214), millimetres. Each seam is one
 //! `B_SPLINE_CURVE_WITH_KNOTS` named `'seam <id>'` (its [`SeamFit`]), each junction one
@@ -14,8 +14,7 @@
 //! units, so one open shows the part and its MAT.
 //!
 //! truck-stepio cannot help here: it writes no wires or curve sets, and its solid writer emits a
-//! non-AP214 schema (DESIGN.md, "The truck toolkit", item 7). The entities are simple enough to
-//! print directly.
+//! schema other than AP214. The entities are simple enough to print directly.
 
 use crate::error::{Error, Result};
 use crate::fit::SeamFit;
@@ -53,7 +52,7 @@ pub fn write_mat_step(
         fits,
         solid.as_ref().map(|(p, t)| (*p, t.as_str())),
     )?;
-    super::write_atomic(path, text.as_bytes())
+    super::atomic::write_atomic(path, text.as_bytes())
 }
 
 /// The text of the `.mat.step` file to be written at `path` (see [`write_mat_step`]); `solid`

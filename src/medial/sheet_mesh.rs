@@ -82,38 +82,6 @@ impl SheetMesh {
     pub fn triangles(&self) -> usize {
         self.parts.iter().map(|p| p.triangles.len()).sum()
     }
-
-    /// The mesh as Wavefront OBJ text: one group per sheet (`g sheet_<id>`), vertices in
-    /// millimetres; the radius of each vertex's ball is not part of OBJ and is left out.
-    pub fn to_obj(&self, title: &str) -> String {
-        use std::fmt::Write;
-        let mut s = String::new();
-        let _ = writeln!(s, "# matrace medial sheets of {title}");
-        let _ = writeln!(
-            s,
-            "# {} vertices, {} triangles, {} sheets",
-            self.vertices.len(),
-            self.triangles(),
-            self.parts.len()
-        );
-        for v in &self.vertices {
-            let _ = writeln!(s, "v {:.6} {:.6} {:.6}", v[0], v[1], v[2]);
-        }
-        for p in &self.parts {
-            match p.sheet {
-                Some(id) => {
-                    let _ = writeln!(s, "g sheet_{id}");
-                }
-                None => {
-                    let _ = writeln!(s, "g unbounded_{}", p.name.replace('|', "_"));
-                }
-            }
-            for t in &p.triangles {
-                let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
-            }
-        }
-        s
-    }
 }
 
 /// The vertices (`[x, y, z, r]`) and triangles (tagged with their sheet's two groups) meshed
@@ -420,20 +388,6 @@ mod tests {
                 assert!((v[2] - 10.0).abs() <= 2.0 * acc && (v[3] - 10.0).abs() <= 2.0 * acc);
             }
         }
-        // OBJ: every vertex and triangle, one group per sheet.
-        let obj = mesh.to_obj("box");
-        assert_eq!(
-            obj.lines().filter(|l| l.starts_with("v ")).count(),
-            mesh.vertices.len()
-        );
-        assert_eq!(
-            obj.lines().filter(|l| l.starts_with("f ")).count(),
-            mesh.triangles()
-        );
-        assert_eq!(
-            obj.lines().filter(|l| l.starts_with("g sheet_")).count(),
-            13
-        );
     }
 
     /// Plate with holes: all 19 sheets (annuli around the holes included) get triangles.

@@ -1,6 +1,6 @@
-//! `<stem>.mat.step` (DESIGN.md, "Outputs"): `matrace trace` writes the seams as B-spline
-//! curves and the junctions as points; FreeCAD opens the file and sees one edge per seam within
-//! the fit tolerance of the traced points (scripts/freecad/check_mat_step.py, Debian's python
+//! `<stem>.mat.step`: `matrace trace` writes the seams as B-spline curves and the junctions as
+//! points; FreeCAD opens the file and sees one edge per seam within the fit tolerance of the
+//! traced points (scripts/freecad/check_mat_step.py, Debian's python
 //! with the FreeCAD modules, which CI installs), `--with-solid` adds the input part, and
 //! truck's STEP reader finds one B-spline curve per seam.
 
@@ -79,9 +79,9 @@ fn freecad_sees_one_edge_per_seam_within_the_fit_tolerance_and_the_junctions() {
         assert!(!seams.is_empty(), "{name}: no seams to check");
         let fit = &report["mat"]["fit"];
         let tol = fit["tol"].as_f64().unwrap();
-        // The default fit tolerance is DEFAULT_FIT_TOL × the diagonal.
+        // The default fit tolerance is DEFAULT_FIT_TOL_REL_DIAGONAL × the diagonal.
         let diagonal = report["model"]["diagonal"].as_f64().unwrap();
-        let want = matrace::fit::DEFAULT_FIT_TOL * diagonal;
+        let want = matrace::fit::DEFAULT_FIT_TOL_REL_DIAGONAL * diagonal;
         assert!(
             (tol - want).abs() <= 1e-12 * want,
             "{name}: tol {tol} vs {want}"
