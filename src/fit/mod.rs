@@ -72,12 +72,7 @@ use crate::medial::MedialAxis;
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// Default fit tolerance, relative to the part's bounding-box diagonal. The seams are
-/// exported for looking at and for downstream CAD use: 1e-4 × the diagonal is 10 µm on a
-/// 100 mm part, below typical machining tolerances and far below what a screen shows, yet
-/// 100× looser than the trace accuracy (1e-6 × diagonal), so a seam needs only a few control
-/// points per bend instead of one per traced point.
-pub const DEFAULT_FIT_TOL_REL_DIAGONAL: f64 = 1e-4;
+pub use crate::model::tolerances::DEFAULT_FIT_TOL_REL_DIAGONAL;
 
 /// Options of [`fit_mat`].
 #[derive(Clone, Copy, Debug)]
