@@ -280,7 +280,7 @@ fn loops_by_sheet(
         by_sheet
             .entry((first.solid, first.groups))
             .or_default()
-            .push(order_loop(&arcs, &members));
+            .push(order_loop(arcs, &members));
     }
 
     (by_sheet, incomplete_solids)

@@ -427,7 +427,7 @@ fn imports(mods: &[Module]) -> Vec<Import> {
         for _ in 0..16 {
             let depth = (0..=path.len())
                 .rev()
-                .find(|&d| known.contains(&path[..d].to_vec()))
+                .find(|&d| known.contains(&path[..d]))
                 .unwrap_or(0);
             let module = path[..depth].to_vec();
             let Some(next) = path
