@@ -277,12 +277,7 @@ impl MedialSystem {
 mod tests {
     use super::*;
 
-    fn sample(name: &str) -> Model {
-        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("samples")
-            .join(name);
-        crate::ingest::read_model(&p).unwrap()
-    }
+    use crate::testing::sample;
 
     /// Analytic Jacobian against central differences on curved faces (sphere, torus,
     /// B-spline top, NURBS cylinder, fillets), at interior parameters of each face.

@@ -28,3 +28,21 @@ pub fn curvature_allows(model: &Model, seg: Element, s: [f64; 2], r: f64) -> boo
         Element::Edge(_) | Element::Vertex(_) => true,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The sphere sample (radius 15, outward normals): a ball of radius 14 fits against its
+    /// wall, one of radius 16 pokes through; a plane never fails.
+    #[test]
+    fn curvature_criterion_on_a_sphere() {
+        let m = crate::testing::sample("sphere.step");
+        let s = [1.0, 0.3];
+        assert!(curvature_allows(&m, Element::Face(0), s, 14.0));
+        assert!(curvature_allows(&m, Element::Face(0), s, 15.0));
+        assert!(!curvature_allows(&m, Element::Face(0), s, 16.0));
+        let b = crate::testing::sample("box.step");
+        assert!(curvature_allows(&b, Element::Face(0), [1.0, 1.0], 1e6));
+    }
+}

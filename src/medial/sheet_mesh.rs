@@ -338,16 +338,11 @@ mod tests {
     use crate::medial::BoundaryRef;
 
     fn meshed(name: &str) -> (Model, Sheets, SheetMesh) {
-        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("samples")
-            .join(name);
-        let m = crate::ingest::read_model(&p).unwrap();
-        let c = crate::classify(&m, &Default::default());
-        let opts = crate::medial::TraceOptions::for_model(&m);
+        let (m, c, mat) = crate::testing::traced(name);
         let b = Boundary::new(&m);
-        let mat = crate::medial::trace_with_boundary(&m, &b, &c, &opts);
         let s = crate::medial::sheets(&m, &c, &mat);
-        let mesh = sheet_mesh(&m, &b, &c, &s, &MeshOptions::new(opts.accuracy));
+        let accuracy = crate::medial::TraceOptions::for_model(&m).accuracy;
+        let mesh = sheet_mesh(&m, &b, &c, &s, &MeshOptions::new(accuracy));
         (m, s, mesh)
     }
 

@@ -449,12 +449,7 @@ mod tests {
     use super::*;
 
     fn sheets_of(name: &str) -> (MedialAxis, Sheets) {
-        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("samples")
-            .join(name);
-        let m = crate::ingest::read_model(&p).unwrap();
-        let c = crate::classify(&m, &Default::default());
-        let mat = crate::medial::trace(&m, &c, &crate::medial::TraceOptions::for_model(&m));
+        let (m, c, mat) = crate::testing::traced(name);
         let s = sheets(&m, &c, &mat);
         (mat, s)
     }

@@ -141,12 +141,7 @@ mod tests {
     use crate::model::Element;
     use proptest::prelude::*;
 
-    fn sample(name: &str) -> crate::model::Model {
-        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("samples")
-            .join(name);
-        crate::ingest::read_model(&p).unwrap()
-    }
+    use crate::testing::sample;
 
     /// Unknowns `[B, r, s…]` with each touch parameter at fraction `frac(i)` of segment i's
     /// face domain.

@@ -5,17 +5,11 @@ use super::options::MAX_TURN_RAD;
 use super::*;
 use crate::geom::{project_point, Boundary};
 use crate::medial::axis::{DegenerateKind, Junction, MedialAxis, Seam, SeamEnd};
-use crate::medial::maximal::curvature_allows;
 use crate::model::{Element, Model};
 use glam::DVec3;
 
 fn traced(name: &str) -> (Model, MedialAxis) {
-    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("samples")
-        .join(name);
-    let m = crate::ingest::read_model(&p).unwrap();
-    let c = crate::classify(&m, &Default::default());
-    let mat = trace(&m, &c, &TraceOptions::for_model(&m));
+    let (m, _, mat) = crate::testing::traced(name);
     (m, mat)
 }
 
@@ -105,20 +99,6 @@ fn check(file: &str, seams: usize, junctions: &[([f64; 3], f64)]) {
     );
 }
 
-/// The sphere sample (radius 15, outward normals): a ball of radius 14 fits against its
-/// wall, one of radius 16 pokes through; a plane never fails.
-#[test]
-fn curvature_criterion_on_a_sphere() {
-    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/sphere.step");
-    let m = crate::ingest::read_model(&p).unwrap();
-    let s = [1.0, 0.3];
-    assert!(curvature_allows(&m, Element::Face(0), s, 14.0));
-    assert!(curvature_allows(&m, Element::Face(0), s, 15.0));
-    assert!(!curvature_allows(&m, Element::Face(0), s, 16.0));
-    let (b, _) = traced("box.step");
-    assert!(curvature_allows(&b, Element::Face(0), [1.0, 1.0], 1e6));
-}
-
 /// Tetrahedron (0,0,0), (36,0,0), (0,28,0), (0,0,24): four seams meet at the incentre
 /// (6, 6, 6) with the inradius 6 (manifest, from Σ Aᵢ·Vᵢ / Σ Aᵢ and 3V / Σ Aᵢ).
 #[test]
@@ -197,10 +177,7 @@ fn ellipse_distance(a: f64, b: f64, x: f64) -> f64 {
 fn seam_touching_one_face_twice_from_a_seed() {
     let (a, b, h) = (30.0, 15.0, 40.0);
     for file in ["elliptic_cylinder.step", "elliptic_cylinder_nurbs.step"] {
-        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("samples")
-            .join(file);
-        let m = crate::ingest::read_model(&p).unwrap();
+        let m = crate::testing::sample(file);
         let class = crate::classify(&m, &Default::default());
         // The lateral face owns the seam edge (the same face on both sides); the top is
         // the other face with the higher middle.
