@@ -5,6 +5,8 @@ pub mod iges;
 pub mod p21;
 mod records;
 mod step;
+mod tolerance;
+mod transform;
 
 pub use step::MAX_FILE_BYTES;
 

@@ -61,16 +61,7 @@ impl<'a> ById<'a> {
 /// instances (plus a little): at most a few empty entries per instance.
 const DENSE_IDS_PER_INSTANCE: usize = 4;
 
-/// A 4×4 rigid (or scaling) transform, row-major, acting on column vectors.
-pub type Mat4 = [[f64; 4]; 4];
-
-/// The identity transform.
-pub const IDENTITY: Mat4 = [
-    [1.0, 0.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0, 0.0],
-    [0.0, 0.0, 1.0, 0.0],
-    [0.0, 0.0, 0.0, 1.0],
-];
+pub use super::transform::{apply, mat_mul, placed, rigid_inverse, to_matrix4, Mat4, IDENTITY};
 
 impl<'a> Records<'a> {
     /// Indexes every instance of `sections`.
@@ -910,54 +901,6 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 fn normalize(a: [f64; 3]) -> Option<[f64; 3]> {
     let n = dot(a, a).sqrt();
     (n > 1e-300 && n.is_finite()).then(|| [a[0] / n, a[1] / n, a[2] / n])
-}
-
-/// Matrix product `a · b`.
-pub fn mat_mul(a: &Mat4, b: &Mat4) -> Mat4 {
-    let mut m = [[0.0; 4]; 4];
-    for (i, row) in m.iter_mut().enumerate() {
-        for (j, cell) in row.iter_mut().enumerate() {
-            *cell = (0..4).map(|k| a[i][k] * b[k][j]).sum();
-        }
-    }
-    m
-}
-
-/// `m` applied to the point `p`.
-pub fn apply(m: &Mat4, p: DVec3) -> DVec3 {
-    let a = [p.x, p.y, p.z, 1.0];
-    let r = |i: usize| (0..4).map(|k| m[i][k] * a[k]).sum::<f64>();
-    DVec3::new(r(0), r(1), r(2))
-}
-
-/// Geometry moved by the placement `m` (mm scaling and assembly transform).
-pub fn placed<T: Transformed<Matrix4>>(mut geometry: T, m: &Mat4) -> T {
-    if *m != IDENTITY {
-        geometry.transform_by(to_matrix4(m));
-    }
-    geometry
-}
-
-pub fn to_matrix4(m: &Mat4) -> Matrix4 {
-    // cgmath matrices are column-major: Matrix4::new takes columns.
-    Matrix4::new(
-        m[0][0], m[1][0], m[2][0], m[3][0], m[0][1], m[1][1], m[2][1], m[3][1], m[0][2], m[1][2],
-        m[2][2], m[3][2], m[0][3], m[1][3], m[2][3], m[3][3],
-    )
-}
-
-/// Inverse of a rigid transform (rotation + translation).
-pub fn rigid_inverse(a: &Mat4) -> Mat4 {
-    let mut m = IDENTITY;
-    for i in 0..3 {
-        for j in 0..3 {
-            m[i][j] = a[j][i];
-        }
-    }
-    for row in m.iter_mut().take(3) {
-        row[3] = -(0..3).map(|k| row[k] * a[k][3]).sum::<f64>();
-    }
-    m
 }
 
 /// A representation (`SHAPE_REPRESENTATION`, `ADVANCED_BREP_SHAPE_REPRESENTATION`, …):

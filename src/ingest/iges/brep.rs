@@ -8,9 +8,11 @@
 //! orientation flags are not needed either: [`super::finish`] orients every face from the
 //! loops and the enclosed volume.
 
-use super::geometry::{apply, Segment, IDENTITY};
-use super::Ctx;
+use super::ctx::Ctx;
+use super::segment::{edge_range, Segment};
 use crate::error::Result;
+use crate::ingest::domain::EMPTY_DOMAIN;
+use crate::ingest::transform::{apply, IDENTITY};
 use crate::model::*;
 use glam::DVec3;
 use std::collections::HashMap;
@@ -118,7 +120,7 @@ fn build_face(
         same_sense: true,
         loops,
         outer: None,
-        domain: super::finish::EMPTY_DOMAIN,
+        domain: EMPTY_DOMAIN,
     });
     Ok(fi)
 }
@@ -248,8 +250,7 @@ fn edge(
     let b = vertex(ctx, model, maps, tvp, tv, list)?;
     let seg = ctx.curve(curve, list, &ctx.transform_chain(e)?)?;
     let (pa, pb) = (model.vertices[a].point, model.vertices[b].point);
-    let (range, reversed) =
-        super::finish::edge_range(&seg, pa, pb).map_err(|r| ctx.err(curve, r))?;
+    let (range, reversed) = edge_range(&seg, pa, pb).map_err(|r| ctx.err(curve, r))?;
     let vertices = if reversed { [b, a] } else { [a, b] };
     let idx = model.edges.len();
     let Segment { curve: c, .. } = seg;
