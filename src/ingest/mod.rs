@@ -2,13 +2,11 @@
 
 mod domain;
 pub mod iges;
-pub mod p21;
-mod records;
 mod step;
 mod tolerance;
 mod transform;
 
-pub use step::MAX_FILE_BYTES;
+pub use step::{p21, MAX_FILE_BYTES};
 
 use crate::model::Model;
 

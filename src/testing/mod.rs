@@ -1,11 +1,13 @@
 //! Fixtures shared by the unit tests (compiled in test builds only): the reference samples
 //! (`samples/`) and the third-party corpus beside the project, read, classified and traced
-//! the way the pipeline does it with default options.
+//! the way the pipeline does it with default options; and small inputs written by the tests
+//! (IGES files, STEP instances).
 
 use crate::classify::Classification;
 use crate::medial::MedialAxis;
 use crate::model::Model;
 use std::path::PathBuf;
+use truck_stepio::r#in::ruststep::ast::{EntityInstance, Parameter, Record};
 
 /// The project root (where `Cargo.toml` is).
 pub fn root() -> PathBuf {
@@ -25,6 +27,23 @@ pub fn sample_files() -> Vec<PathBuf> {
         .filter(|p| p.extension().is_some_and(|e| e == "step"))
         .collect();
     files.sort();
+    files
+}
+
+/// The STEP files of `samples/` and `../shared/realworld/` (at least 30).
+pub fn corpus_step_files() -> Vec<PathBuf> {
+    let root = root();
+    let mut files = vec![];
+    for dir in [root.join("samples"), root.join("../shared/realworld")] {
+        for e in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            let p = e.path();
+            let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
+            if ["step", "stp", "STEP", "STP"].contains(&ext) {
+                files.push(p);
+            }
+        }
+    }
+    assert!(files.len() >= 30, "found only {} files", files.len());
     files
 }
 
@@ -108,4 +127,15 @@ pub fn iges_file(entities: &[IgesEntity], unit: i64) -> String {
         1
     ));
     out.join("\n") + "\n"
+}
+
+/// A simple STEP instance `#id=NAME();` (no parameters).
+pub fn simple_instance(id: u64, name: &str) -> EntityInstance {
+    EntityInstance::Simple {
+        id,
+        record: Record {
+            name: name.into(),
+            parameter: Parameter::List(vec![]),
+        },
+    }
 }
