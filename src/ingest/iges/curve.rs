@@ -53,11 +53,7 @@ impl Ctx<'_> {
                 }
                 let a0 = (s.1 - c.1).atan2(s.0 - c.0);
                 let a1 = (t.1 - c.1).atan2(t.0 - c.0);
-                let mut sweep = (a1 - a0).rem_euclid(2.0 * PI);
-                // Start = end: a full circle (rounding can leave a hair of an angle either way).
-                if !(1e-9..=2.0 * PI - 1e-9).contains(&sweep) {
-                    sweep = 2.0 * PI;
-                }
+                let sweep = counter_clockwise_sweep(a0, a1);
                 let local = mat_mul(
                     &[
                         [1.0, 0.0, 0.0, c.0],
@@ -178,7 +174,7 @@ impl Ctx<'_> {
         let rational = !polynomial
             && weights
                 .iter()
-                .any(|w| (w - weights[0]).abs() > 1e-14 * weights[0]);
+                .any(|w| (w - weights[0]).abs() > SAME_WEIGHT_REL_FIRST * weights[0]);
         let curve = if rational {
             let cps: Vec<Vector4> = (0..=k)
                 .map(|i| {
@@ -200,6 +196,25 @@ impl Ctx<'_> {
         Ok((curve, (v[0], v[1])))
     }
 }
+
+/// An angle sweep within this of nothing or of a full turn is a full turn: start = end up to
+/// rounding.
+const FULL_TURN_SLACK_RAD: f64 = 1e-9;
+
+/// The angle from `a0` counter-clockwise to `a1`, in (0, 2π]: a full turn when they are the
+/// same angle (up to [`FULL_TURN_SLACK_RAD`]).
+fn counter_clockwise_sweep(a0: f64, a1: f64) -> f64 {
+    let sweep = (a1 - a0).rem_euclid(2.0 * PI);
+    if !(FULL_TURN_SLACK_RAD..=2.0 * PI - FULL_TURN_SLACK_RAD).contains(&sweep) {
+        2.0 * PI
+    } else {
+        sweep
+    }
+}
+
+/// Weights differing from the first by at most this, relative to the first, are all the
+/// same: the B-spline is polynomial, not rational.
+pub const SAME_WEIGHT_REL_FIRST: f64 = 1e-14;
 
 /// An error when the knots are not sorted or span nothing.
 pub fn check_knots(k: &[f64]) -> std::result::Result<(), String> {
@@ -257,10 +272,7 @@ fn conic(r: &[f64], form: i64) -> std::result::Result<(Curve3D, (f64, f64)), Str
             let (sa, sb) = ((-f / a).sqrt(), (-f / c).sqrt());
             let t0 = (y1 / sb).atan2(x1 / sa);
             let t1 = (y2 / sb).atan2(x2 / sa);
-            let mut sweep = (t1 - t0).rem_euclid(2.0 * PI);
-            if !(1e-9..=2.0 * PI - 1e-9).contains(&sweep) {
-                sweep = 2.0 * PI;
-            }
+            let sweep = counter_clockwise_sweep(t0, t1);
             let local = mat_mul(
                 &scaled(&frame2([[1.0, 0.0], [0.0, 1.0]]), sa, sb, sa.min(sb)),
                 &rot_z(t0),

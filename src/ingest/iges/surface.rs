@@ -7,7 +7,7 @@
 //! cylinders and spheres that way; other 120s stay truck revolutions.
 
 use super::ctx::Ctx;
-use super::curve::check_knots;
+use super::curve::{check_knots, SAME_WEIGHT_REL_FIRST};
 use super::format::DirEntry;
 use super::placement::{p3, v3};
 use crate::error::Result;
@@ -268,7 +268,9 @@ impl Ctx<'_> {
         if w.iter().any(|w| *w <= 0.0) {
             return Err(self.err(de, "weights must be positive"));
         }
-        let rational = !polynomial && w.iter().any(|x| (x - w[0]).abs() > 1e-14 * w[0]);
+        let rational = !polynomial
+            && w.iter()
+                .any(|x| (x - w[0]).abs() > SAME_WEIGHT_REL_FIRST * w[0]);
         let idx = |i: usize, j: usize| i + j * (k1 + 1);
         let kv = (KnotVec::from(s), KnotVec::from(t));
         let bad = |x: truck_geometry::errors::Error| self.err(de, x.to_string());

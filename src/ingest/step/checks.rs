@@ -67,24 +67,6 @@ type BsplineDirection = (Option<i64>, Option<usize>, Option<(i128, i64)>);
 /// curve than the file states. Simple and complex (rational) instances. Returns
 /// `(id, entity, reason)`.
 pub fn check_bspline_degrees(records: &Records) -> Option<(u64, String, String)> {
-    let int = |p: &Parameter| match p {
-        Parameter::Integer(i) => Some(*i),
-        _ => None,
-    };
-    let list_len = |p: &Parameter| match p {
-        Parameter::List(l) => Some(l.len()),
-        _ => None,
-    };
-    let inner_len = |p: &Parameter| match p {
-        Parameter::List(l) => l.first().and_then(list_len),
-        _ => None,
-    };
-    let sum = |p: &Parameter| match p {
-        Parameter::List(l) => l.iter().try_fold((0i128, i64::MAX), |(s, lo), q| {
-            int(q).map(|m| (s + i128::from(m), lo.min(m)))
-        }),
-        _ => None,
-    };
     for id in records.ids_in_order() {
         let Some(inst) = records.get(id) else {
             continue;
@@ -95,95 +77,132 @@ pub fn check_bspline_degrees(records: &Records) -> Option<(u64, String, String)>
         {
             continue;
         }
-        // (name, parameters without the label) of each part.
-        let parts: Vec<(&str, &[Parameter])> = match inst {
-            EntityInstance::Simple { record, .. } => {
-                let ps = params(record);
-                vec![(record.name.as_str(), ps.get(1..).unwrap_or(&[]))]
-            }
-            EntityInstance::Complex { subsuper, .. } => subsuper
-                .0
-                .iter()
-                .map(|r| (r.name.as_str(), params(r)))
-                .collect(),
+        let Some((name, dirs)) = bspline_directions(inst) else {
+            continue;
         };
-        let find = |n: &str| parts.iter().find(|(name, _)| *name == n).map(|(_, p)| *p);
-        // Per direction: (degree, control points, sum of knot multiplicities).
-        let (name, dirs): (&str, Vec<BsplineDirection>) =
-            if let Some(p) = find("B_SPLINE_CURVE_WITH_KNOTS").filter(|p| p.len() >= 7) {
-                // Simple: degree, points, form, closed, self-intersect, mults, knots, spec.
-                (
-                    "B_SPLINE_CURVE_WITH_KNOTS",
-                    vec![(int(&p[0]), list_len(&p[1]), sum(&p[5]))],
-                )
-            } else if let (Some(c), Some(k)) =
-                (find("B_SPLINE_CURVE"), find("B_SPLINE_CURVE_WITH_KNOTS"))
-            {
-                if c.len() < 2 || k.is_empty() {
-                    continue;
-                }
-                (
-                    "B_SPLINE_CURVE",
-                    vec![(int(&c[0]), list_len(&c[1]), sum(&k[0]))],
-                )
-            } else if let Some(p) = find("B_SPLINE_SURFACE_WITH_KNOTS").filter(|p| p.len() >= 10) {
-                // Simple: u and v degree, points, form, u/v closed, self-intersect, u and v
-                // mults, u and v knots, spec.
-                (
-                    "B_SPLINE_SURFACE_WITH_KNOTS",
-                    vec![
-                        (int(&p[0]), list_len(&p[2]), sum(&p[7])),
-                        (int(&p[1]), inner_len(&p[2]), sum(&p[8])),
-                    ],
-                )
-            } else if let (Some(c), Some(k)) = (
-                find("B_SPLINE_SURFACE"),
-                find("B_SPLINE_SURFACE_WITH_KNOTS"),
-            ) {
-                if c.len() < 3 || k.len() < 2 {
-                    continue;
-                }
-                (
-                    "B_SPLINE_SURFACE",
-                    vec![
-                        (int(&c[0]), list_len(&c[2]), sum(&k[0])),
-                        (int(&c[1]), inner_len(&c[2]), sum(&k[1])),
-                    ],
-                )
-            } else {
-                continue;
-            };
         for dir in dirs {
-            let (Some(d), Some(n), Some((m, lowest))) = dir else {
-                continue;
-            };
-            if lowest < 1 {
-                return Some((
-                    id,
-                    name.into(),
-                    format!("knot multiplicity {lowest} (must be at least 1)"),
-                ));
-            }
-            if !(1..=MAX_BSPLINE_DEGREE).contains(&d) {
-                return Some((
-                    id,
-                    name.into(),
-                    format!("degree {d} (1 to {MAX_BSPLINE_DEGREE} supported)"),
-                ));
-            }
-            if m != n as i128 + i128::from(d) + 1 {
-                return Some((
-                    id,
-                    name.into(),
-                    format!(
-                        "degree {d} with {n} control points needs knot multiplicities summing to {}, not {m}",
-                        n as i64 + d + 1
-                    ),
-                ));
+            if let Some(reason) = direction_error(dir) {
+                return Some((id, name.into(), reason));
             }
         }
     }
     None
+}
+
+/// The entity name a B-spline instance is reported by, and its parametric directions; `None`
+/// when the instance is not a B-spline with knots in a form the check reads.
+fn bspline_directions(inst: &EntityInstance) -> Option<(&'static str, Vec<BsplineDirection>)> {
+    // (name, parameters without the label) of each part.
+    let parts: Vec<(&str, &[Parameter])> = match inst {
+        EntityInstance::Simple { record, .. } => {
+            let ps = params(record);
+            vec![(record.name.as_str(), ps.get(1..).unwrap_or(&[]))]
+        }
+        EntityInstance::Complex { subsuper, .. } => subsuper
+            .0
+            .iter()
+            .map(|r| (r.name.as_str(), params(r)))
+            .collect(),
+    };
+    let find = |n: &str| parts.iter().find(|(name, _)| *name == n).map(|(_, p)| *p);
+    // Per direction: (degree, control points, sum of knot multiplicities).
+    if let Some(p) = find("B_SPLINE_CURVE_WITH_KNOTS").filter(|p| p.len() >= 7) {
+        // Simple: degree, points, form, closed, self-intersect, mults, knots, spec.
+        Some((
+            "B_SPLINE_CURVE_WITH_KNOTS",
+            vec![(int(&p[0]), list_len(&p[1]), multiplicities(&p[5]))],
+        ))
+    } else if let (Some(c), Some(k)) = (find("B_SPLINE_CURVE"), find("B_SPLINE_CURVE_WITH_KNOTS")) {
+        if c.len() < 2 || k.is_empty() {
+            return None;
+        }
+        Some((
+            "B_SPLINE_CURVE",
+            vec![(int(&c[0]), list_len(&c[1]), multiplicities(&k[0]))],
+        ))
+    } else if let Some(p) = find("B_SPLINE_SURFACE_WITH_KNOTS").filter(|p| p.len() >= 10) {
+        // Simple: u and v degree, points, form, u/v closed, self-intersect, u and v mults, u
+        // and v knots, spec.
+        Some((
+            "B_SPLINE_SURFACE_WITH_KNOTS",
+            vec![
+                (int(&p[0]), list_len(&p[2]), multiplicities(&p[7])),
+                (int(&p[1]), inner_len(&p[2]), multiplicities(&p[8])),
+            ],
+        ))
+    } else if let (Some(c), Some(k)) = (
+        find("B_SPLINE_SURFACE"),
+        find("B_SPLINE_SURFACE_WITH_KNOTS"),
+    ) {
+        if c.len() < 3 || k.len() < 2 {
+            return None;
+        }
+        Some((
+            "B_SPLINE_SURFACE",
+            vec![
+                (int(&c[0]), list_len(&c[2]), multiplicities(&k[0])),
+                (int(&c[1]), inner_len(&c[2]), multiplicities(&k[1])),
+            ],
+        ))
+    } else {
+        None
+    }
+}
+
+/// What is wrong with one direction of a B-spline, if anything the record says is: a
+/// multiplicity below 1, a degree out of range, or multiplicities that do not sum to control
+/// points + degree + 1.
+fn direction_error(dir: BsplineDirection) -> Option<String> {
+    let (Some(d), Some(n), Some((m, lowest))) = dir else {
+        return None;
+    };
+    if lowest < 1 {
+        return Some(format!("knot multiplicity {lowest} (must be at least 1)"));
+    }
+    if !(1..=MAX_BSPLINE_DEGREE).contains(&d) {
+        return Some(format!("degree {d} (1 to {MAX_BSPLINE_DEGREE} supported)"));
+    }
+    if m != n as i128 + i128::from(d) + 1 {
+        return Some(format!(
+            "degree {d} with {n} control points needs knot multiplicities summing to {}, not {m}",
+            n as i64 + d + 1
+        ));
+    }
+    None
+}
+
+/// An integer parameter.
+fn int(p: &Parameter) -> Option<i64> {
+    match p {
+        Parameter::Integer(i) => Some(*i),
+        _ => None,
+    }
+}
+
+/// The length of a list parameter.
+fn list_len(p: &Parameter) -> Option<usize> {
+    match p {
+        Parameter::List(l) => Some(l.len()),
+        _ => None,
+    }
+}
+
+/// The length of the first list in a list of lists (a surface's control points in v).
+fn inner_len(p: &Parameter) -> Option<usize> {
+    match p {
+        Parameter::List(l) => l.first().and_then(list_len),
+        _ => None,
+    }
+}
+
+/// The sum and the smallest of a list of knot multiplicities.
+fn multiplicities(p: &Parameter) -> Option<(i128, i64)> {
+    match p {
+        Parameter::List(l) => l.iter().try_fold((0i128, i64::MAX), |(s, lo), q| {
+            int(q).map(|m| (s + i128::from(m), lo.min(m)))
+        }),
+        _ => None,
+    }
 }
 
 /// Finds a reference to an id that does not exist, or a reference cycle. Returns

@@ -90,27 +90,6 @@ fn push_point(table: &mut Table, p: &p21::CompactPoint) {
 /// truck's reader makes of the record (`push_instance`, through serde), built directly.
 /// False for any other record or form, which goes through truck's reader.
 fn push_direct(table: &mut Table, id: u64, record: &Record) -> bool {
-    let label = |q: &Parameter| match q {
-        Parameter::String(s) => Some(s.clone()),
-        _ => None,
-    };
-    fn r<T>(q: &Parameter) -> Option<PlaceHolder<T>> {
-        as_ref(q).map(|id| PlaceHolder::Ref(Name::Entity(id)))
-    }
-    fn opt_r<T>(q: &Parameter) -> Option<Option<PlaceHolder<T>>> {
-        match q {
-            Parameter::NotProvided => Some(None),
-            _ => r(q).map(Some),
-        }
-    }
-    let real = |q: &Parameter| match q {
-        Parameter::Real(x) => Some(*x),
-        _ => None,
-    };
-    /// Puts the holder, if the record gave one, under `id`.
-    fn put<H>(map: &mut std::collections::HashMap<u64, H>, id: u64, holder: Option<H>) -> bool {
-        holder.map(|h| map.insert(id, h)).is_some()
-    }
     match (record.name.as_str(), params(record)) {
         ("VECTOR", [l, o, m]) => {
             let holder = || {
@@ -195,6 +174,40 @@ fn push_direct(table: &mut Table, id: u64, record: &Record) -> bool {
         }
         _ => false,
     }
+}
+
+/// A string label.
+fn label(q: &Parameter) -> Option<String> {
+    match q {
+        Parameter::String(s) => Some(s.clone()),
+        _ => None,
+    }
+}
+
+/// A `#id` reference as truck's placeholder.
+fn r<T>(q: &Parameter) -> Option<PlaceHolder<T>> {
+    as_ref(q).map(|id| PlaceHolder::Ref(Name::Entity(id)))
+}
+
+/// An optional `#id` reference (`$`: none) as truck's placeholder.
+fn opt_r<T>(q: &Parameter) -> Option<Option<PlaceHolder<T>>> {
+    match q {
+        Parameter::NotProvided => Some(None),
+        _ => r(q).map(Some),
+    }
+}
+
+/// A real written as one (not an integer, not typed).
+fn real(q: &Parameter) -> Option<f64> {
+    match q {
+        Parameter::Real(x) => Some(*x),
+        _ => None,
+    }
+}
+
+/// Puts the holder, if the record gave one, under `id`.
+fn put<H>(map: &mut std::collections::HashMap<u64, H>, id: u64, holder: Option<H>) -> bool {
+    holder.map(|h| map.insert(id, h)).is_some()
 }
 
 /// Sizes truck's tables for the entities most files are made of, which would otherwise grow

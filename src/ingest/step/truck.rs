@@ -108,8 +108,68 @@ pub fn definitional_contexts(records: &Records) -> rustc_hash::FxHashSet<u64> {
 
 /// Rewrites what truck misreads (see the module docs). Returns the number of records changed.
 pub fn patch_for_truck(sections: &mut [Section]) -> usize {
-    // One pass for what the rewriting needs to know: the largest id, the basis curve of every
-    // TRIMMED_CURVE, and whether some placement leaves its x axis out.
+    let Survey {
+        mut max_id,
+        trimmed_basis,
+        implicit_x,
+    } = survey(sections);
+    // Directions, to repair placements whose implicit x axis is degenerate (only collected
+    // when some placement leaves its x axis out).
+    let directions = if implicit_x {
+        directions_by_id(sections)
+    } else {
+        HashMap::new()
+    };
+    let mut new_directions: Vec<(u64, [f64; 3])> = Vec::new();
+    let mut changed = 0;
+    for item in sections.iter_mut().flat_map(|s| &mut s.entities) {
+        let Item::Instance(EntityInstance::Simple { record, .. }) = item else {
+            continue;
+        };
+        let Parameter::List(list) = &mut record.parameter else {
+            continue;
+        };
+        // truck reads every entity's name as a string; some writers (Rhino) put `$` there.
+        if let Some(first @ Parameter::NotProvided) = list.first_mut() {
+            if truck_reads(&record.name) {
+                *first = Parameter::String(String::new());
+                changed += 1;
+            }
+        }
+        changed += match record.name.as_str() {
+            "AXIS2_PLACEMENT_3D" if matches!(list.get(3), Some(Parameter::NotProvided)) => {
+                explicit_x_axis(list, &directions, &mut max_id, &mut new_directions)
+            }
+            "SURFACE_CURVE" | "SEAM_CURVE" => curve_3d_master(list),
+            "EDGE_CURVE" => basis_of_trimmed(list, &trimmed_basis),
+            _ => 0,
+        };
+    }
+    if let Some(section) = sections.first_mut() {
+        for (id, x) in new_directions {
+            section.entities.push(Item::Point(CompactPoint::new(
+                id,
+                PointKind::Direction,
+                String::new(),
+                &x,
+            )));
+        }
+    }
+    changed
+}
+
+/// What the rewriting needs to know of the whole file.
+struct Survey {
+    /// The largest id (new directions are numbered after it).
+    max_id: u64,
+    /// The basis curve of every `TRIMMED_CURVE`.
+    trimmed_basis: HashMap<u64, u64>,
+    /// Whether some placement leaves its x axis out.
+    implicit_x: bool,
+}
+
+/// One pass over the file for the [`Survey`].
+fn survey(sections: &[Section]) -> Survey {
     let mut max_id = 0;
     let mut trimmed_basis: HashMap<u64, u64> = HashMap::new();
     let mut implicit_x = false;
@@ -129,102 +189,95 @@ pub fn patch_for_truck(sections: &mut [Section]) -> usize {
             }
         }
     }
-    // Directions, to repair placements whose implicit x axis is degenerate (only collected
-    // when some placement leaves its x axis out).
+    Survey {
+        max_id,
+        trimmed_basis,
+        implicit_x,
+    }
+}
+
+/// Every direction of the file with three coordinates, by id.
+fn directions_by_id(sections: &[Section]) -> HashMap<u64, [f64; 3]> {
     let mut directions: HashMap<u64, [f64; 3]> = HashMap::new();
-    if implicit_x {
-        let records = Records::new(sections);
-        for id in records.ids_in_order() {
-            if let Some(c) = records.coordinates(id, PointKind::Direction) {
-                if c.len() == 3 {
-                    directions.insert(id, [c[0], c[1], c[2]]);
-                }
+    let records = Records::new(sections);
+    for id in records.ids_in_order() {
+        if let Some(c) = records.coordinates(id, PointKind::Direction) {
+            if c.len() == 3 {
+                directions.insert(id, [c[0], c[1], c[2]]);
             }
         }
     }
-    let mut new_directions: Vec<(u64, [f64; 3])> = Vec::new();
+    directions
+}
+
+/// ISO 10303-42 takes x = (1,0,0) when ref_direction is omitted, which is degenerate when the
+/// axis is ±x; truck then builds NaN frames. Gives such a placement (its parameters `list`)
+/// OCCT's choice of x axis explicitly: a new direction, numbered after `max_id` and added to
+/// `new_directions`. Returns the number of records changed.
+fn explicit_x_axis(
+    list: &mut [Parameter],
+    directions: &HashMap<u64, [f64; 3]>,
+    max_id: &mut u64,
+    new_directions: &mut Vec<(u64, [f64; 3])>,
+) -> usize {
+    let z = list
+        .get(2)
+        .and_then(as_ref)
+        .and_then(|d| directions.get(&d));
+    if let Some(z) = z {
+        let n = (z[0] * z[0] + z[1] * z[1] + z[2] * z[2]).sqrt();
+        if n > 0.0 && (z[0] / n).abs() > 1.0 - 1e-9 {
+            *max_id += 1;
+            let x = [-z[2] / n, 0.0, z[0] / n];
+            let x = if x[0].abs() + x[2].abs() > 0.5 {
+                x
+            } else {
+                [0.0, 1.0, 0.0]
+            };
+            new_directions.push((*max_id, x));
+            list[3] = Parameter::Ref(Name::Entity(*max_id));
+            return 1;
+        }
+    }
+    0
+}
+
+/// Makes a surface curve's (its parameters `list`) 3D curve the master representation and
+/// drops its pcurves. Returns the number of records changed.
+fn curve_3d_master(list: &mut [Parameter]) -> usize {
     let mut changed = 0;
-    for item in sections.iter_mut().flat_map(|s| &mut s.entities) {
-        let Item::Instance(EntityInstance::Simple { record, .. }) = item else {
-            continue;
-        };
-        let Parameter::List(list) = &mut record.parameter else {
-            continue;
-        };
-        // truck reads every entity's name as a string; some writers (Rhino) put `$` there.
-        if let Some(first @ Parameter::NotProvided) = list.first_mut() {
-            if truck_reads(&record.name) {
-                *first = Parameter::String(String::new());
-                changed += 1;
-            }
-        }
-        match record.name.as_str() {
-            // ISO 10303-42 takes x = (1,0,0) when ref_direction is omitted, which is
-            // degenerate when the axis is ±x; truck then builds NaN frames. Give such
-            // placements OCCT's choice of x axis explicitly.
-            "AXIS2_PLACEMENT_3D" if matches!(list.get(3), Some(Parameter::NotProvided)) => {
-                let z = list
-                    .get(2)
-                    .and_then(as_ref)
-                    .and_then(|d| directions.get(&d));
-                if let Some(z) = z {
-                    let n = (z[0] * z[0] + z[1] * z[1] + z[2] * z[2]).sqrt();
-                    if n > 0.0 && (z[0] / n).abs() > 1.0 - 1e-9 {
-                        max_id += 1;
-                        let x = [-z[2] / n, 0.0, z[0] / n];
-                        let x = if x[0].abs() + x[2].abs() > 0.5 {
-                            x
-                        } else {
-                            [0.0, 1.0, 0.0]
-                        };
-                        new_directions.push((max_id, x));
-                        list[3] = Parameter::Ref(Name::Entity(max_id));
-                        changed += 1;
-                    }
-                }
-            }
-            "SURFACE_CURVE" | "SEAM_CURVE" => {
-                if let Some(Parameter::Enumeration(e)) = list.last_mut() {
-                    if e != "CURVE_3D" {
-                        *e = "CURVE_3D".into();
-                        changed += 1;
-                    }
-                }
-                // With the 3D curve as the master, truck has no use for the pcurves, but it
-                // would still convert each one with its whole surface (a degree-13 patch
-                // per pcurve: 10 % of reading the M6 screw).
-                if let Some(Parameter::List(associated)) = list.get_mut(2) {
-                    if !associated.is_empty() {
-                        associated.clear();
-                        changed += 1;
-                    }
-                }
-            }
-            "EDGE_CURVE" => {
-                if let Some(p) = list.get_mut(3) {
-                    // Follow chains of trimmed curves down to the basis curve.
-                    let mut hops = 0;
-                    while let Some(basis) = as_ref(p).and_then(|id| trimmed_basis.get(&id)) {
-                        *p = Parameter::Ref(Name::Entity(*basis));
-                        changed += 1;
-                        hops += 1;
-                        if hops > 16 {
-                            break;
-                        }
-                    }
-                }
-            }
-            _ => {}
+    if let Some(Parameter::Enumeration(e)) = list.last_mut() {
+        if e != "CURVE_3D" {
+            *e = "CURVE_3D".into();
+            changed += 1;
         }
     }
-    if let Some(section) = sections.first_mut() {
-        for (id, x) in new_directions {
-            section.entities.push(Item::Point(CompactPoint::new(
-                id,
-                PointKind::Direction,
-                String::new(),
-                &x,
-            )));
+    // With the 3D curve as the master, truck has no use for the pcurves, but it would still
+    // convert each one with its whole surface (a degree-13 patch per pcurve: 10 % of reading
+    // the M6 screw).
+    if let Some(Parameter::List(associated)) = list.get_mut(2) {
+        if !associated.is_empty() {
+            associated.clear();
+            changed += 1;
+        }
+    }
+    changed
+}
+
+/// Points an edge curve (its parameters `list`) at the basis of the trimmed curve it points
+/// at, following chains of trimmed curves. Returns the number of references changed.
+fn basis_of_trimmed(list: &mut [Parameter], trimmed_basis: &HashMap<u64, u64>) -> usize {
+    let mut changed = 0;
+    if let Some(p) = list.get_mut(3) {
+        // Follow chains of trimmed curves down to the basis curve.
+        let mut hops = 0;
+        while let Some(basis) = as_ref(p).and_then(|id| trimmed_basis.get(&id)) {
+            *p = Parameter::Ref(Name::Entity(*basis));
+            changed += 1;
+            hops += 1;
+            if hops > 16 {
+                break;
+            }
         }
     }
     changed
