@@ -1,6 +1,6 @@
 //! Trimming loops in UV space and the UV domain of each face.
 //!
-//! truck's `parameter_range()` is not a face's domain (a plane reports [0,1]); the domain is
+//! truck's `parameter_range()` is not a face's domain (a plane reports \[0,1\]); the domain is
 //! what the face's boundary loops enclose. Each loop is sampled along its exact edge curves
 //! and projected onto the face's surface: planes, cylinders, cones and spheres in closed
 //! form, other surfaces by Newton from the linear prediction of the last two feet (or the

@@ -1,6 +1,7 @@
-//! The tolerances both readers apply to where a file puts an edge's vertices, relative to the
-//! size of the coordinates (`1 + |p|∞` of the vertices): files carry small gaps between a
-//! vertex and its curve, which are accepted up to these.
+//! The tolerances both readers apply to an edge's vertices.
+//!
+//! They are relative to the size of the coordinates (`1 + |p|∞` of the vertices): files carry
+//! small gaps between a vertex and its curve, which are accepted up to these.
 
 /// How far (relative to the coordinates' size) an edge's vertex may be from its curve's end
 /// before the vertex is projected onto the curve instead.

@@ -1,6 +1,7 @@
-//! 4×4 transforms shared by the STEP and IGES readers: row-major matrices acting on column
-//! vectors, for unit scaling, assembly placements and IGES transformation matrices, and the
-//! geometry moved by them.
+//! 4×4 transforms shared by the STEP and IGES readers.
+//!
+//! Row-major matrices acting on column vectors, for unit scaling, assembly placements and
+//! IGES transformation matrices, and the geometry moved by them.
 
 use glam::DVec3;
 use truck_geometry::prelude::{Matrix4, Transformed};

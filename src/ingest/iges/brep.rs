@@ -1,5 +1,7 @@
-//! Manifold solid B-rep objects (186) into the model: 186 → 514 shells → 510 faces →
-//! 508 loops → edges of 504 edge lists between vertices of 502 vertex lists.
+//! IGES manifold solid B-rep objects (186) into the model.
+//!
+//! The walk: 186 → 514 shells → 510 faces → 508 loops → edges of 504 edge lists between
+//! vertices of 502 vertex lists.
 //!
 //! A 508 loop lists, per edge, whether it is an edge or a vertex (`TYPE` 1: OpenCASCADE
 //! writes the degenerate edge at a sphere's pole this way; it is dropped), the edge list and

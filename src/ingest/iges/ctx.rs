@@ -1,5 +1,7 @@
-//! What the IGES entity readers share: the parsed file with its path and unit ([`Ctx`]),
-//! errors naming the Directory Entry at fault, and typed access to an entity's parameters.
+//! What the IGES entity readers share: the parsed file, errors, typed parameters.
+//!
+//! [`Ctx`] holds the parsed file with its path and unit; its errors name the Directory Entry
+//! at fault, and its accessors give an entity's parameters by type.
 //!
 //! Every accessor checks what it reads (a missing parameter, a number where a pointer is
 //! expected, a count too large for the record, a pointer to no entity) and says so in an

@@ -1,5 +1,7 @@
-//! IGES curves into truck curves (the types the STEP reader produces): 110 lines, 100
-//! circular arcs, 104 conic arcs, 126 rational B-splines and 102 composites of them.
+//! IGES curves into truck curves, in model space (mm).
+//!
+//! The types are those the STEP reader produces: 110 lines, 100 circular arcs, 104 conic
+//! arcs, 126 rational B-splines and 102 composites of them.
 //!
 //! A curve comes with its parameter interval from its start to its end as the entity defines
 //! them (110 line: [0, 1]; 100 arc and 104 ellipse: an angle interval from the start point

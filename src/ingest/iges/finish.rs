@@ -1,5 +1,7 @@
-//! What both IGES routes need after topology is built: edge ranges, full closed surfaces,
-//! consistent and outward orientation, UV loops and domains, the bounding box.
+//! What both IGES routes need after topology is built.
+//!
+//! Full closed surfaces, consistent and outward orientation, UV loops and domains, the
+//! bounding box.
 //!
 //! **Orientation.** IGES does not say reliably on which side of a loop its face lies (a 144
 //! soup carries no orientation at all, and writers differ on 510/514 flags), so it is

@@ -1,5 +1,6 @@
-//! The IGES 5.3 fixed-format file layer: records, sections, the Global section, Directory
-//! Entries and Parameter Data.
+//! The IGES 5.3 fixed-format file layer.
+//!
+//! Records, sections, the Global section, Directory Entries and Parameter Data.
 //!
 //! An IGES file is a sequence of 80-column records. Column 73 holds the section letter
 //! (`S` start, `G` global, `D` directory entry, `P` parameter data, `T` terminate), columns

@@ -1,6 +1,7 @@
-//! Where an IGES entity is: its transformation matrices (entity 124, chained when a 124
-//! points at another one), the unit scale to millimetres, and the points (116) and
-//! directions (123) entities are defined by.
+//! Where an IGES entity is: transformation matrices, unit scale, points and directions.
+//!
+//! An entity's transformation matrix (entity 124) is chained when a 124 points at another
+//! one; the unit scale is to millimetres; points (116) and directions (123) define frames.
 //!
 //! Every entity is read in its definition space and moved by its own transformation and then
 //! by those of the entities it is used in ([`Ctx::place`]), so the result is in millimetres

@@ -1,5 +1,7 @@
-//! A piece of model-space curve with its parameter interval ([`Segment`]), and where points
-//! lie on it: the parameter nearest to a point, and the interval an edge's vertices cut out.
+//! A piece of model-space curve with its parameter interval, and where points lie on it.
+//!
+//! [`Segment`]s are what the curve readers produce; [`nearest_param`] finds the parameter
+//! nearest to a point and [`edge_range`] the interval an edge's vertices cut out.
 
 use crate::ingest::tolerance::{VERTEX_AT_END_REL_COORD, VERTEX_ON_CURVE_REL_COORD};
 use crate::model::Curve3D;

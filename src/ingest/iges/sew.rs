@@ -1,5 +1,6 @@
-//! A soup of trimmed surfaces (144, bounded by 142 curves on surfaces) sewn into closed
-//! shells.
+//! A soup of IGES trimmed surfaces sewn into closed shells.
+//!
+//! The trimmed surfaces are 144 entities, bounded by 142 curves on surfaces.
 //!
 //! Each 144 gives a face: its surface and, per boundary (outer, then inner), the model-space
 //! curve of the 142 split into pieces (a 102 composite's members). Pieces of zero length (the

@@ -1,6 +1,8 @@
-//! IGES surfaces into truck surfaces (the types the STEP reader produces): 108 and 190
-//! planes, 192 cylinders, 194 cones, 196 spheres, 198 tori, 120 surfaces of revolution, 122
-//! tabulated cylinders and 128 rational B-spline surfaces, in model space (mm).
+//! IGES surfaces into truck surfaces, in model space (mm).
+//!
+//! The types are those the STEP reader produces: 108 and 190 planes, 192 cylinders, 194
+//! cones, 196 spheres, 198 tori, 120 surfaces of revolution, 122 tabulated cylinders and 128
+//! rational B-spline surfaces.
 //!
 //! Surfaces of revolution (120) whose generatrix is a line or a circular arc are recognised
 //! as the analytic surface they are (cylinder, cone, sphere, torus), as FreeCAD writes its

@@ -1,6 +1,8 @@
-//! Checks of the records before truck sees them, for what truck would panic on, overflow
-//! its stack on, or silently misread: unsorted or non-finite knots, B-spline degrees that do
-//! not match the control points and knots, references to nothing, and reference cycles.
+//! Checks of the STEP records before truck sees them.
+//!
+//! They refuse what truck would panic on, overflow its stack on, or silently misread:
+//! unsorted or non-finite knots, B-spline degrees that do not match the control points and
+//! knots, references to nothing, and reference cycles.
 
 use super::error::entity_err;
 use super::p21::Item;

@@ -1,7 +1,8 @@
-//! Geometry converted by truck, one entity at a time: a face's surface and an edge's curve,
-//! moved by the solid's placement, and the parameter interval between the edge's vertices.
-//! A conversion that fails (or panics inside truck) is an error naming the entity, instead of
-//! a face that silently disappears.
+//! STEP geometry converted by truck, one entity at a time.
+//!
+//! A face's surface and an edge's curve are moved by the solid's placement; the edge gets the
+//! parameter interval between its vertices. A conversion that fails (or panics inside truck)
+//! is an error naming the entity, instead of a face that silently disappears.
 
 use super::error::{first_line, guarded};
 use super::source::Source;
@@ -104,8 +105,6 @@ impl Source<'_> {
         }
         Ok(placed(curve, m))
     }
-
-    /// Compares what the file defines with what the model holds: every `ADVANCED_FACE`,
 
     /// The parameter interval of `curve` between the edge's vertices `pa` and `pb` (the same
     /// vertex when `closed`); truck trims lines and conics to the vertices, B-splines keep

@@ -1,5 +1,7 @@
-//! The STEP reader's errors: about the file, or naming the entity at fault; truck's errors
-//! and panics turned into one-line reasons.
+//! The STEP reader's errors.
+//!
+//! An error is about the file, or names the entity at fault; truck's errors and panics are
+//! turned into one-line reasons.
 
 use crate::error::Error;
 use std::path::Path;

@@ -1,6 +1,8 @@
-//! What follows the topology walk: every face, edge and vertex the file defines must be part
-//! of a solid; the model is numbered in file order; and each face's loops are projected into
-//! UV and its domain computed (see `crate::ingest::domain`).
+//! What follows the STEP topology walk: checks, numbering, UV domains.
+//!
+//! Every face, edge and vertex the file defines must be part of a solid; the model is
+//! numbered in file order; and each face's loops are projected into UV and its domain
+//! computed (see `crate::ingest::domain`).
 
 use super::records::Records;
 use super::source::Source;

@@ -1,6 +1,8 @@
-//! Assembly placements: `AXIS2_PLACEMENT_3D` as matrices, the representations holding the
-//! solids, the transforms linking them (`REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION`),
-//! and every placement of a representation in world coordinates.
+//! STEP assembly placements.
+//!
+//! `AXIS2_PLACEMENT_3D` as matrices, the representations holding the solids, the transforms
+//! linking them (`REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION`), and every placement of a
+//! representation in world coordinates.
 
 use super::p21::PointKind;
 use super::records::{as_ref, as_refs, params, Records};

@@ -1,5 +1,7 @@
-//! Index of a parsed STEP data section by id ([`Records`]), and reading the parameters of its
-//! records: `#id` references, reals, booleans, strings.
+//! Index of a parsed STEP data section by id, and reading its records' parameters.
+//!
+//! [`Records`] finds an instance by id; the functions read `#id` references, reals, booleans
+//! and strings from parameters.
 
 use super::p21::{Item, PointKind, Section};
 use rustc_hash::FxHashMap;

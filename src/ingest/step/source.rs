@@ -1,6 +1,7 @@
-//! The file being read as the reader's later stages see it ([`Source`]): its path, its
-//! records, truck's table and what truck could not decode; with errors naming the entity and
-//! checked access to a record's parameters.
+//! The STEP file as the reader's later stages see it.
+//!
+//! [`Source`] holds its path, its records, truck's table and what truck could not decode;
+//! it makes errors naming an entity and reads a record's parameters with checks.
 
 use super::error::entity_err;
 use super::records::Records;

@@ -1,7 +1,8 @@
-//! Filling truck's table with the records truck converts: compact points and the most
-//! common records as the holders truck's reader would make of them ([`push_point`],
-//! [`push_direct`]), the rest through truck's reader, whose failures are kept by id
-//! (the topology walk reports them when it needs the entity).
+//! Filling truck's table with the STEP records truck converts.
+//!
+//! Compact points and the most common records go in as the holders truck's reader would make
+//! of them ([`push_point`], [`push_direct`]), the rest through truck's reader, whose failures
+//! are kept by id (the topology walk reports them when it needs the entity).
 
 use super::error::{first_line, guarded};
 use super::p21::{self, Item, PointKind, Section};

@@ -1,7 +1,9 @@
-//! The topology walk: from each solid (`MANIFOLD_SOLID_BREP` / `BREP_WITH_VOIDS`, once per
-//! placement of its representation) through `CLOSED_SHELL` / `ORIENTED_CLOSED_SHELL` →
-//! `ADVANCED_FACE` (or `ORIENTED_FACE`) → `FACE_BOUND` → `EDGE_LOOP` / `VERTEX_LOOP` →
-//! `ORIENTED_EDGE` → `EDGE_CURVE` → `VERTEX_POINT`, into the [`Model`].
+//! The STEP topology walk from each solid down to its vertices, into the [`Model`].
+//!
+//! From each solid (`MANIFOLD_SOLID_BREP` / `BREP_WITH_VOIDS`, once per placement of its
+//! representation) through `CLOSED_SHELL` / `ORIENTED_CLOSED_SHELL` → `ADVANCED_FACE` (or
+//! `ORIENTED_FACE`) → `FACE_BOUND` → `EDGE_LOOP` / `VERTEX_LOOP` → `ORIENTED_EDGE` →
+//! `EDGE_CURVE` → `VERTEX_POINT`.
 //!
 //! Lengths are converted to millimetres and assembly placements applied to the geometry
 //! itself; an edge or vertex shared by faces of one placed solid is one model edge or vertex.

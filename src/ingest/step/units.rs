@@ -1,5 +1,7 @@
-//! The file's units: length units (SI with a prefix, or conversion-based such as the inch)
-//! as millimetres per unit, and the plane-angle unit as radians per unit.
+//! The STEP file's length and plane-angle units.
+//!
+//! Length units (SI with a prefix, or conversion-based such as the inch) as millimetres per
+//! unit; the plane-angle unit as radians per unit.
 
 use super::records::{as_real, as_ref, as_refs, as_string, params, Records};
 use truck_stepio::r#in::ruststep::ast::Parameter;
