@@ -1,6 +1,6 @@
 //! Trimming loops in UV space and the UV domain of each face.
 //!
-//! truck's `parameter_range()` is not a face's domain (a plane reports [0,1]); the domain is
+//! truck's `parameter_range()` is not a face's domain (a plane reports \[0,1\]); the domain is
 //! what the face's boundary loops enclose. Each loop is sampled along its exact edge curves
 //! and projected onto the face's surface: planes, cylinders, cones and spheres in closed
 //! form, other surfaces by Newton from the linear prediction of the last two feet (or the
@@ -15,6 +15,14 @@
 use crate::geom::{eval_curve, eval_surface, SurfaceDerivs};
 use crate::model::{Face, Loop, Model, UvDomain};
 use glam::{DVec2, DVec3};
+
+/// The domain of a face before its loops are known (both readers fill it in last).
+pub const EMPTY_DOMAIN: UvDomain = UvDomain {
+    u: (0.0, 0.0),
+    v: (0.0, 0.0),
+    u_period: None,
+    v_period: None,
+};
 
 /// Samples per curved edge when building a loop's UV polygon. Loops are used for
 /// inside/outside tests and domains, not for exact geometry; 32 keeps the chordal deviation of
@@ -40,11 +48,11 @@ impl<'a> Projector<'a> {
     }
 
     /// The foot of `p`, and whether the parametrisation is singular there (a pole); `None`
-    /// unless the foot point is within `ON_SURFACE_TOL` (relative to the coordinates' size)
-    /// of `p`.
+    /// unless the foot point is within [`ON_SURFACE_REL_COORD`] (relative to the coordinates'
+    /// size `1 + |p|∞`) of `p`.
     fn project(&self, p: DVec3, hint: Option<(f64, f64)>) -> Option<((f64, f64), bool)> {
         let (face, periodic) = (self.face, self.periodic);
-        let tolerance = ON_SURFACE_TOL * (1.0 + p.abs().max_element());
+        let tolerance = ON_SURFACE_REL_COORD * (1.0 + p.abs().max_element());
         // Planes, cylinders, cones and spheres in closed form, in truck's parameters, with
         // the distance and the pole test in closed form too.
         if let Some(foot) = self.closed.foot(p) {
@@ -77,18 +85,22 @@ impl<'a> Projector<'a> {
     }
 }
 
-/// How far (relative to the size of the coordinates) a boundary point may be from its face's
-/// surface. Real files carry gaps of 1e-6..1e-4 of their size; beyond 1e-3 the edge is not on
-/// the face.
-pub const ON_SURFACE_TOL: f64 = 1e-3;
+/// How far a boundary point `p` may be from its face's surface, relative to the size of the
+/// coordinates `1 + |p|∞`. Real files carry gaps of 1e-6..1e-4 of their size; beyond 1e-3 the
+/// edge is not on the face.
+pub const ON_SURFACE_REL_COORD: f64 = 1e-3;
+
+/// A surface derivative shorter than this (mm per unit of parameter) vanishes: the
+/// parametrisation is singular there (a pole).
+const VANISHING_DERIVATIVE_MM: f64 = 1e-12;
 
 /// True where the parametrisation is singular (a pole: `Su × Sv` vanishes); `d` is the
 /// surface there.
 fn is_singular(d: &SurfaceDerivs) -> bool {
     let (su, sv) = (d.su, d.sv);
     su.cross(sv).length() <= 1e-9 * (su.length() * sv.length()).max(1e-300)
-        || su.length() < 1e-12
-        || sv.length() < 1e-12
+        || su.length() < VANISHING_DERIVATIVE_MM
+        || sv.length() < VANISHING_DERIVATIVE_MM
 }
 
 fn wrap_near(x: f64, reference: f64, period: Option<f64>) -> f64 {
@@ -98,10 +110,15 @@ fn wrap_near(x: f64, reference: f64, period: Option<f64>) -> f64 {
     }
 }
 
+/// A point sampled along a loop, with the 3D direction of travel when it is on a seam edge.
+struct Sample {
+    p: DVec3,
+    seam_dir: Option<DVec3>,
+}
+
 /// The UV polygon of one loop of `face` (see the module docs). A vertex loop gives one point.
 pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>, String> {
     let face = &model.faces[face_index];
-    let (up, vp) = crate::geom::surface_periods(&face.surface);
     // Angles: truck's canonical range is what the unwrapping below expects. A B-spline that
     // closes on itself has no angle: every answer is in its knot range, which `align_loops`
     // handles.
@@ -116,11 +133,18 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
             .ok_or("vertex loop's vertex is not on the face's surface")?;
         return Ok(vec![DVec2::new(uv.0, uv.1)]);
     }
-    // Sample the loop in order; remember which samples start a seam traversal.
-    struct Sample {
-        p: DVec3,
-        seam_dir: Option<DVec3>, // 3D direction of travel along a seam edge
+    let samples = sample_loop(model, face_index, lp);
+    let (raw, singular) = project_samples(face, periodic, &samples);
+    if raw.iter().any(|x| x.is_none()) {
+        let k = raw.iter().position(|x| x.is_none()).unwrap_or(0);
+        return Err(not_on_surface(face, samples[k].p));
     }
+    let raw: Vec<(f64, f64)> = raw.into_iter().flatten().collect();
+    Ok(unwrap_loop(face, &samples, &raw, &singular))
+}
+
+/// The loop sampled in order; samples on a seam edge carry their direction of travel.
+fn sample_loop(model: &Model, face_index: usize, lp: &Loop) -> Vec<Sample> {
     // Samples per edge: two on a line that is not a seam.
     let count = |oe: &crate::model::OrientedEdge| {
         let edge = &model.edges[oe.edge];
@@ -156,12 +180,22 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
             samples.push(Sample { p, seam_dir });
         }
     }
+    samples
+}
+
+/// Each sample's foot on the face's surface (`None` where it is not on it), and whether the
+/// parametrisation is singular there.
+fn project_samples(
+    face: &Face,
+    periodic: bool,
+    samples: &[Sample],
+) -> (Vec<Option<(f64, f64)>>, Vec<bool>) {
     let projector = Projector::new(face, periodic);
     let mut raw: Vec<Option<(f64, f64)>> = Vec::with_capacity(samples.len());
     let mut singular: Vec<bool> = Vec::with_capacity(samples.len());
     let mut hint: Option<(f64, f64)> = None;
     let mut before: Option<(f64, f64)> = None;
-    for s in &samples {
+    for s in samples {
         // Linear prediction from the last two feet (samples are evenly spaced along each
         // edge): Newton starts second-order close instead of first-order.
         let predicted = match (hint, before) {
@@ -184,23 +218,33 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
         raw.push(uv);
         singular.push(pole);
     }
-    if raw.iter().any(|x| x.is_none()) {
-        let k = raw.iter().position(|x| x.is_none()).unwrap_or(0);
-        let near = crate::geom::project_point(&face.surface, samples[k].p, None).map(|uv| {
-            eval_surface(&face.surface, uv.0, uv.1)
-                .p
-                .distance(samples[k].p)
-        });
-        return Err(format!(
-            "loop point ({:.6}, {:.6}, {:.6}) is not on the face's {} surface (nearest point found at {})",
-            samples[k].p.x,
-            samples[k].p.y,
-            samples[k].p.z,
-            crate::geom::surface_kind(&face.surface),
-            near.map_or("none".to_string(), |d| format!("{d:.3e} mm")),
-        ));
-    }
-    let raw: Vec<(f64, f64)> = raw.into_iter().flatten().collect();
+    (raw, singular)
+}
+
+/// The message for a loop point `p` that is not on the face's surface.
+fn not_on_surface(face: &Face, p: DVec3) -> String {
+    let near = crate::geom::project_point(&face.surface, p, None)
+        .map(|uv| eval_surface(&face.surface, uv.0, uv.1).p.distance(p));
+    format!(
+        "loop point ({:.6}, {:.6}, {:.6}) is not on the face's {} surface (nearest point found at {})",
+        p.x,
+        p.y,
+        p.z,
+        crate::geom::surface_kind(&face.surface),
+        near.map_or("none".to_string(), |d| format!("{d:.3e} mm")),
+    )
+}
+
+/// The feet `raw` unwrapped into one continuous UV polygon: poles take the coordinate that is
+/// undefined there from the next regular sample, seam samples are placed on the side of the
+/// period where the face lies, and everything else follows continuity.
+fn unwrap_loop(
+    face: &Face,
+    samples: &[Sample],
+    raw: &[(f64, f64)],
+    singular: &[bool],
+) -> Vec<DVec2> {
+    let (up, vp) = crate::geom::surface_periods(&face.surface);
     // Start at a seam sample if there is one (its placement is absolute).
     let start = samples
         .iter()
@@ -223,7 +267,7 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
                 // the pole): the surface evaluates to the same point for any value of the
                 // other one.
                 let su = eval_surface(&face.surface, pole_u, pole_v).su.length();
-                if su < 1e-12 {
+                if su < VANISHING_DERIVATIVE_MM {
                     u = nu;
                 } else {
                     v = nv;
@@ -244,7 +288,7 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
         out[i] = DVec2::new(u2, v2);
         prev = Some(out[i]);
     }
-    Ok(out)
+    out
 }
 
 /// Placement of a sample on a seam. The first seam traversal met fixes `low`, the seam copy
@@ -360,6 +404,57 @@ pub fn wraps(poly: &[DVec2], u_period: Option<f64>, v_period: Option<f64>) -> bo
 /// non-wrapping loop of largest area, when no loop wraps).
 pub fn face_domain(_model: &Model, face: &Face) -> (UvDomain, Option<usize>) {
     let (up, vp) = crate::geom::surface_periods(&face.surface);
+    let mut b = loop_bounds(face, up, vp);
+    extend_past_wrapping_loop(face, (up, vp), &mut b);
+    if b.wrap_u {
+        if let Some(p) = up {
+            b.umax = b.umin + p;
+        }
+    }
+    if b.wrap_v {
+        if let Some(p) = vp {
+            b.vmax = b.vmin + p;
+        }
+    }
+    let outer = if !b.wrap_u && !b.wrap_v {
+        face.loops
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.vertex.is_none())
+            .max_by(|a, b| {
+                signed_area(&a.1.uv)
+                    .abs()
+                    .total_cmp(&signed_area(&b.1.uv).abs())
+            })
+            .map(|(i, _)| i)
+    } else {
+        None
+    };
+    (
+        UvDomain {
+            u: (b.umin, b.umax),
+            v: (b.vmin, b.vmax),
+            u_period: up,
+            v_period: vp,
+        },
+        outer,
+    )
+}
+
+/// The box of a face's UV loops, and whether some loop wraps around the periodic u or v.
+struct LoopBounds {
+    umin: f64,
+    umax: f64,
+    vmin: f64,
+    vmax: f64,
+    wrap_u: bool,
+    wrap_v: bool,
+}
+
+/// The box of the face's loops (a vertex loop counts by its defined coordinate only); with
+/// only vertex loops, the whole parameter range (a periodic direction one period from its
+/// start).
+fn loop_bounds(face: &Face, up: Option<f64>, vp: Option<f64>) -> LoopBounds {
     let mut umin = f64::INFINITY;
     let mut umax = f64::NEG_INFINITY;
     let mut vmin = f64::INFINITY;
@@ -399,11 +494,26 @@ pub fn face_domain(_model: &Model, face: &Face) -> (UvDomain, Option<usize>) {
         vmin = v0;
         vmax = vp.map_or(v1, |p| v0 + p);
     }
-    // A face bounded by a single loop that wraps around one periodic direction (a spherical
-    // cap bounded by one circle, with no vertex loop at its pole) extends from that loop to
-    // the end of the other direction's range on the loop's left (STEP: the face is on the
-    // left of its loops, seen against the face normal). Where that range is unbounded (a
-    // cone's line parameter) the apex is not found here: the domain stops at the loop.
+    LoopBounds {
+        umin,
+        umax,
+        vmin,
+        vmax,
+        wrap_u,
+        wrap_v,
+    }
+}
+
+/// A face bounded by a single loop that wraps around one periodic direction (a spherical
+/// cap bounded by one circle, with no vertex loop at its pole) extends from that loop to
+/// the end of the other direction's range on the loop's left (STEP: the face is on the
+/// left of its loops, seen against the face normal). Where that range is unbounded (a
+/// cone's line parameter) the apex is not found here: the domain stops at the loop.
+fn extend_past_wrapping_loop(
+    face: &Face,
+    (up, vp): (Option<f64>, Option<f64>),
+    b: &mut LoopBounds,
+) {
     let wrapping: Vec<&Loop> = face
         .loops
         .iter()
@@ -415,66 +525,33 @@ pub fn face_domain(_model: &Model, face: &Face) -> (UvDomain, Option<usize>) {
         let travel = l.uv[l.uv.len() - 1] - l.uv[0];
         let orient = if face.same_sense { 1.0 } else { -1.0 };
         let ((u0, u1), (v0, v1)) = face_parameter_range(face);
-        let bounded = |a: f64, b: f64| a.is_finite() && b.is_finite() && b > a;
-        if wrap_u
-            && !wrap_v
+        let bounded = |lo: f64, hi: f64| lo.is_finite() && hi.is_finite() && hi > lo;
+        if b.wrap_u
+            && !b.wrap_v
             && bounded(v0, v1)
             && vp.is_none()
             && crate::geom::project::range_is_extent(&face.surface)
         {
             // Travel along +u has its left towards +v.
             if travel.x * orient > 0.0 {
-                vmax = v1;
+                b.vmax = v1;
             } else {
-                vmin = v0;
+                b.vmin = v0;
             }
-        } else if wrap_v
-            && !wrap_u
+        } else if b.wrap_v
+            && !b.wrap_u
             && bounded(u0, u1)
             && up.is_none()
             && crate::geom::project::range_is_extent(&face.surface)
         {
             // Travel along +v has its left towards −u.
             if travel.y * orient > 0.0 {
-                umin = u0;
+                b.umin = u0;
             } else {
-                umax = u1;
+                b.umax = u1;
             }
         }
     }
-    if wrap_u {
-        if let Some(p) = up {
-            umax = umin + p;
-        }
-    }
-    if wrap_v {
-        if let Some(p) = vp {
-            vmax = vmin + p;
-        }
-    }
-    let outer = if !wrap_u && !wrap_v {
-        face.loops
-            .iter()
-            .enumerate()
-            .filter(|(_, l)| l.vertex.is_none())
-            .max_by(|a, b| {
-                signed_area(&a.1.uv)
-                    .abs()
-                    .total_cmp(&signed_area(&b.1.uv).abs())
-            })
-            .map(|(i, _)| i)
-    } else {
-        None
-    };
-    (
-        UvDomain {
-            u: (umin, umax),
-            v: (vmin, vmax),
-            u_period: up,
-            v_period: vp,
-        },
-        outer,
-    )
 }
 
 fn face_parameter_range(face: &Face) -> ((f64, f64), (f64, f64)) {

@@ -1,12 +1,20 @@
 //! Reading STEP and IGES files into the B-rep [`Model`].
+//!
+//! [`read_model`] picks the reader by the file's extension (or, for text in memory, by its
+//! first record): [`step`] for STEP (ISO 10303-21), [`iges`] for IGES 5.3. Both build the same
+//! [`Model`], with geometry in millimetres, and share the UV loops and face domains
+//! ([`domain`]), the 4×4 transforms ([`transform`]) and the tolerances on where a file puts
+//! an edge's vertices ([`tolerance`]). Every model read must then pass [`plausible`]'s checks.
 
 mod domain;
 pub mod iges;
-pub mod p21;
-mod records;
+mod plausible;
 mod step;
+mod tolerance;
+mod transform;
 
-pub use step::MAX_FILE_BYTES;
+pub use plausible::MAX_PART_SIZE_MM;
+pub use step::{p21, MAX_FILE_BYTES};
 
 use crate::model::Model;
 
@@ -58,59 +66,6 @@ pub fn read_model(path: &Path) -> Result<Model> {
     read_model_from_bytes(path, &bytes)
 }
 
-/// Refuses a model with a non-finite coordinate (a real like `1.E400` overflows to infinity):
-/// every vertex, and the bounding box, which samples every edge and face.
-fn check_finite(path: &Path, model: Model) -> Result<Model> {
-    let bad = model
-        .vertices
-        .iter()
-        .position(|v| !v.point.is_finite())
-        .map(|v| format!("vertex {} (#{})", v, model.vertices[v].source_id))
-        .or_else(|| {
-            model.edges.iter().enumerate().find_map(|(e, edge)| {
-                let t = 0.5 * (edge.range.0 + edge.range.1);
-                let c = crate::geom::eval_curve(&edge.curve, t);
-                (!(t.is_finite() && c.p.is_finite() && c.d1.is_finite()))
-                    .then(|| format!("edge {e} (#{})", edge.source_id))
-            })
-        })
-        .or_else(|| {
-            model.faces.iter().enumerate().find_map(|(f, face)| {
-                let (u, v) = (
-                    0.5 * (face.domain.u.0 + face.domain.u.1),
-                    0.5 * (face.domain.v.0 + face.domain.v.1),
-                );
-                let d = crate::geom::eval_surface(&face.surface, u, v);
-                (!(u.is_finite() && v.is_finite() && d.p.is_finite() && d.su.is_finite()))
-                    .then(|| format!("face {f} (#{})", face.source_id))
-            })
-        })
-        .or_else(|| {
-            (!(model.bbox.0.is_finite() && model.bbox.1.is_finite()))
-                .then(|| "the bounding box".to_string())
-        });
-    if let Some(what) = bad {
-        return Err(Error::Model {
-            path: path.into(),
-            reason: format!("non-finite coordinate in {what}: a number overflows"),
-        });
-    }
-    let size = model.bbox.0.distance(model.bbox.1);
-    if size > MAX_PART_SIZE_MM {
-        return Err(Error::Model {
-            path: path.into(),
-            reason: format!(
-                "the part is {size:.3e} mm across, more than {MAX_PART_SIZE_MM:.0e} mm (a unit or scale error?)"
-            ),
-        });
-    }
-    Ok(model)
-}
-
-/// The largest bounding-box diagonal accepted: 10 km. Beyond it squared distances lose the
-/// precision the tolerances assume, and no machined part is that large.
-pub const MAX_PART_SIZE_MM: f64 = 1e7;
-
 /// Reads STEP or IGES text already in memory: IGES when `path` has an IGES extension or the
 /// text has IGES's `S` in column 73 of its first record, STEP otherwise.
 pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
@@ -119,5 +74,5 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
     } else {
         step::read_model_from_bytes(path, bytes)
     }?;
-    check_finite(path, model)
+    plausible::check_finite(path, model)
 }

@@ -1,5 +1,7 @@
-//! Manifold solid B-rep objects (186) into the model: 186 → 514 shells → 510 faces →
-//! 508 loops → edges of 504 edge lists between vertices of 502 vertex lists.
+//! IGES manifold solid B-rep objects (186) into the model.
+//!
+//! The walk: 186 → 514 shells → 510 faces → 508 loops → edges of 504 edge lists between
+//! vertices of 502 vertex lists.
 //!
 //! A 508 loop lists, per edge, whether it is an edge or a vertex (`TYPE` 1: OpenCASCADE
 //! writes the degenerate edge at a sphere's pole this way; it is dropped), the edge list and
@@ -8,9 +10,11 @@
 //! orientation flags are not needed either: [`super::finish`] orients every face from the
 //! loops and the enclosed volume.
 
-use super::geometry::{apply, Segment, IDENTITY};
-use super::Ctx;
+use super::ctx::Ctx;
+use super::segment::{edge_range, Segment};
 use crate::error::Result;
+use crate::ingest::domain::EMPTY_DOMAIN;
+use crate::ingest::transform::{apply, IDENTITY};
 use crate::model::*;
 use glam::DVec3;
 use std::collections::HashMap;
@@ -118,7 +122,7 @@ fn build_face(
         same_sense: true,
         loops,
         outer: None,
-        domain: super::finish::EMPTY_DOMAIN,
+        domain: EMPTY_DOMAIN,
     });
     Ok(fi)
 }
@@ -248,8 +252,7 @@ fn edge(
     let b = vertex(ctx, model, maps, tvp, tv, list)?;
     let seg = ctx.curve(curve, list, &ctx.transform_chain(e)?)?;
     let (pa, pb) = (model.vertices[a].point, model.vertices[b].point);
-    let (range, reversed) =
-        super::finish::edge_range(&seg, pa, pb).map_err(|r| ctx.err(curve, r))?;
+    let (range, reversed) = edge_range(&seg, pa, pb).map_err(|r| ctx.err(curve, r))?;
     let vertices = if reversed { [b, a] } else { [a, b] };
     let idx = model.edges.len();
     let Segment { curve: c, .. } = seg;

@@ -1,5 +1,7 @@
-//! What both IGES routes need after topology is built: edge ranges, full closed surfaces,
-//! consistent and outward orientation, UV loops and domains, the bounding box.
+//! What both IGES routes need after topology is built.
+//!
+//! Full closed surfaces, consistent and outward orientation, UV loops and domains, the
+//! bounding box.
 //!
 //! **Orientation.** IGES does not say reliably on which side of a loop its face lies (a 144
 //! soup carries no orientation at all, and writers differ on 510/514 flags), so it is
@@ -21,94 +23,15 @@
 //! is written twice) bounds nothing: it becomes a vertex loop at the seam's start, as the STEP
 //! reader's `VERTEX_LOOP` does, and the seam edge is dropped.
 
-use super::geometry::Segment;
-use super::Ctx;
+use super::ctx::Ctx;
 use crate::error::Result;
 use crate::ingest::domain::{align_loops, face_domain, loop_uv, signed_area};
 use crate::model::*;
 use glam::DVec3;
 use std::collections::VecDeque;
-use truck_geometry::prelude::{Point3, SearchNearestParameter};
-
-pub const EMPTY_DOMAIN: UvDomain = UvDomain {
-    u: (0.0, 0.0),
-    v: (0.0, 0.0),
-    u_period: None,
-    v_period: None,
-};
-
-/// How far (relative to the size of the coordinates) an edge's vertex may be from its curve's
-/// end before the vertex is projected onto the curve instead.
-const END_TOL: f64 = 1e-6;
-
-/// How far (relative) a vertex may be from its edge's curve at all.
-const ON_CURVE_TOL: f64 = 1e-4;
 
 /// Grid of samples per face direction for the enclosed-volume sign.
 const VOLUME_GRID: usize = 32;
-
-/// The parameter interval of `seg` from `pa` to `pb`, and whether the curve runs from `pb` to
-/// `pa` instead (then the interval is from `pb` to `pa`).
-pub fn edge_range(
-    seg: &Segment,
-    pa: DVec3,
-    pb: DVec3,
-) -> std::result::Result<((f64, f64), bool), String> {
-    let scale = 1.0 + pa.abs().max_element().max(pb.abs().max_element());
-    let tol = END_TOL * scale;
-    let (s, e) = (seg.start(), seg.end());
-    if s.distance(pa) <= tol && e.distance(pb) <= tol {
-        return Ok((seg.range, false));
-    }
-    if s.distance(pb) <= tol && e.distance(pa) <= tol {
-        return Ok((seg.range, true));
-    }
-    let (ta, da) = nearest_param(seg, pa);
-    let (tb, db) = nearest_param(seg, pb);
-    if da > ON_CURVE_TOL * scale || db > ON_CURVE_TOL * scale {
-        return Err(format!(
-            "the edge's vertices are not on its curve (distance {da:.3e} mm and {db:.3e} mm)"
-        ));
-    }
-    if (tb - ta).abs() <= 1e-12 * (1.0 + ta.abs()) {
-        return Ok((seg.range, false));
-    }
-    Ok(if ta < tb {
-        ((ta, tb), false)
-    } else {
-        ((tb, ta), true)
-    })
-}
-
-/// The parameter of the point of `seg` (within its range) nearest to `p`, and the distance.
-pub fn nearest_param(seg: &Segment, p: DVec3) -> (f64, f64) {
-    const COARSE: usize = 32;
-    let (t0, t1) = seg.range;
-    let (lo, hi) = (t0.min(t1), t0.max(t1));
-    let mut best = (t0, f64::INFINITY);
-    for k in 0..=COARSE {
-        let t = t0 + (t1 - t0) * k as f64 / COARSE as f64;
-        let d = seg.at(t).distance(p);
-        if d < best.1 {
-            best = (t, d);
-        }
-    }
-    let refined = crate::panic_guard::catch(|| {
-        seg.curve
-            .search_nearest_parameter(Point3::new(p.x, p.y, p.z), Some(best.0), 100)
-    })
-    .ok()
-    .flatten()
-    .filter(|t| t.is_finite() && *t >= lo - 1e-9 * (hi - lo) && *t <= hi + 1e-9 * (hi - lo));
-    if let Some(t) = refined {
-        let t = t.clamp(lo, hi);
-        let d = seg.at(t).distance(p);
-        if d < best.1 {
-            best = (t, d);
-        }
-    }
-    best
-}
 
 /// `nest_shells`: the shells were found as connected components of a soup, each its own
 /// solid so far; a shell inside another is then made a void of it (see [`nest_voids`]).

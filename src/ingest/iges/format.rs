@@ -1,5 +1,6 @@
-//! The IGES 5.3 fixed-format file layer: records, sections, the Global section, Directory
-//! Entries and Parameter Data.
+//! The IGES 5.3 fixed-format file layer.
+//!
+//! Records, sections, the Global section, Directory Entries and Parameter Data.
 //!
 //! An IGES file is a sequence of 80-column records. Column 73 holds the section letter
 //! (`S` start, `G` global, `D` directory entry, `P` parameter data, `T` terminate), columns
@@ -469,6 +470,28 @@ pub fn parse(text: &str) -> Result<IgesFile, String> {
     if sec.s.is_empty() && sec.g.is_empty() && sec.d.is_empty() {
         return Err("no Start, Global or Directory Entry records (not an IGES file)".into());
     }
+    check_terminate(&sec)?;
+    if sec.g.is_empty() {
+        return Err("no Global section".into());
+    }
+    let gtext: String = sec.g.iter().map(|(_, r)| cols(r, 0, 72)).collect();
+    let global = parse_global(&gtext)?;
+    if sec.d.len() % 2 != 0 {
+        return Err(format!(
+            "{} Directory Entry records, an odd number (each entity has two)",
+            sec.d.len()
+        ));
+    }
+    let mut entries = Vec::with_capacity(sec.d.len() / 2);
+    for pair in sec.d.chunks(2) {
+        let de = entries.len() * 2 + 1;
+        entries.push(dir_entry(&sec, &global, (pair[0].1, pair[1].1), de)?);
+    }
+    Ok(IgesFile { global, entries })
+}
+
+/// Checks the Terminate record's counts of S, G, D and P records against the file.
+fn check_terminate(sec: &Sections) -> Result<(), String> {
     let Some(&(tline, trec)) = sec.t.first() else {
         return Err("no Terminate record (file truncated?)".into());
     };
@@ -501,108 +524,114 @@ pub fn parse(text: &str) -> Result<IgesFile, String> {
             }
         }
     }
-    if sec.g.is_empty() {
-        return Err("no Global section".into());
-    }
-    let gtext: String = sec.g.iter().map(|(_, r)| cols(r, 0, 72)).collect();
-    let global = parse_global(&gtext)?;
-    if sec.d.len() % 2 != 0 {
+    Ok(())
+}
+
+/// The entity of the two `D` records `(r1, r2)` numbered `de`, with its parameters.
+fn dir_entry(
+    sec: &Sections,
+    global: &Global,
+    (r1, r2): (&str, &str),
+    de: usize,
+) -> Result<DirEntry, String> {
+    let entity_type = de_field(r1, 0, de, "entity type")?;
+    let pd = de_field(r1, 1, de, "parameter data pointer")?;
+    let transform = de_field(r1, 6, de, "transformation matrix pointer")?;
+    let status_s = cols(r1, 64, 72);
+    let type2 = de_field(r2, 0, de, "entity type")?;
+    let count = de_field(r2, 3, de, "parameter line count")?;
+    let form = de_field(r2, 4, de, "form number")?;
+    if type2 != entity_type {
         return Err(format!(
-            "{} Directory Entry records, an odd number (each entity has two)",
+            "DE {de}: entity type {entity_type} on the first record, {type2} on the second (wrong column layout)"
+        ));
+    }
+    let mut status = [0u8; 4];
+    let digits: String = format!("{:0>8}", status_s.trim());
+    for (k, s) in status.iter_mut().enumerate() {
+        *s = digits
+            .get(2 * k..2 * k + 2)
+            .and_then(|d| d.parse().ok())
+            .ok_or_else(|| {
+                format!("DE {de}: status field {status_s:?} is not 8 digits (wrong column layout)")
+            })?;
+    }
+    if transform < 0 || transform as usize > sec.d.len() {
+        return Err(format!(
+            "DE {de}: transformation matrix pointer {transform} points outside the Directory Entry section (1–{})",
             sec.d.len()
         ));
     }
+    let params = if entity_type != 0 {
+        entity_params(sec, global, de, entity_type, pd, count)?
+    } else {
+        Vec::new()
+    };
+    Ok(DirEntry {
+        de,
+        entity_type,
+        transform: transform as usize,
+        form,
+        status,
+        params,
+    })
+}
+
+/// The parameters of entity `de` (of type `entity_type`): its `count` `P` records from the
+/// pointer `pd`, which must point back to it, tokenized, the leading entity type checked and
+/// removed.
+fn entity_params(
+    sec: &Sections,
+    global: &Global,
+    de: usize,
+    entity_type: i64,
+    pd: i64,
+    count: i64,
+) -> Result<Vec<Token>, String> {
     let np = sec.p.len();
-    let mut entries = Vec::with_capacity(sec.d.len() / 2);
-    for pair in sec.d.chunks(2) {
-        let (r1, r2) = (pair[0].1, pair[1].1);
-        let de = entries.len() * 2 + 1;
-        let entity_type = de_field(r1, 0, de, "entity type")?;
-        let pd = de_field(r1, 1, de, "parameter data pointer")?;
-        let transform = de_field(r1, 6, de, "transformation matrix pointer")?;
-        let status_s = cols(r1, 64, 72);
-        let type2 = de_field(r2, 0, de, "entity type")?;
-        let count = de_field(r2, 3, de, "parameter line count")?;
-        let form = de_field(r2, 4, de, "form number")?;
-        if type2 != entity_type {
-            return Err(format!(
-                "DE {de}: entity type {entity_type} on the first record, {type2} on the second (wrong column layout)"
-            ));
-        }
-        let mut status = [0u8; 4];
-        let digits: String = format!("{:0>8}", status_s.trim());
-        for (k, s) in status.iter_mut().enumerate() {
-            *s = digits
-                .get(2 * k..2 * k + 2)
-                .and_then(|d| d.parse().ok())
-                .ok_or_else(|| {
-                    format!(
-                        "DE {de}: status field {status_s:?} is not 8 digits (wrong column layout)"
-                    )
-                })?;
-        }
-        if transform < 0 || transform as usize > sec.d.len() {
-            return Err(format!(
-                "DE {de}: transformation matrix pointer {transform} points outside the Directory Entry section (1–{})",
-                sec.d.len()
-            ));
-        }
-        let mut params = Vec::new();
-        if entity_type != 0 {
-            if pd < 1 || pd as usize > np {
-                return Err(format!(
-                    "DE {de} (entity {entity_type}): parameter data pointer {pd} outside the Parameter Data section (1–{np}; file truncated?)"
-                ));
-            }
-            let count = count.max(1) as usize;
-            let first = pd as usize - 1;
-            if first + count > np {
-                return Err(format!(
-                    "DE {de} (entity {entity_type}): its {count} parameter records run past the end of the Parameter Data section ({np} records; file truncated?)"
-                ));
-            }
-            let mut text = String::new();
-            for &(line, rec) in &sec.p[first..first + count] {
-                let back = cols(rec, 64, 72).trim();
-                if back.parse::<usize>().ok() != Some(de) {
-                    return Err(format!(
-                        "line {line}: parameter record of DE {de} (entity {entity_type}) points back to DE {back:?} (wrong column layout or bad pointer)"
-                    ));
-                }
-                text.push_str(&format!("{:<64}", cols(rec, 0, 64)));
-            }
-            let (tokens, ended) = tokenize(&text, global.param_delim, global.record_delim)
-                .map_err(|e| format!("DE {de} (entity {entity_type}): {e}"))?;
-            if !ended {
-                return Err(format!(
-                    "DE {de} (entity {entity_type}): parameters do not end with the record delimiter {:?} (truncated?)",
-                    global.record_delim
-                ));
-            }
-            let mut tokens = tokens.into_iter();
-            let head = tokens.next();
-            if head.as_ref().and_then(|t| t.int()) != Some(entity_type) {
-                let what = match head {
-                    Some(Token::Num(x)) => x,
-                    Some(Token::Str(x)) => format!("the string {x:?}"),
-                    _ => "nothing".into(),
-                };
-                return Err(format!(
-                    "DE {de}: parameter data starts with {what}, not the entity type {entity_type}"
-                ));
-            }
-            params = tokens.collect();
-        }
-        entries.push(DirEntry {
-            de,
-            entity_type,
-            transform: transform as usize,
-            form,
-            status,
-            params,
-        });
+    if pd < 1 || pd as usize > np {
+        return Err(format!(
+            "DE {de} (entity {entity_type}): parameter data pointer {pd} outside the Parameter Data section (1–{np}; file truncated?)"
+        ));
     }
-    Ok(IgesFile { global, entries })
+    let count = count.max(1) as usize;
+    let first = pd as usize - 1;
+    if first + count > np {
+        return Err(format!(
+            "DE {de} (entity {entity_type}): its {count} parameter records run past the end of the Parameter Data section ({np} records; file truncated?)"
+        ));
+    }
+    let mut text = String::new();
+    for &(line, rec) in &sec.p[first..first + count] {
+        let back = cols(rec, 64, 72).trim();
+        if back.parse::<usize>().ok() != Some(de) {
+            return Err(format!(
+                "line {line}: parameter record of DE {de} (entity {entity_type}) points back to DE {back:?} (wrong column layout or bad pointer)"
+            ));
+        }
+        text.push_str(&format!("{:<64}", cols(rec, 0, 64)));
+    }
+    let (tokens, ended) = tokenize(&text, global.param_delim, global.record_delim)
+        .map_err(|e| format!("DE {de} (entity {entity_type}): {e}"))?;
+    if !ended {
+        return Err(format!(
+            "DE {de} (entity {entity_type}): parameters do not end with the record delimiter {:?} (truncated?)",
+            global.record_delim
+        ));
+    }
+    let mut tokens = tokens.into_iter();
+    let head = tokens.next();
+    if head.as_ref().and_then(|t| t.int()) != Some(entity_type) {
+        let what = match head {
+            Some(Token::Num(x)) => x,
+            Some(Token::Str(x)) => format!("the string {x:?}"),
+            _ => "nothing".into(),
+        };
+        return Err(format!(
+            "DE {de}: parameter data starts with {what}, not the entity type {entity_type}"
+        ));
+    }
+    Ok(tokens.collect())
 }
 
 #[cfg(test)]

@@ -3,14 +3,17 @@
 //! Three layers:
 //! - [`format`]: the fixed 80-column file (sections, Global section, Directory Entries,
 //!   Parameter Data with Hollerith strings), with errors naming the line or the DE;
-//! - [`geometry`]: curves (100, 102, 104, 110, 126) and surfaces (108, 120, 122, 128,
-//!   190–198) into truck geometry, with 124 transformations and the unit scale to mm;
+//! - geometry: [`curve`]s (100, 102, 104, 110, 126) and [`surface`]s (108, 120, 122, 128,
+//!   190–198) into truck geometry, [`placement`] by 124 transformations and the unit scale
+//!   to mm; all entity readers share [`ctx`], the parsed file with typed parameter access and
+//!   errors naming the DE;
 //! - topology, two routes into the same [`Model`] the STEP reader builds:
 //!   [`brep`] for manifold solid B-rep objects (186 → 514 shell → 510 face → 508 loop →
 //!   504 edge list / 502 vertex list, as OpenCASCADE writes in B-rep mode; 514 shells that no
 //!   186 uses are solids of their own), and [`sew`] for
 //!   a "soup" of trimmed surfaces (144 with 142 boundaries, as FreeCAD writes), which are
-//!   sewn into closed shells by matching their boundary curves.
+//!   sewn into closed shells by matching their boundary curves. Both place an edge's
+//!   vertices on its curve with [`segment`].
 //!
 //! Both routes then go through [`finish`]: degenerate edges and seam-only loops (a full
 //! sphere) become what the STEP reader makes of them, faces are oriented consistently across
@@ -22,55 +25,21 @@
 //! 502 vertex list (soup vertices have none: 0).
 
 mod brep;
+mod ctx;
+mod curve;
 mod finish;
 pub mod format;
-mod geometry;
+mod placement;
+mod segment;
 mod sew;
-#[cfg(test)]
-mod tests;
+mod surface;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::model::*;
-use format::{DirEntry, IgesFile, Token};
+use ctx::{model_err, Ctx};
+use format::IgesFile;
 use glam::DVec3;
 use std::path::Path;
-
-/// Entity names for messages.
-fn entity_name(t: i64) -> &'static str {
-    match t {
-        100 => "circular arc",
-        102 => "composite curve",
-        104 => "conic arc",
-        108 => "plane",
-        110 => "line",
-        116 => "point",
-        118 => "ruled surface",
-        120 => "surface of revolution",
-        122 => "tabulated cylinder",
-        123 => "direction",
-        124 => "transformation matrix",
-        126 => "rational B-spline curve",
-        128 => "rational B-spline surface",
-        140 => "offset surface",
-        141 => "boundary",
-        142 => "curve on a parametric surface",
-        143 => "bounded surface",
-        144 => "trimmed surface",
-        186 => "manifold solid B-rep object",
-        190 => "plane surface",
-        192 => "right circular cylindrical surface",
-        194 => "right circular conical surface",
-        196 => "spherical surface",
-        198 => "toroidal surface",
-        402 => "associativity",
-        502 => "vertex list",
-        504 => "edge list",
-        508 => "loop",
-        510 => "face",
-        514 => "shell",
-        _ => "entity",
-    }
-}
 
 /// True when `bytes` look like fixed-format IGES: the first record has `S` in column 73.
 pub fn looks_like_iges(bytes: &[u8]) -> bool {
@@ -167,161 +136,4 @@ fn build(path: &Path, file: &IgesFile, mm: f64, unit: String) -> Result<Model> {
     }
     finish::finish(&ctx, &mut model, from_soup)?;
     Ok(model)
-}
-
-fn model_err(path: &Path, reason: impl Into<String>) -> Error {
-    Error::Model {
-        path: path.into(),
-        reason: reason.into(),
-    }
-}
-
-/// What the entity readers share: the parsed file, its path for messages, and the unit.
-pub(crate) struct Ctx<'a> {
-    pub file: &'a IgesFile,
-    pub path: &'a Path,
-    /// Millimetres per model-space unit.
-    pub mm: f64,
-}
-
-impl Ctx<'_> {
-    /// An error about entity `de`: `DE 17 (entity 144, trimmed surface): reason`.
-    pub fn err(&self, de: usize, reason: impl Into<String>) -> Error {
-        let t = self.file.get(de).map_or(0, |e| e.entity_type);
-        model_err(
-            self.path,
-            format!(
-                "DE {de} (entity {t}, {}): {}",
-                entity_name(t),
-                reason.into()
-            ),
-        )
-    }
-
-    /// The entity at `de`, referred to by entity `from`.
-    pub fn entry(&self, de: usize, from: usize) -> Result<&DirEntry> {
-        match self.file.get(de) {
-            Some(e) if e.entity_type != 0 => Ok(e),
-            _ => Err(self.err(
-                from,
-                format!(
-                    "points to DE {de}, which is not the start of an entity in this file ({} DE records; dangling pointer)",
-                    2 * self.file.entries.len()
-                ),
-            )),
-        }
-    }
-
-    /// The entity at `de`, which must be one of `types`.
-    pub fn typed(&self, de: usize, from: usize, types: &[i64]) -> Result<&DirEntry> {
-        let e = self.entry(de, from)?;
-        if types.contains(&e.entity_type) {
-            Ok(e)
-        } else {
-            Err(self.err(
-                from,
-                format!(
-                    "points to DE {de}, entity {} ({}), where entity {} is expected",
-                    e.entity_type,
-                    entity_name(e.entity_type),
-                    types
-                        .iter()
-                        .map(|t| t.to_string())
-                        .collect::<Vec<_>>()
-                        .join(" or ")
-                ),
-            ))
-        }
-    }
-
-    fn param<'e>(&self, e: &'e DirEntry, k: usize, what: &str) -> Result<&'e Token> {
-        e.params.get(k).ok_or_else(|| {
-            self.err(
-                e.de,
-                format!("parameter {} ({what}) missing (record too short)", k + 1),
-            )
-        })
-    }
-
-    pub fn real(&self, e: &DirEntry, k: usize, what: &str) -> Result<f64> {
-        let t = self.param(e, k, what)?;
-        match t {
-            Token::Default => Ok(0.0),
-            _ => t.real().ok_or_else(|| {
-                self.err(
-                    e.de,
-                    format!("parameter {} ({what}) is {t:?}, not a number", k + 1),
-                )
-            }),
-        }
-    }
-
-    pub fn reals(&self, e: &DirEntry, k: usize, n: usize, what: &str) -> Result<Vec<f64>> {
-        if e.params.len() < k + n {
-            return Err(self.err(
-                e.de,
-                format!(
-                    "{what}: needs parameters {}–{}, the record has {} (record too short)",
-                    k + 1,
-                    k + n,
-                    e.params.len()
-                ),
-            ));
-        }
-        (k..k + n).map(|i| self.real(e, i, what)).collect()
-    }
-
-    pub fn int(&self, e: &DirEntry, k: usize, what: &str) -> Result<i64> {
-        let t = self.param(e, k, what)?;
-        match t {
-            Token::Default => Ok(0),
-            _ => t.int().ok_or_else(|| {
-                self.err(
-                    e.de,
-                    format!("parameter {} ({what}) is {t:?}, not an integer", k + 1),
-                )
-            }),
-        }
-    }
-
-    /// A count or index: a non-negative integer no larger than the number of parameters
-    /// could justify (guards allocations against garbage).
-    pub fn count(&self, e: &DirEntry, k: usize, what: &str) -> Result<usize> {
-        let n = self.int(e, k, what)?;
-        if n < 0 || n as usize > 4 * e.params.len() + 16 {
-            return Err(self.err(
-                e.de,
-                format!("parameter {} ({what}) = {n} is out of range", k + 1),
-            ));
-        }
-        Ok(n as usize)
-    }
-
-    /// An index into another entity's list (1-based; checked against that list by the caller).
-    pub fn index(&self, e: &DirEntry, k: usize, what: &str) -> Result<usize> {
-        let n = self.int(e, k, what)?;
-        if n < 1 {
-            return Err(self.err(
-                e.de,
-                format!("parameter {} ({what}) = {n}, not an index (from 1)", k + 1),
-            ));
-        }
-        usize::try_from(n).map_err(|_| self.err(e.de, format!("{what} {n} too large")))
-    }
-
-    /// A pointer to another entity (checked to exist).
-    pub fn ptr(&self, e: &DirEntry, k: usize, what: &str) -> Result<usize> {
-        let p = self.int(e, k, what)?;
-        if p <= 0 {
-            return Err(self.err(
-                e.de,
-                format!(
-                    "parameter {} ({what}) is {p}, not a pointer to an entity",
-                    k + 1
-                ),
-            ));
-        }
-        self.entry(p as usize, e.de)?;
-        Ok(p as usize)
-    }
 }

@@ -1,5 +1,6 @@
-//! A soup of trimmed surfaces (144, bounded by 142 curves on surfaces) sewn into closed
-//! shells.
+//! A soup of IGES trimmed surfaces sewn into closed shells.
+//!
+//! The trimmed surfaces are 144 entities, bounded by 142 curves on surfaces.
 //!
 //! Each 144 gives a face: its surface and, per boundary (outer, then inner), the model-space
 //! curve of the 142 split into pieces (a 102 composite's members). Pieces of zero length (the
@@ -20,21 +21,23 @@
 //! `tol`. The soups written by FreeCAD carry 10 significant digits, so coincident ends differ
 //! by about 1e-9 of the coordinates: far inside these.
 
-use super::geometry::{mat_mul, Segment};
-use super::Ctx;
+use super::ctx::{model_err, Ctx};
+use super::segment::{nearest_param, Segment};
 use crate::error::Result;
+use crate::ingest::domain::EMPTY_DOMAIN;
+use crate::ingest::transform::mat_mul;
 use crate::model::*;
 use glam::DVec3;
 use std::collections::HashMap;
 
-/// Merge tolerance relative to the diagonal (floor).
-const MERGE_REL: f64 = 1e-7;
-/// Merge tolerance relative to the diagonal (ceiling).
-const MERGE_REL_MAX: f64 = 1e-4;
-/// Global resolution multiples in the merge tolerance.
-const RESOLUTION_FACTOR: f64 = 10.0;
-/// Match tolerance, in merge tolerances.
-const MATCH_FACTOR: f64 = 10.0;
+/// The merge tolerance's floor, relative to the diagonal of the soup's pieces.
+const MIN_MERGE_REL_DIAGONAL: f64 = 1e-7;
+/// The merge tolerance's ceiling, relative to the diagonal of the soup's pieces.
+const MAX_MERGE_REL_DIAGONAL: f64 = 1e-4;
+/// The merge tolerance relative to the Global section's minimum resolution (in mm).
+const MERGE_REL_RESOLUTION: f64 = 10.0;
+/// The match tolerance relative to the merge tolerance.
+const MATCH_REL_MERGE: f64 = 10.0;
 
 /// A piece of a boundary: (face, loop, piece) indices.
 type PieceUse = (usize, usize, usize);
@@ -59,15 +62,31 @@ fn ends(p: &(Segment, bool)) -> (DVec3, DVec3) {
     }
 }
 
+/// Sews the trimmed surfaces (144) at `soup` into closed shells, each a solid of `model`.
 pub fn build_soup(ctx: &Ctx, model: &mut Model, soup: &[usize]) -> Result<()> {
     let mut faces = Vec::with_capacity(soup.len());
     for &de in soup {
         faces.push(read_face(ctx, de)?);
     }
-    // Tolerances from the size of the whole soup.
+    let tol = merge_tolerance(ctx, &faces)?;
+    for f in &mut faces {
+        for l in &mut f.loops {
+            chain(ctx, l, tol)?;
+        }
+    }
+    let piece_vertices = merge_vertices(model, &faces, tol);
+    let assigned = pair_pieces(ctx, model, &faces, &piece_vertices, tol)?;
+    let first_face = model.faces.len();
+    push_faces(model, faces, &assigned);
+    shells_from_components(model, first_face);
+    Ok(())
+}
+
+/// The merge tolerance, from the size of the whole soup (see the module docs).
+fn merge_tolerance(ctx: &Ctx, faces: &[SoupFace]) -> Result<f64> {
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    for f in &faces {
+    for f in faces {
         for l in &f.loops {
             for p in &l.pieces {
                 for q in [0.0, 0.25, 0.5, 0.75, 1.0].map(|t| p.0.at_fraction(t)) {
@@ -79,28 +98,27 @@ pub fn build_soup(ctx: &Ctx, model: &mut Model, soup: &[usize]) -> Result<()> {
     }
     let diag = (hi - lo).length();
     if !diag.is_finite() || diag <= 0.0 {
-        return Err(super::model_err(
-            ctx.path,
-            "the trimmed surfaces have no extent",
-        ));
+        return Err(model_err(ctx.path, "the trimmed surfaces have no extent"));
     }
     let resolution = ctx.file.global.resolution.abs() * ctx.mm;
-    let tol = (RESOLUTION_FACTOR * resolution)
-        .max(MERGE_REL * diag)
-        .min(MERGE_REL_MAX * diag);
-    for f in &mut faces {
-        for l in &mut f.loops {
-            chain(ctx, l, tol)?;
-        }
-    }
-    // Vertices.
+    Ok((MERGE_REL_RESOLUTION * resolution)
+        .max(MIN_MERGE_REL_DIAGONAL * diag)
+        .min(MAX_MERGE_REL_DIAGONAL * diag))
+}
+
+/// The vertices of the pieces' ends, ends closer than `tol` merged: per (face, loop, piece),
+/// its (start vertex, end vertex) in boundary order.
+fn merge_vertices(
+    model: &mut Model,
+    faces: &[SoupFace],
+    tol: f64,
+) -> Vec<Vec<Vec<(usize, usize)>>> {
     let mut grid = Grid {
         cell: tol,
         cells: HashMap::new(),
     };
-    // (face, loop, piece) → (start vertex, end vertex) in boundary order.
     let mut piece_vertices: Vec<Vec<Vec<(usize, usize)>>> = Vec::new();
-    for f in &faces {
+    for f in faces {
         let mut fv = Vec::new();
         for l in &f.loops {
             let mut lv = Vec::new();
@@ -114,6 +132,19 @@ pub fn build_soup(ctx: &Ctx, model: &mut Model, soup: &[usize]) -> Result<()> {
         }
         piece_vertices.push(fv);
     }
+    piece_vertices
+}
+
+/// Pairs the pieces into edges (pushed into `model`): pieces with the same pair of end
+/// vertices whose curves match. Returns each piece use's (edge, forward); a piece that
+/// matches nothing is an error (the soup is open).
+fn pair_pieces(
+    ctx: &Ctx,
+    model: &mut Model,
+    faces: &[SoupFace],
+    piece_vertices: &[Vec<Vec<(usize, usize)>>],
+    tol: f64,
+) -> Result<HashMap<PieceUse, (usize, bool)>> {
     // Group piece uses by their vertex pair, then pair them geometrically.
     let mut groups: HashMap<(usize, usize), Vec<PieceUse>> = HashMap::new();
     let mut order = Vec::new();
@@ -140,7 +171,7 @@ pub fn build_soup(ctx: &Ctx, model: &mut Model, soup: &[usize]) -> Result<()> {
         let partner = group.iter().copied().find(|&w| {
             w != u
                 && !assigned.contains_key(&w)
-                && same_curve(piece(u), piece(w), MATCH_FACTOR * tol)
+                && same_curve(piece(u), piece(w), MATCH_REL_MERGE * tol)
         });
         let Some(w) = partner else {
             let (p, q) = ends(piece(u));
@@ -171,12 +202,20 @@ pub fn build_soup(ctx: &Ctx, model: &mut Model, soup: &[usize]) -> Result<()> {
             // the edge's first half.
             let (ws, wf) = piece(w);
             let q = ws.at_fraction(if *wf { 0.25 } else { 0.75 });
-            let (t, _) = super::finish::nearest_param(seg, q);
+            let (t, _) = nearest_param(seg, q);
             ((t - seg.range.0) / (seg.range.1 - seg.range.0) < 0.5) == *fwd
         };
         assigned.insert(w, (edge, w_forward));
     }
-    // Faces, loops, shells.
+    Ok(assigned)
+}
+
+/// Pushes the faces with their loops of the paired edges (`assigned`), in no shell yet.
+fn push_faces(
+    model: &mut Model,
+    faces: Vec<SoupFace>,
+    assigned: &HashMap<PieceUse, (usize, bool)>,
+) {
     let first_face = model.faces.len();
     for (fi, f) in faces.into_iter().enumerate() {
         let face = first_face + fi;
@@ -203,10 +242,14 @@ pub fn build_soup(ctx: &Ctx, model: &mut Model, soup: &[usize]) -> Result<()> {
             same_sense: true,
             loops,
             outer: None,
-            domain: super::finish::EMPTY_DOMAIN,
+            domain: EMPTY_DOMAIN,
         });
     }
-    // Connected components → shells → solids.
+}
+
+/// The faces from `first_face` on, joined by their edges into connected components: each a
+/// shell and the solid it bounds.
+fn shells_from_components(model: &mut Model, first_face: usize) {
     for seed in first_face..model.faces.len() {
         if model.faces[seed].shell != usize::MAX {
             continue;
@@ -243,7 +286,6 @@ pub fn build_soup(ctx: &Ctx, model: &mut Model, soup: &[usize]) -> Result<()> {
         }
         model.shells[shell].faces.sort_unstable();
     }
-    Ok(())
 }
 
 fn read_face(ctx: &Ctx, de: usize) -> Result<SoupFace> {
@@ -338,7 +380,7 @@ fn chain(ctx: &Ctx, l: &mut SoupLoop, tol: f64) -> Result<()> {
 fn same_curve(a: &(Segment, bool), b: &(Segment, bool), tol: f64) -> bool {
     [0.25, 0.5, 0.75].iter().all(|&s| {
         let p = a.0.at_fraction(s);
-        super::finish::nearest_param(&b.0, p).1 <= tol
+        nearest_param(&b.0, p).1 <= tol
     })
 }
 

@@ -882,8 +882,9 @@ fn memchr_quote(b: &[u8]) -> Option<usize> {
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
+mod tests {
     use super::*;
+    use crate::testing::corpus_step_files;
     use truck_stepio::r#in::ruststep;
 
     fn head(data: &str) -> String {
@@ -902,23 +903,6 @@ pub(crate) mod tests {
 
     fn err(text: &str) -> SyntaxError {
         parse(text, 64).unwrap_err()
-    }
-
-    /// The STEP files of `samples/` and `../shared/realworld/` (at least 30).
-    pub(crate) fn corpus_step_files() -> Vec<std::path::PathBuf> {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-        let mut files = vec![];
-        for dir in [root.join("samples"), root.join("../shared/realworld")] {
-            for e in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
-                let p = e.path();
-                let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
-                if ["step", "stp", "STEP", "STP"].contains(&ext) {
-                    files.push(p);
-                }
-            }
-        }
-        assert!(files.len() >= 30, "found only {} files", files.len());
-        files
     }
 
     /// Every sample and real-world STEP file gives the same AST as ruststep's own parser.

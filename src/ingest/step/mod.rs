@@ -1,0 +1,102 @@
+//! STEP (ISO 10303-21) ingestion into our [`Model`].
+//!
+//! The stages, in order:
+//! - [`p21`] parses the file into ruststep's AST (points and directions kept compact);
+//!   [`records`] indexes it by id;
+//! - [`truck`] patches the records where truck misreads them, and [`checks`] refuses what
+//!   truck would panic on or misread (reference cycles, B-spline degrees, knots);
+//! - [`table`] puts the records truck converts into truck's table (the common ones as
+//!   holders built directly, the rest through truck's reader);
+//! - [`topology`] walks the solids by hand: `MANIFOLD_SOLID_BREP` / `BREP_WITH_VOIDS` →
+//!   `CLOSED_SHELL` / `ORIENTED_CLOSED_SHELL` → `ADVANCED_FACE` (or `ORIENTED_FACE`) →
+//!   `FACE_BOUND` → `EDGE_LOOP` / `VERTEX_LOOP` → `ORIENTED_EDGE` → `EDGE_CURVE` →
+//!   `VERTEX_POINT`, in the [`units`] and at the assembly [`placement`]s of each solid. Only
+//!   the geometry (surfaces, edge curves) is converted by truck ([`convert`]), one entity at a
+//!   time, so a conversion that fails is an error naming that entity instead of a face that
+//!   silently disappears;
+//! - [`finish`] checks that every entity is used, numbers the model in file order and
+//!   computes the UV loops and domains.
+//!
+//! The later stages share the file as a [`source::Source`]; errors are made in [`error`].
+
+mod checks;
+mod convert;
+mod error;
+mod finish;
+pub mod p21;
+mod placement;
+mod records;
+mod source;
+mod table;
+mod topology;
+mod truck;
+mod units;
+
+use crate::error::{Error, Result};
+use crate::model::Model;
+use error::model_err;
+use records::Records;
+use source::Source;
+use std::path::Path;
+
+/// Files larger than this are refused before parsing (the parser keeps the whole structure in
+/// memory, several times the file size).
+pub const MAX_FILE_BYTES: u64 = 512 * 1024 * 1024;
+
+/// Deepest list nesting accepted. AP203/AP214 need at most 4 or 5 (a rational B-spline
+/// surface's weights: a list of lists inside a complex instance).
+pub const MAX_NESTING: usize = 64;
+
+/// Reads STEP text already in memory; `path` is used in messages and the report.
+pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
+    let mut exchange = parse(path, bytes)?;
+    truck::patch_for_truck(&mut exchange.data);
+    let recs = Records::new(&exchange.data);
+    checks::check_records(path, &recs)?;
+    let (mut table, undecodable) = table::fill_table(&exchange.data, &recs);
+    truck::cone_angles_in_radians(&mut table, &recs);
+    let src = Source {
+        path,
+        recs: &recs,
+        table: &table,
+        undecodable: &undecodable,
+    };
+    let mut model = topology::build_solids(&src)?;
+    finish::finish(&src, &mut model)?;
+    Ok(model)
+}
+
+/// The file parsed, after the checks that it is STEP text with a data section.
+fn parse(path: &Path, bytes: &[u8]) -> Result<p21::Parsed> {
+    if bytes.iter().all(|b| b.is_ascii_whitespace()) {
+        return Err(model_err(path, "file is empty"));
+    }
+    let text = std::str::from_utf8(bytes).map_err(|e| Error::Syntax {
+        path: path.into(),
+        reason: format!("not text (invalid UTF-8 at byte {})", e.valid_up_to()),
+    })?;
+    let head = text.trim_start_matches('\u{feff}').trim_start();
+    if !head.starts_with("ISO-10303-21") {
+        return Err(Error::Syntax {
+            path: path.into(),
+            reason: "does not start with ISO-10303-21; (not a STEP file)".into(),
+        });
+    }
+    if !text.contains("END-ISO-10303-21") {
+        return Err(Error::Syntax {
+            path: path.into(),
+            reason: "no END-ISO-10303-21; (file truncated?)".into(),
+        });
+    }
+    let exchange = p21::parse(text, MAX_NESTING).map_err(|e| Error::Syntax {
+        path: path.into(),
+        reason: e.to_string(),
+    })?;
+    if exchange.data.is_empty() {
+        return Err(Error::Syntax {
+            path: path.into(),
+            reason: "no DATA section".into(),
+        });
+    }
+    Ok(exchange)
+}
