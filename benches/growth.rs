@@ -1,7 +1,7 @@
 //! How tracing time grows with the number of seams: comb prisms with 1 to 32 teeth, built
 //! with truck-modeling and written to STEP by truck-stepio, then read by matrace like any
 //! file. Every tooth adds two reflex edges and about a dozen seams; near-linear growth means
-//! a flat time per seam across the family (DESIGN.md, performance goals).
+//! a flat time per seam across the family (`docs/performance.md`).
 //!
 //! `cargo bench --bench growth`.
 

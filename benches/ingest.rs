@@ -1,7 +1,7 @@
 //! Ingestion speed: `read_model` (parse, convert, walk, UV domains) and `classify`, per file,
 //! for a few reference samples and the largest real-world files.
 //!
-//! `cargo bench --bench ingest`; figures are recorded in the README.
+//! `cargo bench --bench ingest`; figures are recorded in `docs/performance.md`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::path::PathBuf;

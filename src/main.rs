@@ -9,7 +9,7 @@ use std::process::ExitCode;
 /// mimalloc: reading a STEP file allocates tens of thousands of small objects (the parsed
 /// records, truck's tables) and frees them again. With mimalloc instead of glibc's allocator,
 /// repeated reads of the NIST parts in one process take 8–20 % less time; a single read in a
-/// fresh process takes about the same (README, "Benchmarks").
+/// fresh process takes about the same (`docs/performance.md`).
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 

@@ -6,7 +6,7 @@
 //! `∂N = (∂m − N·(N·∂m)) / ‖m‖`, `∂m/∂u = σ·(Suu × Sv + Su × Suv)`,
 //! `∂m/∂v = σ·(Suv × Sv + Su × Svv)` (σ = the face's `sign`). Reflex edges (`(t, θ)` in the
 //! frame of [`edge_frame`]) and reflex vertices (`(φ, ψ)` in [`vertex_frame`]) are segments
-//! with the same two-parameter interface (DESIGN.md).
+//! with the same two-parameter interface ([`NormalField`]).
 
 use crate::geom::{eval_curve, eval_surface};
 use crate::model::{Element, Model};

@@ -1,4 +1,4 @@
-//! Sheet geometry as a triangle mesh (DESIGN.md, "Sheets": mesh first).
+//! Sheet geometry as a triangle mesh (`docs/design.md`, the sheet mesh).
 //!
 //! Every point `p` of a face, with inward normal `m`, is the foot point of exactly one
 //! maximal ball: the largest ball tangent to the face at `p` inside the solid. Its centre is

@@ -1,5 +1,5 @@
 //! Sheets: the 2-dimensional pieces of the medial axis, found from their boundaries
-//! (DESIGN.md, "Sheets").
+//! (`docs/design.md`, sheets).
 //!
 //! A seam with touch triplet {a, b, c} bounds the three sheets {a, b}, {b, c}, {a, c}; a convex
 //! edge between faces a and b is the *rim* of sheet {a, b} (balls of radius → 0 there). So the

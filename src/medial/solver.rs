@@ -193,7 +193,7 @@ mod tests {
     }
 
     /// The box [0,60]×[0,40]×[0,20]: the junction touching bottom, top, x = 0 and y = 0 is
-    /// (10, 10, 10) with radius 10 (DESIGN.md's formula). A square 12×12 system.
+    /// (10, 10, 10) with radius 10 (the analytic formula for a box). A square 12×12 system.
     fn box_junction_system(m: &crate::model::Model) -> MedialSystem {
         MedialSystem::new(
             [

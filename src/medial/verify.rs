@@ -1,5 +1,5 @@
-//! Self-verification of a traced medial axis against the definition (DESIGN.md,
-//! "Verification, the project's own").
+//! Self-verification of a traced medial axis against the definition, and the check of its
+//! topology (`docs/design.md`, verification).
 //!
 //! For every seam point and junction: the nearest point of its solid's boundary of the centre (exact
 //! trimmed-face distance through the boundary BVH) is at distance `r` — nothing is closer, so

@@ -3,7 +3,7 @@
 //! Geometry is truck's exact geometry (`Surface`, `Curve3D`), already converted to
 //! millimetres and placed by any assembly transform, so nothing downstream needs to know about
 //! units or placements. Topology is ours, because truck's `Shell`/`Face` cannot represent
-//! periodic faces and loses STEP ids (DESIGN.md, "The truck toolkit").
+//! periodic faces and loses STEP ids (`docs/truck.md`).
 //!
 //! Conventions:
 //! - Every entity keeps the id it has in the file (`source_id`): the STEP instance id

@@ -525,8 +525,7 @@ fn unusable_batch_arguments_exit_2() {
 }
 
 /// The demonstration: every sample plus two broken files; `--resume` does no work.
-/// (Without sheet meshes and pictures, to keep the test short; the README gives the time of
-/// the full batch.)
+/// (Without sheet meshes and pictures, to keep the test short.)
 #[test]
 fn batch_over_all_samples_and_two_broken_files() {
     let dir = tempfile::tempdir().unwrap();

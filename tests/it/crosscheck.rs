@@ -1,4 +1,4 @@
-//! Completeness and the independent cross-check (DESIGN.md, "Verification"), on every
+//! Completeness and the independent cross-check (`docs/testing.md`), on every
 //! reference sample and every part of the real-world corpus: `trace --verify` must exit 0
 //! with no open seam end and a consistent seam–junction graph, and OpenCASCADE
 //! (scripts/ocp/crosscheck_mat.py, the OCP venv, no code shared with matrace) must accept

@@ -39,7 +39,7 @@ impl Seed {
 }
 
 impl Tracer<'_> {
-    /// Completes the trace beyond the paper (DESIGN.md, "Termination and completeness"): on
+    /// Completes the trace beyond the paper (`docs/design.md`, seeds by sampling): on
     /// every face no seam touches yet, samples boundary points, grows the maximal ball at
     /// each (shrinking from the inward normal until it touches elsewhere), and from the two
     /// touches and the nearest third segment solves for a seam point to trace from. Balls

@@ -19,7 +19,8 @@ fn verify(m: &Model, mat: &MedialAxis) -> f64 {
 }
 
 /// Box [0,60]×[0,40]×[0,20] (c < b < a): 12 seams, 4 junctions at
-/// (a/2 ± (a−c)/2, b/2 ± (b−c)/2, c/2) = (10|50, 10|30, 10), radius c/2 = 10 (DESIGN.md).
+/// (a/2 ± (a−c)/2, b/2 ± (b−c)/2, c/2) = (10|50, 10|30, 10), radius c/2 = 10 (the analytic
+/// medial axis of a box).
 #[test]
 fn box_has_twelve_seams_and_four_junctions() {
     for file in ["box.step", "box_nurbs.step"] {
@@ -34,7 +35,8 @@ fn box_has_twelve_seams_and_four_junctions() {
                 .flat_map(|&x| [10.0, 30.0].map(|y| DVec3::new(x, y, 10.0)))
                 .map(|q| q.distance(p))
                 .fold(f64::INFINITY, f64::min);
-            // DESIGN.md: junctions within 1e-9 × diagonal of the analytic position.
+            // Junctions within 1e-9 × diagonal of the analytic position: the junction solve
+            // is far tighter than the accuracy.
             assert!(want <= 1e-9 * diag, "{file}: junction {p} off by {want:e}");
             assert!(
                 (j.radius - 10.0).abs() <= 1e-9 * diag,
@@ -300,7 +302,7 @@ fn complete_and_verified(file: &str, m: &Model, mat: &MedialAxis) {
 }
 
 /// Asserts a junction of `mat` at `p` with radius `r`, both to 1e-9 × the diagonal (the
-/// junction accuracy DESIGN.md asks for), and returns it.
+/// junction accuracy the tracer aims for), and returns it.
 fn assert_junction_at<'m>(
     file: &str,
     m: &Model,
