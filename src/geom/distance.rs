@@ -86,6 +86,7 @@ use super::bvh::{box_distance_squared, union, Bvh};
 use super::eval::{eval_curve, eval_surface};
 use super::project::{plane_frame, project_plane};
 use super::trim::{clamp_ranges, covered_domain};
+use super::surface::closed_periods;
 use super::{project_point, trim, unit_normal};
 use crate::model::{Curve3D, Edge, Face, Model, Surface};
 use glam::{DVec2, DVec3};
@@ -475,22 +476,6 @@ fn descend_wrapped(
         }
     }
     (u, v)
-}
-
-/// Directions in which a B-spline/NURBS surface is closed although truck does not call it
-/// periodic (a cylinder or sphere converted to NURBS): `S(u₀, v) = S(u₁, v)` at a few `v`
-/// (and likewise in `v`), to 1e-9 of the surface's size ([`crate::geom::surface_periods`]).
-/// Projections clamp at such
-/// a seam; the face continues across it.
-pub fn closed_periods(surface: &Surface) -> (bool, bool) {
-    if !matches!(
-        surface,
-        Surface::BSplineSurface(_) | Surface::NurbsSurface(_)
-    ) {
-        return (false, false);
-    }
-    let (u, v) = crate::geom::surface_periods(surface);
-    (u.is_some(), v.is_some())
 }
 
 /// True when `uv` sits on the clamped border of a closed direction.
