@@ -2,6 +2,8 @@
 //! (`samples/`) and the third-party corpus beside the project, read, classified and traced
 //! the way the pipeline does it with default options.
 
+pub mod geometry;
+
 use crate::classify::Classification;
 use crate::medial::MedialAxis;
 use crate::model::Model;
