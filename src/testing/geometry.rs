@@ -14,8 +14,8 @@
 //! continuity jump and a difference quotient straddling the knot would be meaningless.
 
 use crate::geom::eval::{eval_curve, eval_surface, SurfaceDerivs};
-use crate::model::{Curve3D, Surface};
-use glam::DVec3;
+use crate::model::{Curve3D, Face, Model, Surface};
+use glam::{DVec2, DVec3};
 use std::str::FromStr;
 use truck_geometry::prelude::{
     BSplineCurve, BSplineSurface, KnotVec, Matrix4, NurbsCurve, NurbsSurface, Point3, Rad, Vector3,
@@ -293,4 +293,28 @@ pub fn p3(p: Point3) -> DVec3 {
 
 pub fn v3(v: Vector3) -> DVec3 {
     DVec3::new(v.x, v.y, v.z)
+}
+
+/// UV of a 3D point on `face`'s surface.
+pub fn uv_of(face: &Face, p: DVec3) -> DVec2 {
+    let uv = crate::geom::project_point(&face.surface, p, None).expect("projects");
+    let q = crate::geom::surface_point(&face.surface, uv.0, uv.1);
+    assert!(q.distance(p) < 1e-9, "{p} is not on the surface ({q})");
+    DVec2::new(uv.0, uv.1)
+}
+
+/// The face all of whose loop points satisfy `on`.
+pub fn face_where(m: &Model, on: impl Fn(DVec3) -> bool) -> usize {
+    (0..m.faces.len())
+        .find(|&f| {
+            m.faces[f].loops.iter().all(|l| {
+                l.edges.iter().all(|oe| {
+                    let e = &m.edges[oe.edge];
+                    m.vertices[e.vertices[0]].point.is_finite()
+                        && on(m.vertices[e.vertices[0]].point)
+                        && on(m.vertices[e.vertices[1]].point)
+                })
+            })
+        })
+        .expect("face found")
 }

@@ -4,21 +4,21 @@
 //! (analytic Jacobians, curvatures) at millions of parameter points, so every kind is evaluated
 //! here in one pass that returns all six vectors at once.
 //!
-//! **B-splines and NURBS are evaluated by our own code** ([`bspline`]), because truck 0.5
+//! **B-splines and NURBS are evaluated by our own code** (`bspline.rs`), because truck 0.5
 //! gets them wrong: `BSplineSurface::uuder`/`vvder` multiply by `p` where the second
 //! derivative needs `p·(p − 1)`, so they are short by the factor `p − 1` for degree `p ≥ 3`
 //! (and `NurbsSurface` inherits the error through the quotient rule); `uvder` is right. The
 //! test `truck_uuder_is_wrong_for_cubic_and_ours_is_right` measures it. NURBS are homogeneous
-//! B-splines followed by the quotient rule ([`rational`]).
+//! B-splines followed by the quotient rule (`rational.rs`).
 //!
 //! **Analytic surfaces** (plane, sphere, cylinder, cone, torus) and the surface of revolution
-//! are evaluated from closed forms in one pass ([`analytic`]), exactly in truck's
+//! are evaluated from closed forms in one pass (`analytic.rs`), exactly in truck's
 //! parametrisation. Swept surfaces evaluate their profile with [`eval_curve`] (here, with the
 //! dispatch: a profile may be a pcurve, which evaluates a surface again), so a B-spline
 //! profile of degree ≥ 3 gets correct second derivatives too.
 //!
 //! Curves: lines, polylines and conics use truck's derivatives (they are right, and tested
-//! against finite differences; [`curves`]); B-spline and NURBS curves use the B-spline code;
+//! against finite differences; `curves.rs`); B-spline and NURBS curves use the B-spline code;
 //! a `PCurve` composes the 2D curve with the surface by the chain rule.
 //!
 //! Out-of-range parameters never panic: B-splines extrapolate the end polynomial piece,
