@@ -513,8 +513,8 @@ fn seeded(
     best.map(|b| b.1)
 }
 
-/// Seeds of a B-spline/NURBS surface: `degree + 1` (at least three) per knot span in each direction (at most
-/// `MAX_SPAN_SEEDS` per direction).
+/// Seeds of a B-spline/NURBS surface: `degree + 1` (at least three) per knot span in each direction
+/// (at most `MAX_SPAN_SEEDS` per direction).
 fn knot_seeds(surface: &Surface) -> Option<(Vec<f64>, Vec<f64>)> {
     let (ku, kv, pu, pv) = match surface {
         Surface::BSplineSurface(b) => (

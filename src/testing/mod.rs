@@ -2,6 +2,7 @@
 //! (`samples/`) and the third-party corpus beside the project, read, classified and traced
 //! the way the pipeline does it with default options.
 
+pub mod distance;
 pub mod geometry;
 
 use crate::classify::Classification;

@@ -29,9 +29,9 @@
 //! apex the surface goes on as another sheet) nothing is in the face. Faces without wrapping
 //! loops use the plain even–odd rule, which does not depend on orientation at all.
 //!
-//! Wrapping is told as in `ingest::domain`'s loop unwrapping: the closing step from a loop's last UV point
-//! back to its first is longer than half a period. The closing segment of a wrapping loop is
-//! then taken to the copy of the first point nearest the last one.
+//! Wrapping is told as in `ingest::domain`'s loop unwrapping: the closing step from a loop's last
+//! UV point back to its first is longer than half a period. The closing segment of a wrapping loop
+//! is then taken to the copy of the first point nearest the last one.
 //!
 //! [`Trim`] prepares a face's loops for many tests (the segments bucketed by columns across
 //! the ray), with the same answers as [`contains`].
