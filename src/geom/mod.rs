@@ -1,8 +1,12 @@
 //! Geometry on the exact model: evaluation with derivatives, normals and curvatures,
-//! trimming (inside/outside a face's loops), bounding boxes.
+//! projection onto a surface, trimming (inside/outside a face's loops), bounding boxes, and
+//! distance queries on the whole boundary (nearest point, faces within a radius, point in
+//! solid).
 //!
 //! Everything here works in model units (millimetres) on the truck geometry that
 //! [`crate::model`] carries, correcting truck where it is wrong (B-spline second derivatives).
+//! The modules, lowest first: [`eval`]; `surface` (kind, periods, parameter range),
+//! [`curvature`], `bbox`, [`bvh`]; [`project`]; [`trim`]; [`distance`].
 
 mod bbox;
 pub mod bvh;

@@ -26,6 +26,14 @@ pub fn surface_kind(surface: &Surface) -> &'static str {
     }
 }
 
+/// Points at which the two opposite borders of a B-spline or NURBS patch are compared to tell
+/// whether it closes on itself ([`surface_periods`]).
+const CLOSED_SAMPLES: usize = 9;
+
+/// How near the two opposite borders of a patch must be, relative to the patch's size, for
+/// it to close on itself (rounding of control points written to ~13 digits).
+const CLOSED_TOL_REL_SIZE: f64 = 1e-9;
+
 /// Periods of a surface's parametrisation in u and v.
 ///
 /// truck's periods for the analytic surfaces, plus what truck does not report: a B-spline or
@@ -52,9 +60,8 @@ pub fn surface_periods(surface: &Surface) -> (Option<f64>, Option<f64>) {
     let (Some((u0, u1)), Some((v0, v1))) = (ends(ur), ends(vr)) else {
         return truck;
     };
-    // Closed when the two border curves coincide at CLOSED_SAMPLES points, to 1e-9 of the
-    // patch's size (rounding of control points written to ~13 digits).
-    const CLOSED_SAMPLES: usize = 9;
+    // Closed when the two border curves coincide at CLOSED_SAMPLES points, to
+    // CLOSED_TOL_REL_SIZE of the patch's size.
     let at = |u: f64, v: f64| surface_point(surface, u, v);
     let size = at(u0, v0)
         .distance(at(u1, v1))
@@ -66,7 +73,7 @@ pub fn surface_periods(surface: &Surface) -> (Option<f64>, Option<f64>) {
         (0..CLOSED_SAMPLES).all(|k| {
             let s = k as f64 / (CLOSED_SAMPLES - 1) as f64;
             let (a, b) = f(s);
-            a.distance(b) <= 1e-9 * size
+            a.distance(b) <= CLOSED_TOL_REL_SIZE * size
         })
     };
     let u_closed = closed(&|s| {
@@ -117,9 +124,9 @@ pub fn parameter_range(
     }
 }
 
-/// Directions in which a B-spline/NURBS surface is closed although truck does not call it
-/// periodic (a cylinder or sphere converted to NURBS): `S(u₀, v) = S(u₁, v)` at a few `v`
-/// (and likewise in `v`), to 1e-9 of the surface's size ([`surface_periods`]). Projections
+/// Directions in which a B-spline/NURBS surface is closed although truck does not call it periodic
+/// (a cylinder or sphere converted to NURBS): `S(u₀, v) = S(u₁, v)` at a few `v` (and likewise in
+/// `v`), to 1e-9 (`CLOSED_TOL_REL_SIZE`) of the surface's size ([`surface_periods`]). Projections
 /// clamp at such a seam; the face continues across it.
 pub fn closed_periods(surface: &Surface) -> (bool, bool) {
     if !matches!(

@@ -98,6 +98,10 @@ pub(super) fn edge_sample_t(e: &Edge, k: usize, n: usize) -> f64 {
     }
 }
 
+/// How near its ends must be, relative to the coordinates' size, for a closed edge to wrap
+/// around ([`wraps_around`]).
+const CLOSED_TOL_REL_COORD: f64 = 1e-9;
+
 /// True when the edge is a closed curve traversed once (a full circle): its parameter wraps.
 #[inline]
 pub(super) fn wraps_around(e: &Edge) -> bool {
@@ -105,7 +109,7 @@ pub(super) fn wraps_around(e: &Edge) -> bool {
         let (lo, hi) = edge_span(e);
         let a = eval_curve(&e.curve, lo).p;
         let b = eval_curve(&e.curve, hi).p;
-        a.distance(b) <= 1e-9 * (1.0 + a.abs().max_element())
+        a.distance(b) <= CLOSED_TOL_REL_COORD * (1.0 + a.abs().max_element())
     }
 }
 

@@ -122,7 +122,15 @@ pub(super) fn face_nearest(
     }
     if let Some(edge) = edge_best {
         let fallback_hint = interior_uv.or(start);
-        best = Some(edge_hit(model, fi, edge, &cache, plane, need_uv, fallback_hint));
+        best = Some(edge_hit(
+            model,
+            fi,
+            edge,
+            &cache,
+            plane,
+            need_uv,
+            fallback_hint,
+        ));
     }
     best
 }
@@ -381,6 +389,10 @@ pub fn descend(surface: &Surface, p: DVec3, start: (f64, f64)) -> (f64, f64) {
     descend_wrapped(surface, p, start, closed_periods(surface))
 }
 
+/// The damping [`descend_wrapped`] starts from when a step fails undamped (then ×10 per
+/// failure), relative to the Hessian's diagonal.
+const MIN_DAMPING: f64 = 1e-9;
+
 fn descend_wrapped(
     surface: &Surface,
     p: DVec3,
@@ -447,7 +459,7 @@ fn descend_wrapped(
             );
             let det = a * c - b * b;
             if det.is_nan() || det <= 0.0 || a.is_nan() || a <= 0.0 {
-                lambda = (lambda * 10.0).max(1e-9);
+                lambda = (lambda * 10.0).max(MIN_DAMPING);
                 continue;
             }
             let du = -(c * g.0 - b * g.1) / det;
@@ -468,7 +480,7 @@ fn descend_wrapped(
                 accepted = !small;
                 break;
             }
-            lambda = (lambda * 10.0).max(1e-9);
+            lambda = (lambda * 10.0).max(MIN_DAMPING);
         }
         if !accepted {
             break;
@@ -480,11 +492,17 @@ fn descend_wrapped(
 /// True when `uv` sits on the clamped border of a closed direction.
 fn on_closed_border(surface: &Surface, uv: (f64, f64), closed: (bool, bool)) -> bool {
     let (ur, vr) = clamp_ranges(surface);
-    let at = |x: f64, r: (f64, f64)| {
-        let tol = 1e-12 * (r.1 - r.0).abs().max(1.0);
-        (x - r.0).abs() <= tol || (x - r.1).abs() <= tol
-    };
-    (closed.0 && at(uv.0, ur)) || (closed.1 && at(uv.1, vr))
+    (closed.0 && at_range_end(uv.0, ur)) || (closed.1 && at_range_end(uv.1, vr))
+}
+
+/// How near an end of a parameter range a parameter is at that end, relative to the range's
+/// width (at least 1).
+const RANGE_END_TOL_REL_WIDTH: f64 = 1e-12;
+
+/// True when `x` is at an end of the range `r` ([`RANGE_END_TOL_REL_WIDTH`]).
+fn at_range_end(x: f64, r: (f64, f64)) -> bool {
+    let tol = RANGE_END_TOL_REL_WIDTH * (r.1 - r.0).abs().max(1.0);
+    (x - r.0).abs() <= tol || (x - r.1).abs() <= tol
 }
 
 /// The nearest node of a `FACE_SEED_GRID` grid over the face's domain, preferring nodes inside the
@@ -609,11 +627,7 @@ fn is_spline(s: &Surface) -> bool {
 /// True when `uv` is on the border of a B-spline patch's parameter range.
 fn on_range_border(surface: &Surface, uv: (f64, f64)) -> bool {
     let (ur, vr) = clamp_ranges(surface);
-    let at = |x: f64, r: (f64, f64)| {
-        let tol = 1e-12 * (r.1 - r.0).abs().max(1.0);
-        (x - r.0).abs() <= tol || (x - r.1).abs() <= tol
-    };
-    at(uv.0, ur) || at(uv.1, vr)
+    at_range_end(uv.0, ur) || at_range_end(uv.1, vr)
 }
 
 #[cfg(test)]

@@ -43,7 +43,7 @@ use glam::{DVec2, Vec2Swizzles};
 /// Relative tolerance on the UV domain in a bounded, non-periodic direction of a face with
 /// only vertex loops: a parameter beyond the domain by more than this fraction of its width
 /// is not on the face.
-pub const DOMAIN_TOL: f64 = 1e-9;
+pub const DOMAIN_TOL_REL_WIDTH: f64 = 1e-9;
 
 /// True when `uv` is inside the trimmed face (see the module docs). Allocation-free; for
 /// many tests on one face, [`Trim`] does the same faster.
@@ -121,7 +121,7 @@ impl Setup {
             py,
             y_start,
             y_end,
-            tie: SEAM_TOL * py.unwrap_or(extent).abs().max(f64::MIN_POSITIVE),
+            tie: SEAM_TOL_REL_PERIOD * py.unwrap_or(extent).abs().max(f64::MIN_POSITIVE),
         })
     }
 
@@ -150,12 +150,12 @@ impl Setup {
         if self.py.is_some() {
             return true;
         }
-        let tol = DOMAIN_TOL * (self.y_end - self.y_start).abs().max(1.0);
+        let tol = DOMAIN_TOL_REL_WIDTH * (self.y_end - self.y_start).abs().max(1.0);
         if q.y >= self.y_start - tol && q.y <= self.y_end + tol {
             return true;
         }
         let (lo, hi) = covered();
-        let tol = DOMAIN_TOL * (hi - lo).abs().max(1.0);
+        let tol = DOMAIN_TOL_REL_WIDTH * (hi - lo).abs().max(1.0);
         q.y >= lo - tol && q.y <= hi + tol
     }
 
@@ -401,7 +401,7 @@ fn in_domain(face: &Face, uv: DVec2) -> bool {
     let d = &face.domain;
     let inside = |x: f64, r: (f64, f64), p: Option<f64>| {
         p.is_some() || {
-            let tol = DOMAIN_TOL * (r.1 - r.0).abs().max(1.0);
+            let tol = DOMAIN_TOL_REL_WIDTH * (r.1 - r.0).abs().max(1.0);
             x >= r.0 - tol && x <= r.1 + tol
         }
     };
@@ -457,7 +457,7 @@ fn for_each_crossing(a: DVec2, b: DVec2, c: f64, px: Option<f64>, mut visit: imp
 
 /// Two crossings closer than this fraction of the period (or of the domain's extent) along
 /// the ray are at the same place (a seam traversed both ways).
-pub const SEAM_TOL: f64 = 1e-9;
+pub const SEAM_TOL_REL_PERIOD: f64 = 1e-9;
 
 /// The nearest crossing(s) in one direction along the ray.
 #[derive(Default)]

@@ -22,5 +22,7 @@ mod path;
 
 pub use covered::covered_domain;
 pub(crate) use grid::TrimGrid;
-pub use loops::{contains, Trim, DOMAIN_TOL, MAX_COLUMNS, SEAM_TOL, SEGMENTS_PER_COLUMN};
+pub use loops::{
+    contains, Trim, DOMAIN_TOL_REL_WIDTH, MAX_COLUMNS, SEAM_TOL_REL_PERIOD, SEGMENTS_PER_COLUMN,
+};
 pub use path::{path_crosses_loops, LoopChunks};
