@@ -69,7 +69,7 @@ pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> O
 /// [`project_point`] for the samples along a trim loop, each next to the previous one's
 /// foot `hint`: our damped Newton from the hint first, several times cheaper than truck's
 /// search. Not on periodic surfaces, whose angles truck answers in its canonical range (the
-/// loop unwrapping in `brep::domain` relies on that).
+/// loop unwrapping in `ingest::domain` relies on that).
 ///
 /// Only the loops use it. Edge classification and the tracer keep [`project_point`]: there
 /// a different foot changed results (measured on the trimesh part: skipping truck's search

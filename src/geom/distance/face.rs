@@ -717,7 +717,7 @@ mod tests {
     fn face_distance_bspline_and_nurbs() {
         check_faces("box_bspline_top.step", &[0, 1, 5], &["bspline", "plane"]);
         check_faces("sphere_nurbs.step", &[0], &["nurbs"]);
-        // cylinder_nurbs face 0 is left out: its loop polygon is mixed up by brep::domain
+        // cylinder_nurbs face 0 is left out: its loop polygon is mixed up by ingest::domain
         // (see trim's known-bad list), so its trim is not the face.
         check_faces("cylinder_nurbs.step", &[1, 2], &["bspline"]);
         check_faces("box_nurbs.step", &[0, 3], &["bspline"]);
@@ -746,7 +746,7 @@ mod tests {
             .unwrap_or(16);
         let dir = std::env::var("STRESS_DIR")
             .map(std::path::PathBuf::from)
-            .unwrap_or(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples"));
+            .unwrap_or(crate::testing::root().join("samples"));
         let mut files: Vec<_> = std::fs::read_dir(dir)
             .unwrap()
             .map(|e| e.unwrap().path())

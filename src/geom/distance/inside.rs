@@ -213,10 +213,9 @@ mod tests {
     /// volumes OCCT reports in its MANIFEST.md (4–5 significant digits).
     #[test]
     fn point_in_solid_integrates_to_the_volume_on_real_parts() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/realworld");
-        if !dir.is_dir() {
+        let Some(dir) = crate::testing::realworld_dir() else {
             return;
-        }
+        };
         let volumes = [
             ("axom_tet.step", 2666.7),
             ("axom_sliced_cylinder.step", 1.773e6),
@@ -255,15 +254,14 @@ mod tests {
     fn point_in_solid_integrates_to_the_volume() {
         const KNOWN_BAD: &[&str] = &[];
         let mut failures = Vec::new();
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-        let text = std::fs::read_to_string(root.join("samples/manifest.json")).unwrap();
+        let text = std::fs::read_to_string(crate::testing::sample_path("manifest.json")).unwrap();
         let manifest: serde_json::Value = serde_json::from_str(&text).unwrap();
         let mut checked = 0;
         for s in manifest["samples"].as_array().unwrap() {
             let file = s["file"].as_str().unwrap();
             let (Some(volume), Ok(model)) = (
                 s["volume"].as_f64(),
-                crate::ingest::read_model(&root.join("samples").join(file)),
+                crate::ingest::read_model(&crate::testing::sample_path(file)),
             ) else {
                 continue;
             };

@@ -178,7 +178,6 @@ mod tests {
     /// `within` lists exactly the faces closer than r.
     #[test]
     fn boundary_nearest_and_within_match_all_faces() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
         let mut files: Vec<std::path::PathBuf> = [
             "box.step",
             "filleted_box.step",
@@ -189,16 +188,18 @@ mod tests {
             "l_bracket_nurbs.step",
         ]
         .iter()
-        .map(|f| root.join("samples").join(f))
+        .map(|f| crate::testing::sample_path(f))
         .collect();
         // Real parts with many faces, when the corpus is beside the project.
-        for f in [
-            "stepswift_nist_ftc_06_asme1_rd.stp",
-            "b3d_M6-1x12-countersunk-screw.step",
-        ] {
-            let path = root.join("../shared/realworld").join(f);
-            if path.exists() {
-                files.push(path);
+        if let Some(dir) = crate::testing::realworld_dir() {
+            for f in [
+                "stepswift_nist_ftc_06_asme1_rd.stp",
+                "b3d_M6-1x12-countersunk-screw.step",
+            ] {
+                let path = dir.join(f);
+                if path.exists() {
+                    files.push(path);
+                }
             }
         }
         for path in &files {

@@ -589,7 +589,7 @@ mod tests {
             synthetic_loop(40, |t| DVec2::new(1.0 + TAU * t, wave(t))),
             synthetic_loop(40, |t| DVec2::new(1.0 - TAU * t, 30.0 + wave(-t))),
         ];
-        // The domain brep::domain would give these loops: a whole period, their v extent.
+        // The domain ingest::domain would give these loops: a whole period, their v extent.
         face.domain.u = (1.0, 1.0 + TAU);
         face.domain.v = (-0.5, 30.5);
         assert!(face
