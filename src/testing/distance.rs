@@ -32,6 +32,8 @@ pub struct Brute {
     pub trim_dev: f64,
 }
 
+/// [`Brute`] samples of face `fi`: an `(n + 1)²` grid over its domain and 4001 points of each
+/// edge of its loops.
 pub fn brute_samples(model: &Model, fi: usize, n: usize) -> Brute {
     let face = &model.faces[fi];
     let d = &face.domain;

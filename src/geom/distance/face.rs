@@ -393,6 +393,11 @@ pub fn descend(surface: &Surface, p: DVec3, start: (f64, f64)) -> (f64, f64) {
 /// failure), relative to the Hessian's diagonal.
 const MIN_DAMPING: f64 = 1e-9;
 
+/// [`descend`] with the surface's closed directions given (the [`Boundary`] caches them).
+// NOTE(restructure): `project.rs`'s `newton` is another Levenberg–Marquardt loop on the same
+// function. They differ in their damping (from 0 here, from 1e-3 there; ×0.1 and ×0.3 after a
+// success), their convergence tests and their borders (wrapped here, clamped there), so one
+// loop for both would change results: they stay apart.
 fn descend_wrapped(
     surface: &Surface,
     p: DVec3,

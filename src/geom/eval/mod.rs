@@ -83,6 +83,9 @@ pub fn eval_curve(curve: &Curve3D, t: f64) -> CurveDerivs {
     }
 }
 
+/// The swept surfaces: an extrusion `C(u) + v·d`, and a revolution of `C` about an axis
+/// (`analytic.rs`'s `revolve`). They stay with the dispatch because their profile goes through
+/// [`eval_curve`], where a pcurve evaluates a surface again.
 fn eval_swept(s: &SweptCurve, u: f64, v: f64) -> SurfaceDerivs {
     match s {
         SweptCurve::ExtrudedCurve(ex) => {

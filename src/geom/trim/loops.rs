@@ -733,13 +733,8 @@ mod tests {
             synthetic_loop(40, |t| DVec2::new(1.0 - TAU * t, 30.0)),
         ];
         faces.push(band);
-        let mut s: u64 = 7;
-        let mut rnd = move || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::testing::distance::Lcg(7);
+        let mut rnd = move || rng.next();
         let mut checked = 0;
         for face in &faces {
             let trim = Trim::new(face);
