@@ -82,7 +82,7 @@ pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> O
 /// `v_period`: spheres, tori, cylinders, cones, revolutions), where our Newton would leave
 /// truck's canonical range. A B-spline patch that closes on itself is not periodic here:
 /// Newton's iterates are clamped to its knot range, and a foot stuck at the closing border
-/// fails [`is_foot`] and goes to truck. The caller decides once per loop.
+/// fails `is_foot` and goes to truck. The caller decides once per loop.
 pub fn project_point_along(
     surface: &Surface,
     p: DVec3,
@@ -227,7 +227,7 @@ const POLE_DERIVATIVE_LENGTH: f64 = 1e-12;
 
 /// The foot of a point in closed form where there is one, and what that needs of the
 /// surface, computed once: a trim loop projects dozens of points onto the same face.
-/// Planes as [`project_plane`], cylinders and cones as [`project_revolved_line`], spheres as
+/// Planes as `project_plane`, cylinders and cones as [`project_revolved_line`], spheres as
 /// [`project_sphere`], bit for bit, in truck's parameters.
 #[derive(Clone, Debug)]
 pub enum ClosedForm {

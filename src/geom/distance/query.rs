@@ -97,9 +97,9 @@ impl Boundary {
         best
     }
 
-    /// The nearest point of face `face` closer than `bound` (use `f64::INFINITY` for no
-    /// bound), with the cached samples: like [`nearest_on_face`] but faster. `None` when
-    /// nothing on the face is closer than `bound`.
+    /// The nearest point of face `face` closer than `bound` (use `f64::INFINITY` for no bound),
+    /// with the cached samples: like [`nearest_on_face`](crate::geom::nearest_on_face) but faster.
+    /// `None` when nothing on the face is closer than `bound`.
     pub fn nearest_on_face(
         &self,
         model: &Model,

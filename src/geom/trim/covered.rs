@@ -7,13 +7,13 @@ use crate::geom::project::clamp_ranges;
 use crate::model::Face;
 use glam::DVec2;
 
-/// The parameter rectangle the face covers: its UV domain, except across loops that wrap
-/// around a period, where the face may reach beyond its loops to a pole that no vertex loop
-/// records (a spherical cap bounded by one circle: its domain is that circle's latitude
-/// alone). There the rectangle takes the surface's whole bounded range (a sphere's
-/// latitudes, a B-spline's range), or, in an unbounded direction (a cone), reaches to the
-/// pole beyond the loop on the face's side (found by secant steps on `‖Su‖`); the trim test
-/// then tells which part is the face. Also bounds [`contains`] for faces with wrapping loops.
+/// The parameter rectangle the face covers: its UV domain, except across loops that wrap around a
+/// period, where the face may reach beyond its loops to a pole that no vertex loop records (a
+/// spherical cap bounded by one circle: its domain is that circle's latitude alone). There the
+/// rectangle takes the surface's whole bounded range (a sphere's latitudes, a B-spline's range),
+/// or, in an unbounded direction (a cone), reaches to the pole beyond the loop on the face's side
+/// (found by secant steps on `‖Su‖`); the trim test then tells which part is the face. Also bounds
+/// [`contains`](super::contains) for faces with wrapping loops.
 pub fn covered_domain(face: &Face) -> ((f64, f64), (f64, f64)) {
     let d = &face.domain;
     let (mut u, mut v) = (d.u, d.v);

@@ -40,13 +40,13 @@ impl LoopChunks {
     }
 }
 
-/// True when the straight UV path from `a` to `b` leaves `face` and comes back: it crosses
-/// its trimming loops at least twice. A touch point that steps over a hole (or a notch of
-/// the outline) lands inside the face again, and [`contains`] alone would not see that it
-/// left. (One crossing is no exit: a path from a point on the boundary — after a hand-over —
-/// may cross the sampled loop polygon once where it cuts the exact curve's chord.) Periodic
-/// faces are not tested (their loops live in unwrapped coordinates), nor faces without loops.
-/// `chunks` are the face's [`LoopChunks`].
+/// True when the straight UV path from `a` to `b` leaves `face` and comes back: it crosses its
+/// trimming loops at least twice. A touch point that steps over a hole (or a notch of the outline)
+/// lands inside the face again, and [`contains`](super::contains) alone would not see that it left.
+/// (One crossing is no exit: a path from a point on the boundary — after a hand-over — may cross
+/// the sampled loop polygon once where it cuts the exact curve's chord.) Periodic faces are not
+/// tested (their loops live in unwrapped coordinates), nor faces without loops. `chunks` are the
+/// face's [`LoopChunks`].
 pub fn path_crosses_loops(face: &Face, chunks: &LoopChunks, a: DVec2, b: DVec2) -> bool {
     if face.domain.u_period.is_some() || face.domain.v_period.is_some() || a == b {
         return false;
