@@ -1,10 +1,10 @@
 //! Unit normals, principal curvatures and principal directions of a surface point.
 //!
-//! Sign convention (DESIGN.md): curvatures are measured so that a **convex solid has positive
-//! curvature** — the ball of radius R bounded by a sphere has `k1 = k2 = +1/R`, the wall of a
-//! spherical void `−1/R`, a shaft's wall `(+1/R, 0)`, a hole's wall `(0, −1/R)` sorted as
-//! `k1 = 0, k2 = −1/R`. Equivalently `k` is the normal curvature towards the *inward* normal
-//! `−n`: `k(t) = II(t, t)/I(t, t)` with `II = ⟨S_xy, −n⟩`.
+//! Sign convention, the crate's throughout: curvatures are measured so that a **convex solid
+//! has positive curvature** — the ball of radius R bounded by a sphere has `k1 = k2 = +1/R`,
+//! the wall of a spherical void `−1/R`, a shaft's wall `(+1/R, 0)`, a hole's wall
+//! `(0, −1/R)` sorted as `k1 = 0, k2 = −1/R`. Equivalently `k` is the normal curvature towards
+//! the *inward* normal `−n`: `k(t) = II(t, t)/I(t, t)` with `II = ⟨S_xy, −n⟩`.
 //!
 //! The outward normal is `n = sign·(Su × Sv)/‖Su × Sv‖`, `sign = ±1` telling whether `Su × Sv`
 //! points out of the material (the face's orientation, [`crate::model`]).
@@ -108,8 +108,8 @@ mod tests {
 
     use super::*;
     use crate::geom::eval::eval_surface;
-    use crate::geom::eval::tests::{cylinder, plane, sphere, torus};
     use crate::model::Surface;
+    use crate::testing::geometry::{cylinder, plane, sphere, torus};
     use std::f64::consts::PI;
     use truck_geometry::prelude::{BSplineSurface, KnotVec, NurbsSurface, Point3, Vector4};
 

@@ -1,8 +1,12 @@
 //! Geometry on the exact model: evaluation with derivatives, normals and curvatures,
-//! trimming (inside/outside a face's loops), bounding boxes.
+//! projection onto a surface, trimming (inside/outside a face's loops), bounding boxes, and
+//! distance queries on the whole boundary (nearest point, faces within a radius, point in
+//! solid).
 //!
 //! Everything here works in model units (millimetres) on the truck geometry that
 //! [`crate::model`] carries, correcting truck where it is wrong (B-spline second derivatives).
+//! The modules, lowest first: [`eval`]; `surface` (kind, periods, parameter range),
+//! [`curvature`], `bbox`, [`bvh`]; [`project`]; [`trim`]; [`distance`].
 
 mod bbox;
 pub mod bvh;
@@ -10,6 +14,7 @@ pub mod curvature;
 pub mod distance;
 pub mod eval;
 pub mod project;
+mod surface;
 pub mod trim;
 
 pub use bbox::{model_bounding_box, Aabb};
@@ -18,117 +23,4 @@ pub use curvature::{principal_curvatures, unit_normal, Curvature};
 pub use distance::{nearest_on_edge, nearest_on_face, Boundary, FaceHit, Feature};
 pub use eval::{eval_curve, eval_surface, surface_point, CurveDerivs, SurfaceDerivs};
 pub use project::project_point;
-
-use crate::model::Surface;
-
-/// The kind of a surface, as the report names it: `plane`, `cylinder`, `cone`, `sphere`,
-/// `torus`, `bspline`, `nurbs`, `extrusion`, `revolution`.
-pub fn surface_kind(surface: &Surface) -> &'static str {
-    use truck_stepio::r#in::alias::{ElementarySurface as E, SweptCurve as S};
-    match surface {
-        Surface::ElementarySurface(e) => match e.as_ref() {
-            E::Plane(_) => "plane",
-            E::CylindricalSurface(_) => "cylinder",
-            E::ConicalSurface(_) => "cone",
-            E::Sphere(_) => "sphere",
-            E::ToroidalSurface(_) => "torus",
-        },
-        Surface::SweptCurve(s) => match s.as_ref() {
-            S::ExtrudedCurve(_) => "extrusion",
-            S::RevolutedCurve(_) => "revolution",
-        },
-        Surface::BSplineSurface(_) => "bspline",
-        Surface::NurbsSurface(_) => "nurbs",
-    }
-}
-
-/// Periods of a surface's parametrisation in u and v.
-///
-/// truck's periods for the analytic surfaces, plus what truck does not report: a B-spline or
-/// NURBS surface that closes on itself (`S(u₀, v) = S(u₁, v)` for all v, e.g. the NURBS
-/// version of a cylinder) is treated as periodic with period `u₁ − u₀` for unwrapping its
-/// loops, although evaluation outside `[u₀, u₁]` is extrapolation (loops are kept inside).
-pub fn surface_periods(surface: &Surface) -> (Option<f64>, Option<f64>) {
-    use truck_geometry::prelude::ParametricSurface;
-    let truck = (surface.u_period(), surface.v_period());
-    if !matches!(
-        surface,
-        Surface::BSplineSurface(_) | Surface::NurbsSurface(_)
-    ) {
-        return truck;
-    }
-    let (ur, vr) = crate::geom::parameter_range(surface);
-    let ends = |r: (std::ops::Bound<f64>, std::ops::Bound<f64>)| match r {
-        (
-            std::ops::Bound::Included(a) | std::ops::Bound::Excluded(a),
-            std::ops::Bound::Included(b) | std::ops::Bound::Excluded(b),
-        ) if a.is_finite() && b.is_finite() && b > a => Some((a, b)),
-        _ => None,
-    };
-    let (Some((u0, u1)), Some((v0, v1))) = (ends(ur), ends(vr)) else {
-        return truck;
-    };
-    // Closed when the two border curves coincide at CLOSED_SAMPLES points, to 1e-9 of the
-    // patch's size (rounding of control points written to ~13 digits).
-    const CLOSED_SAMPLES: usize = 9;
-    let at = |u: f64, v: f64| crate::geom::surface_point(surface, u, v);
-    let size = at(u0, v0)
-        .distance(at(u1, v1))
-        .max(at(u0, v1).distance(at(u1, v0)));
-    let size = size
-        .max(at(0.5 * (u0 + u1), 0.5 * (v0 + v1)).distance(at(u0, v0)))
-        .max(1e-300);
-    let closed = |f: &dyn Fn(f64) -> (glam::DVec3, glam::DVec3)| {
-        (0..CLOSED_SAMPLES).all(|k| {
-            let s = k as f64 / (CLOSED_SAMPLES - 1) as f64;
-            let (a, b) = f(s);
-            a.distance(b) <= 1e-9 * size
-        })
-    };
-    let u_closed = closed(&|s| {
-        let v = v0 + (v1 - v0) * s;
-        (at(u0, v), at(u1, v))
-    });
-    let v_closed = closed(&|s| {
-        let u = u0 + (u1 - u0) * s;
-        (at(u, v0), at(u, v1))
-    });
-    (
-        truck.0.or(u_closed.then_some(u1 - u0)),
-        truck.1.or(v_closed.then_some(v1 - v0)),
-    )
-}
-
-/// A surface's parameter range, as truck's `parameter_range()` but right for B-splines: an
-/// unclamped (periodic-style) knot vector is valid only between its p-th and (m−p)-th knots,
-/// where truck reports the whole knot vector (the NURBS cylinder FreeCAD writes has knots
-/// `−2.09 … 8.38` over a valid `0 … 2π`).
-pub fn parameter_range(
-    surface: &Surface,
-) -> (
-    truck_geometry::prelude::ParameterRange,
-    truck_geometry::prelude::ParameterRange,
-) {
-    use std::ops::Bound::Included;
-    use truck_geometry::prelude::ParametricSurface;
-    let valid = |k: &truck_geometry::prelude::KnotVec, p: usize| {
-        let m = k.len();
-        (m > 2 * p + 1).then(|| (Included(k[p]), Included(k[m - p - 1])))
-    };
-    let knots = match surface {
-        Surface::BSplineSurface(b) => Some((b.knot_vecs(), b.udegree(), b.vdegree())),
-        Surface::NurbsSurface(n) => {
-            let b = n.non_rationalized();
-            Some((b.knot_vecs(), b.udegree(), b.vdegree()))
-        }
-        _ => None,
-    };
-    let truck = surface.parameter_range();
-    match knots {
-        Some(((ku, kv), pu, pv)) => (
-            valid(ku, pu).unwrap_or(truck.0),
-            valid(kv, pv).unwrap_or(truck.1),
-        ),
-        None => truck,
-    }
-}
+pub use surface::{closed_periods, parameter_range, surface_kind, surface_periods};

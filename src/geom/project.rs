@@ -23,10 +23,14 @@ use truck_geometry::prelude::{ParametricSurface, Point3, SearchNearestParameter}
 use truck_stepio::r#in::alias::ElementarySurface;
 
 /// Newton iterations per seed.
-pub const MAX_ITER: usize = 50;
+pub const MAX_NEWTON_ITER: usize = 50;
 
 /// Seeds per bounded direction of the fallback grid.
-pub const GRID: usize = 12;
+pub const FALLBACK_SEED_GRID: usize = 12;
+
+/// How far beyond a bounded parameter range truck's answer may be and still count as inside,
+/// relative to the size of the range's end.
+const RANGE_TOL_REL_END: f64 = 1e-12;
 
 /// The foot point of `p` on `surface`, or `None` when no seed converges. `hint` is a nearby
 /// parameter (the previous foot point along a curve) and makes the common case a few Newton
@@ -46,7 +50,8 @@ pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> O
             // back and the normal flips: not an answer.
             let (ur, vr) = clamp_ranges(surface);
             let inside = |x: f64, r: (f64, f64)| {
-                x >= r.0 - 1e-12 * (1.0 + r.0.abs()) && x <= r.1 + 1e-12 * (1.0 + r.1.abs())
+                x >= r.0 - RANGE_TOL_REL_END * (1.0 + r.0.abs())
+                    && x <= r.1 + RANGE_TOL_REL_END * (1.0 + r.1.abs())
             };
             inside(uv.0, ur) && inside(uv.1, vr)
         });
@@ -64,7 +69,7 @@ pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> O
 /// [`project_point`] for the samples along a trim loop, each next to the previous one's
 /// foot `hint`: our damped Newton from the hint first, several times cheaper than truck's
 /// search. Not on periodic surfaces, whose angles truck answers in its canonical range (the
-/// loop unwrapping in `brep::domain` relies on that).
+/// loop unwrapping in `ingest::domain` relies on that).
 ///
 /// Only the loops use it. Edge classification and the tracer keep [`project_point`]: there
 /// a different foot changed results (measured on the trimesh part: skipping truck's search
@@ -77,7 +82,7 @@ pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> O
 /// `v_period`: spheres, tori, cylinders, cones, revolutions), where our Newton would leave
 /// truck's canonical range. A B-spline patch that closes on itself is not periodic here:
 /// Newton's iterates are clamped to its knot range, and a foot stuck at the closing border
-/// fails [`is_foot`] and goes to truck. The caller decides once per loop.
+/// fails `is_foot` and goes to truck. The caller decides once per loop.
 pub fn project_point_along(
     surface: &Surface,
     p: DVec3,
@@ -90,10 +95,11 @@ pub fn project_point_along(
     if !periodic {
         // A loop sample lies on the surface up to the file's gaps (1e-8 on the screw), where
         // rounding leaves `is_foot`'s angle test (1e-6 rad) out of reach: a foot within
-        // `ON_SURFACE` of the point is taken as it is.
+        // `FOOT_ON_SURFACE_REL_COORD` of the point is taken as it is.
         let scale = 1.0 + p.abs().max_element();
         let on = |uv: &(f64, f64)| {
-            super::surface_point(surface, uv.0, uv.1).distance(p) <= ON_SURFACE * scale
+            super::surface_point(surface, uv.0, uv.1).distance(p)
+                <= FOOT_ON_SURFACE_REL_COORD * scale
         };
         if let Some(uv) = newton(surface, p, hint).filter(|uv| on(uv) || is_foot(surface, p, *uv)) {
             return Some(uv);
@@ -156,6 +162,10 @@ pub fn greville_hint(surface: &Surface, p: DVec3) -> Option<(f64, f64)> {
     Some((greville(ku, pu, i)?, greville(kv, pv, j)?))
 }
 
+/// How far a matrix's columns may be from orthogonal and of equal length, relative to the
+/// square of their length, for [`similarity_inverse`] to call it a similarity.
+const SIMILARITY_TOL_REL_SCALE_SQ: f64 = 1e-12;
+
 /// The inverse of a truck `Processor`'s matrix when it is a similarity (a rotation, a
 /// uniform scale and a shift map feet to feet); `None` for any other matrix.
 fn similarity_inverse(m: &truck_geometry::prelude::Matrix4) -> Option<(glam::DMat4, f64)> {
@@ -171,11 +181,11 @@ fn similarity_inverse(m: &truck_geometry::prelude::Matrix4) -> Option<(glam::DMa
         && m.z_axis.w == 0.0
         && m.w_axis.w == 1.0
         && s2 > 0.0
-        && (c1.length_squared() - s2).abs() <= 1e-12 * s2
-        && (c2.length_squared() - s2).abs() <= 1e-12 * s2
-        && c0.dot(c1).abs() <= 1e-12 * s2
-        && c0.dot(c2).abs() <= 1e-12 * s2
-        && c1.dot(c2).abs() <= 1e-12 * s2;
+        && (c1.length_squared() - s2).abs() <= SIMILARITY_TOL_REL_SCALE_SQ * s2
+        && (c2.length_squared() - s2).abs() <= SIMILARITY_TOL_REL_SCALE_SQ * s2
+        && c0.dot(c1).abs() <= SIMILARITY_TOL_REL_SCALE_SQ * s2
+        && c0.dot(c2).abs() <= SIMILARITY_TOL_REL_SCALE_SQ * s2
+        && c1.dot(c2).abs() <= SIMILARITY_TOL_REL_SCALE_SQ * s2;
     similar.then(|| (m.inverse(), s2.sqrt()))
 }
 
@@ -206,9 +216,18 @@ pub fn project_revolved_line(surface: &Surface, p: DVec3) -> Option<(f64, f64)> 
     }
 }
 
+/// How far from a meridian half-plane a cylinder's or cone's line may stray, relative to the
+/// farther of its ends' distances from the revolution's origin, for [`ClosedForm`] to answer
+/// in closed form.
+const MERIDIAN_TOL_REL_SIZE: f64 = 1e-12;
+
+/// A parameter derivative shorter than this (model units per unit of the parameter) makes a
+/// closed-form foot a pole of the parametrisation ([`ClosedFoot::pole`]).
+const POLE_DERIVATIVE_LENGTH: f64 = 1e-12;
+
 /// The foot of a point in closed form where there is one, and what that needs of the
 /// surface, computed once: a trim loop projects dozens of points onto the same face.
-/// Planes as [`project_plane`], cylinders and cones as [`project_revolved_line`], spheres as
+/// Planes as `project_plane`, cylinders and cones as [`project_revolved_line`], spheres as
 /// [`project_sphere`], bit for bit, in truck's parameters.
 #[derive(Clone, Debug)]
 pub enum ClosedForm {
@@ -269,8 +288,8 @@ impl ClosedForm {
                 let size = (la - o).length().max((lb - o).length()).max(1e-300);
                 let e = if ha.length() >= hb.length() { ha } else { hb }.normalize_or_zero();
                 if e == DVec3::ZERO
-                    || ha.cross(e).length() > 1e-12 * size
-                    || hb.cross(e).length() > 1e-12 * size
+                    || ha.cross(e).length() > MERIDIAN_TOL_REL_SIZE * size
+                    || hb.cross(e).length() > MERIDIAN_TOL_REL_SIZE * size
                 {
                     return ClosedForm::None;
                 }
@@ -330,8 +349,8 @@ impl ClosedForm {
                     // The plane's point as `eval_surface` computes it.
                     distance: (o + a * u + b * v).distance(p),
                     pole: a.cross(b).length() <= 1e-9 * (a.length() * b.length()).max(1e-300)
-                        || a.length() < 1e-12
-                        || b.length() < 1e-12,
+                        || a.length() < POLE_DERIVATIVE_LENGTH
+                        || b.length() < POLE_DERIVATIVE_LENGTH,
                 })
             }
             ClosedForm::RevolvedLine {
@@ -391,7 +410,7 @@ impl ClosedForm {
                 Some(ClosedFoot {
                     uv: if orientation { (t, theta) } else { (theta, t) },
                     distance: scale * d.sqrt(),
-                    pole: around < 1e-12 || along < 1e-12,
+                    pole: around < POLE_DERIVATIVE_LENGTH || along < POLE_DERIVATIVE_LENGTH,
                 })
             }
             ClosedForm::Sphere {
@@ -422,8 +441,8 @@ impl ClosedForm {
                 Some(ClosedFoot {
                     uv: if orientation { (u, v) } else { (v, u) },
                     distance: scale * ((q - c).length() - radius.abs()).abs(),
-                    pole: scale * radius.abs() * latitude.cos() < 1e-12
-                        || scale * radius.abs() < 1e-12,
+                    pole: scale * radius.abs() * latitude.cos() < POLE_DERIVATIVE_LENGTH
+                        || scale * radius.abs() < POLE_DERIVATIVE_LENGTH,
                 })
             }
             ClosedForm::None => None,
@@ -452,7 +471,7 @@ fn split(o: DVec3, a: DVec3, x: DVec3) -> (f64, DVec3) {
 /// Distance, relative to the size of the coordinates, within which [`project_point_along`]
 /// takes Newton's point as the foot of a point on the surface without testing that it is a
 /// stationary point (truck's search is accurate to about this).
-pub const ON_SURFACE: f64 = 1e-6;
+pub const FOOT_ON_SURFACE_REL_COORD: f64 = 1e-6;
 
 /// The best foot from a grid of seeds (knot spans for B-splines) and Newton from the few
 /// nearest, with `truck`'s answer as one more candidate when there was no hint.
@@ -468,8 +487,8 @@ fn seeded(
             (Bound::Included(a) | Bound::Excluded(a), Bound::Included(b) | Bound::Excluded(b))
                 if a.is_finite() && b.is_finite() =>
             {
-                (0..GRID)
-                    .map(|k| a + (b - a) * (k as f64 + 0.5) / GRID as f64)
+                (0..FALLBACK_SEED_GRID)
+                    .map(|k| a + (b - a) * (k as f64 + 0.5) / FALLBACK_SEED_GRID as f64)
                     .collect()
             }
             _ => {
@@ -502,7 +521,7 @@ fn seeded(
     let mut best: Option<(f64, (f64, f64))> = truck
         .filter(|_| hint.is_none())
         .map(|uv| (super::surface_point(surface, uv.0, uv.1).distance(p), uv));
-    for (_, seed) in scored.into_iter().take(NEWTON_SEEDS) {
+    for (_, seed) in scored.into_iter().take(MAX_NEWTON_SEEDS) {
         if let Some(uv) = newton(surface, p, seed) {
             let d = super::surface_point(surface, uv.0, uv.1).distance(p);
             if best.is_none_or(|b| d < b.0) {
@@ -513,8 +532,8 @@ fn seeded(
     best.map(|b| b.1)
 }
 
-/// Seeds of a B-spline/NURBS surface: `degree + 1` (at least three) per knot span in each direction (at most
-/// `MAX_SPAN_SEEDS` per direction).
+/// Seeds of a B-spline/NURBS surface: `degree + 1` (at least three) per knot span in each direction
+/// (at most `MAX_SPAN_SEEDS` per direction).
 fn knot_seeds(surface: &Surface) -> Option<(Vec<f64>, Vec<f64>)> {
     let (ku, kv, pu, pv) = match surface {
         Surface::BSplineSurface(b) => (
@@ -566,7 +585,7 @@ fn knot_seeds(surface: &Surface) -> Option<(Vec<f64>, Vec<f64>)> {
 }
 
 /// Newton runs from this many of the best seeds.
-pub const NEWTON_SEEDS: usize = 8;
+pub const MAX_NEWTON_SEEDS: usize = 8;
 
 /// Cap on seeds per direction from knot spans.
 pub const MAX_SPAN_SEEDS: usize = 400;
@@ -596,6 +615,10 @@ pub(crate) fn project_plane(frame: (DVec3, DVec3, DVec3), p: DVec3) -> (f64, f64
     ((ra * bb - rb * ab) / det, (rb * aa - ra * ab) / det)
 }
 
+/// How far below zero [`is_foot`] lets the Hessian's diagonal (and, squared, its determinant)
+/// be, relative to the larger of `‖Su‖²` and `‖Sv‖²`: rounding, not a maximum or a saddle.
+const HESSIAN_TOL_REL_METRIC: f64 = 1e-9;
+
 /// True when `uv` is a foot point of `p`: `S(uv) − p` is normal to the surface (or `p` is on
 /// it), to a relative tolerance, and the distance is a local minimum there, not a maximum or
 /// saddle (the far side of a sphere is a stationary point too; truck's search can land on it).
@@ -607,9 +630,9 @@ fn is_foot(surface: &Surface, p: DVec3, uv: (f64, f64)) -> bool {
     let h01 = d.su.dot(d.sv) + d.suv.dot(r);
     let h11 = d.sv.dot(d.sv) + d.svv.dot(r);
     let scale2 = d.su.length_squared().max(d.sv.length_squared()).max(1e-300);
-    if h00 < -1e-9 * scale2
-        || h11 < -1e-9 * scale2
-        || h00 * h11 - h01 * h01 < -1e-9 * scale2 * scale2
+    if h00 < -HESSIAN_TOL_REL_METRIC * scale2
+        || h11 < -HESSIAN_TOL_REL_METRIC * scale2
+        || h00 * h11 - h01 * h01 < -HESSIAN_TOL_REL_METRIC * scale2 * scale2
     {
         return false;
     }
@@ -683,6 +706,10 @@ fn extruded_spline_range(surface: &Surface) -> Option<(f64, f64)> {
     (m > 2 * p + 1).then(|| (k[p], k[m - p - 1]))
 }
 
+/// [`newton`] has converged when the point is on the surface, or the gradient's part along
+/// the parameter directions has vanished, to this fraction of the coordinates' size.
+const CONVERGED_REL_COORD: f64 = 1e-12;
+
 /// Levenberg–Marquardt on `½‖S(u,v) − p‖²` from `start`.
 ///
 /// Iterates are clamped to the parameter range where it is finite (a B-spline patch), so a
@@ -695,7 +722,7 @@ fn newton(surface: &Surface, p: DVec3, start: (f64, f64)) -> Option<(f64, f64)> 
     let scale = 1.0 + p.abs().max_element();
     let mut d = eval_surface(surface, u, v);
     let mut f = 0.5 * (d.p - p).length_squared();
-    for _ in 0..MAX_ITER {
+    for _ in 0..MAX_NEWTON_ITER {
         let r: DVec3 = d.p - p;
         let g = [d.su.dot(r), d.sv.dot(r)];
         let h = [
@@ -708,7 +735,7 @@ fn newton(surface: &Surface, p: DVec3, start: (f64, f64)) -> Option<(f64, f64)> 
         let g0 = if free(u, g[0], ur) { g[0] } else { 0.0 };
         let g1 = if free(v, g[1], vr) { g[1] } else { 0.0 };
         let gn = (g0.abs() / d.su.length().max(1e-300)).max(g1.abs() / d.sv.length().max(1e-300));
-        if r.length() <= 1e-12 * scale || gn <= 1e-12 * scale {
+        if r.length() <= CONVERGED_REL_COORD * scale || gn <= CONVERGED_REL_COORD * scale {
             return Some((u, v));
         }
         let mut accepted = false;

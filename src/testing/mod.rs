@@ -3,6 +3,9 @@
 //! the way the pipeline does it with default options; and small inputs written by the tests
 //! (IGES files, STEP instances).
 
+pub mod distance;
+pub mod geometry;
+
 use crate::classify::Classification;
 use crate::medial::MedialAxis;
 use crate::model::Model;

@@ -1,4 +1,4 @@
-//! Inside/outside a face's trimming loops, in UV space.
+//! Inside or outside a face's trimming loops: the ray-crossing test and the prepared loops.
 //!
 //! A face is its surface restricted to the region its edge loops enclose in the face's
 //! (unwrapped) UV space, [`Loop::uv`](crate::model::Loop::uv). [`contains`] decides
@@ -29,24 +29,21 @@
 //! apex the surface goes on as another sheet) nothing is in the face. Faces without wrapping
 //! loops use the plain even–odd rule, which does not depend on orientation at all.
 //!
-//! Wrapping is told as in `brep::domain::wraps`: the closing step from a loop's last UV point
-//! back to its first is longer than half a period. The closing segment of a wrapping loop is
-//! then taken to the copy of the first point nearest the last one.
+//! Wrapping is told as in `ingest::domain`'s loop unwrapping: the closing step from a loop's last
+//! UV point back to its first is longer than half a period. The closing segment of a wrapping loop
+//! is then taken to the copy of the first point nearest the last one.
 //!
 //! [`Trim`] prepares a face's loops for many tests (the segments bucketed by columns across
 //! the ray), with the same answers as [`contains`].
-//!
-//! Points on a loop (to rounding) may be classified either way; callers that need the
-//! boundary handle the edges separately (see [`super::distance`]).
 
-use super::eval::eval_surface;
+use super::covered::covered_domain;
 use crate::model::{Face, Loop};
 use glam::{DVec2, Vec2Swizzles};
 
 /// Relative tolerance on the UV domain in a bounded, non-periodic direction of a face with
 /// only vertex loops: a parameter beyond the domain by more than this fraction of its width
 /// is not on the face.
-pub const DOMAIN_TOL: f64 = 1e-9;
+pub const DOMAIN_TOL_REL_WIDTH: f64 = 1e-9;
 
 /// True when `uv` is inside the trimmed face (see the module docs). Allocation-free; for
 /// many tests on one face, [`Trim`] does the same faster.
@@ -124,7 +121,7 @@ impl Setup {
             py,
             y_start,
             y_end,
-            tie: SEAM_TOL * py.unwrap_or(extent).abs().max(f64::MIN_POSITIVE),
+            tie: SEAM_TOL_REL_PERIOD * py.unwrap_or(extent).abs().max(f64::MIN_POSITIVE),
         })
     }
 
@@ -153,12 +150,12 @@ impl Setup {
         if self.py.is_some() {
             return true;
         }
-        let tol = DOMAIN_TOL * (self.y_end - self.y_start).abs().max(1.0);
+        let tol = DOMAIN_TOL_REL_WIDTH * (self.y_end - self.y_start).abs().max(1.0);
         if q.y >= self.y_start - tol && q.y <= self.y_end + tol {
             return true;
         }
         let (lo, hi) = covered();
-        let tol = DOMAIN_TOL * (hi - lo).abs().max(1.0);
+        let tol = DOMAIN_TOL_REL_WIDTH * (hi - lo).abs().max(1.0);
         q.y >= lo - tol && q.y <= hi + tol
     }
 
@@ -404,7 +401,7 @@ fn in_domain(face: &Face, uv: DVec2) -> bool {
     let d = &face.domain;
     let inside = |x: f64, r: (f64, f64), p: Option<f64>| {
         p.is_some() || {
-            let tol = DOMAIN_TOL * (r.1 - r.0).abs().max(1.0);
+            let tol = DOMAIN_TOL_REL_WIDTH * (r.1 - r.0).abs().max(1.0);
             x >= r.0 - tol && x <= r.1 + tol
         }
     };
@@ -460,7 +457,7 @@ fn for_each_crossing(a: DVec2, b: DVec2, c: f64, px: Option<f64>, mut visit: imp
 
 /// Two crossings closer than this fraction of the period (or of the domain's extent) along
 /// the ray are at the same place (a seam traversed both ways).
-pub const SEAM_TOL: f64 = 1e-9;
+pub const SEAM_TOL_REL_PERIOD: f64 = 1e-9;
 
 /// The nearest crossing(s) in one direction along the ray.
 #[derive(Default)]
@@ -500,214 +497,14 @@ impl Nearest {
     }
 }
 
-pub use super::project::clamp_ranges;
-
-/// The parameter rectangle the face covers: its UV domain, except across loops that wrap
-/// around a period, where the face may reach beyond its loops to a pole that no vertex loop
-/// records (a spherical cap bounded by one circle: its domain is that circle's latitude
-/// alone). There the rectangle takes the surface's whole bounded range (a sphere's
-/// latitudes, a B-spline's range), or, in an unbounded direction (a cone), reaches to the
-/// pole beyond the loop on the face's side (found by secant steps on `‖Su‖`); the trim test
-/// then tells which part is the face. Also bounds [`contains`] for faces with wrapping loops.
-pub fn covered_domain(face: &Face) -> ((f64, f64), (f64, f64)) {
-    let d = &face.domain;
-    let (mut u, mut v) = (d.u, d.v);
-    let mut wraps = [0usize; 2];
-    let mut example: [Option<&[DVec2]>; 2] = [None, None];
-    for l in face
-        .loops
-        .iter()
-        .filter(|l| l.vertex.is_none() && l.uv.len() >= 2)
-    {
-        let gap = l.uv[0] - l.uv[l.uv.len() - 1];
-        if d.u_period.is_some_and(|p| gap.x.abs() > 0.5 * p) {
-            wraps[0] += 1;
-            example[0] = Some(&l.uv);
-        }
-        if d.v_period.is_some_and(|p| gap.y.abs() > 0.5 * p) {
-            wraps[1] += 1;
-            example[1] = Some(&l.uv);
-        }
-    }
-    let (ur, vr) = clamp_ranges(&face.surface);
-    let bounded = |r: (f64, f64)| r.0.is_finite() && r.1.is_finite();
-    if wraps[0] > 0 {
-        if bounded(vr) {
-            v = (v.0.min(vr.0), v.1.max(vr.1));
-        } else if wraps[0] % 2 == 1 {
-            if let Some(pole) = example[0].and_then(|poly| pole_beyond(face, poly, false)) {
-                v = (v.0.min(pole), v.1.max(pole));
-            }
-        }
-    }
-    if wraps[1] > 0 {
-        if bounded(ur) {
-            u = (u.0.min(ur.0), u.1.max(ur.1));
-        } else if wraps[1] % 2 == 1 {
-            if let Some(pole) = example[1].and_then(|poly| pole_beyond(face, poly, true)) {
-                u = (u.0.min(pole), u.1.max(pole));
-            }
-        }
-    }
-    (u, v)
-}
-
-/// For a loop wrapping around the period of u (of v when `swap`): the parameter across it of
-/// the pole on the face's side, where the circles of the periodic direction shrink to a
-/// point (`‖Su‖ = 0`; a cone's apex). Found by secant steps on `‖Su‖` (exact for a cone, where
-/// it is linear). `None` when the circles do not shrink that way.
-fn pole_beyond(face: &Face, poly: &[DVec2], swap: bool) -> Option<f64> {
-    let get = |p: DVec2| if swap { DVec2::new(p.y, p.x) } else { p };
-    // Side of the face: left of travel (seen against the normal the loops turn about).
-    let (a, b) = (get(poly[0]), get(poly[1]));
-    let orient = if face.same_sense { 1.0 } else { -1.0 } * if swap { -1.0 } else { 1.0 };
-    let up = (b.x - a.x) * orient > 0.0;
-    let across = poly.iter().map(|&p| get(p).y);
-    let start = if up {
-        across.fold(f64::NEG_INFINITY, f64::max)
-    } else {
-        across.fold(f64::INFINITY, f64::min)
-    };
-    let along = a.x;
-    let size = |y: f64| {
-        let (u, v) = if swap { (y, along) } else { (along, y) };
-        let s = eval_surface(&face.surface, u, v);
-        if swap {
-            s.sv.length()
-        } else {
-            s.su.length()
-        }
-    };
-    let s0 = size(start);
-    let step = if up { 1.0 } else { -1.0 } * 1e-3 * (1.0 + start.abs());
-    let (mut y0, mut f0, mut y1, mut f1) = (start, s0, start + step, size(start + step));
-    if f1.is_nan() || f0.is_nan() || f1 >= f0 {
-        return None;
-    }
-    for _ in 0..20 {
-        let y2 = y1 - f1 * (y1 - y0) / (f1 - f0);
-        if !y2.is_finite() {
-            return None;
-        }
-        let f2 = size(y2);
-        (y0, f0, y1, f1) = (y1, f1, y2, f2);
-        if f1 <= 1e-9 * s0 {
-            return Some(y1);
-        }
-    }
-    None
-}
-
-/// A face's trimming loops cut into runs of [`LoopChunks::RUN`] polygon segments, each with
-/// its UV bounding box, so a path test reads only the runs near the path.
-#[derive(Clone, Debug, Default)]
-pub struct LoopChunks {
-    /// `(loop, first segment, end segment, min, max)`.
-    runs: Vec<(usize, usize, usize, DVec2, DVec2)>,
-}
-
-impl LoopChunks {
-    /// Segments per run.
-    pub const RUN: usize = 16;
-
-    /// The runs of `face`'s loops.
-    pub fn new(face: &Face) -> LoopChunks {
-        let mut runs = vec![];
-        for (k, l) in face.loops.iter().enumerate() {
-            let n = l.uv.len();
-            let mut start = 0;
-            while start < n {
-                let end = (start + Self::RUN).min(n);
-                let (mut lo, mut hi) =
-                    (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-                for i in start..=end {
-                    let p = l.uv[i % n];
-                    lo = lo.min(p);
-                    hi = hi.max(p);
-                }
-                runs.push((k, start, end, lo, hi));
-                start = end;
-            }
-        }
-        LoopChunks { runs }
-    }
-}
-
-/// True when the straight UV path from `a` to `b` leaves `face` and comes back: it crosses
-/// its trimming loops at least twice. A touch point that steps over a hole (or a notch of
-/// the outline) lands inside the face again, and [`contains`] alone would not see that it
-/// left. (One crossing is no exit: a path from a point on the boundary — after a hand-over —
-/// may cross the sampled loop polygon once where it cuts the exact curve's chord.) Periodic
-/// faces are not tested (their loops live in unwrapped coordinates), nor faces without loops.
-/// `chunks` are the face's [`LoopChunks`].
-pub fn path_crosses_loops(face: &Face, chunks: &LoopChunks, a: DVec2, b: DVec2) -> bool {
-    if face.domain.u_period.is_some() || face.domain.v_period.is_some() || a == b {
-        return false;
-    }
-    let (lo, hi) = (a.min(b), a.max(b));
-    let cross = |o: DVec2, x: DVec2, y: DVec2| (x - o).perp_dot(y - o);
-    let mut crossings = 0;
-    for &(k, start, end, rlo, rhi) in &chunks.runs {
-        if rhi.cmplt(lo).any() || rlo.cmpgt(hi).any() {
-            continue;
-        }
-        let uv = &face.loops[k].uv;
-        let n = uv.len();
-        for i in start..end {
-            let (p, q) = (uv[i], uv[(i + 1) % n]);
-            if p.max(q).cmplt(lo).any() || p.min(q).cmpgt(hi).any() {
-                continue;
-            }
-            let (d1, d2) = (cross(a, b, p), cross(a, b, q));
-            let (d3, d4) = (cross(p, q, a), cross(p, q, b));
-            if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
-                crossings += 1;
-                if crossings >= 2 {
-                    return true;
-                }
-            }
-        }
-    }
-    false
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{Loop, Model};
+    use crate::model::Loop;
+    use crate::testing::geometry::{face_where, uv_of};
+    use crate::testing::sample;
     use glam::DVec3;
     use std::f64::consts::{PI, TAU};
-
-    fn sample(name: &str) -> Model {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("samples")
-            .join(name);
-        crate::ingest::read_model(&path).expect("sample reads")
-    }
-
-    /// UV of a 3D point on `face`'s surface.
-    fn uv_of(face: &Face, p: DVec3) -> DVec2 {
-        let uv = crate::geom::project_point(&face.surface, p, None).expect("projects");
-        let q = crate::geom::surface_point(&face.surface, uv.0, uv.1);
-        assert!(q.distance(p) < 1e-9, "{p} is not on the surface ({q})");
-        DVec2::new(uv.0, uv.1)
-    }
-
-    /// The face all of whose loop points satisfy `on`.
-    fn face_where(m: &Model, on: impl Fn(DVec3) -> bool) -> usize {
-        (0..m.faces.len())
-            .find(|&f| {
-                m.faces[f].loops.iter().all(|l| {
-                    l.edges.iter().all(|oe| {
-                        let e = &m.edges[oe.edge];
-                        m.vertices[e.vertices[0]].point.is_finite()
-                            && on(m.vertices[e.vertices[0]].point)
-                            && on(m.vertices[e.vertices[1]].point)
-                    })
-                })
-            })
-            .expect("face found")
-    }
 
     #[test]
     fn plate_with_holes_top_face() {
@@ -739,26 +536,6 @@ mod tests {
         for (x, y) in [(-1.0, 25.0), (81.0, 25.0), (40.0, -0.1), (40.0, 50.1)] {
             assert!(!inside(x, y), "({x}, {y}) is beyond the plate");
         }
-    }
-
-    /// A path over a hole leaves the face and comes back (two crossings); a path inside the
-    /// plate, or one that only reaches into a hole, is not an exit-and-return.
-    #[test]
-    fn path_over_a_hole_crosses_the_loops() {
-        let m = sample("plate_with_holes.step");
-        let top = face_where(&m, |p| (p.z - 10.0).abs() < 1e-9);
-        let face = &m.faces[top];
-        let uv = |x: f64, y: f64| uv_of(face, DVec3::new(x, y, 10.0));
-        let chunks = LoopChunks::new(face);
-        let path_crosses_loops =
-            |face: &Face, a: DVec2, b: DVec2| path_crosses_loops(face, &chunks, a, b);
-        // Over the r = 5 hole at (15, 25), both ends on the plate.
-        assert!(contains(face, uv(8.0, 25.0)) && contains(face, uv(22.0, 25.0)));
-        assert!(path_crosses_loops(face, uv(8.0, 25.0), uv(22.0, 25.0)));
-        // Beside it, and from the plate into the hole (that one `contains` catches).
-        assert!(!path_crosses_loops(face, uv(8.0, 35.0), uv(22.0, 35.0)));
-        assert!(!path_crosses_loops(face, uv(8.0, 25.0), uv(15.0, 25.0)));
-        assert!(!path_crosses_loops(face, uv(8.0, 25.0), uv(8.0, 25.0)));
     }
 
     #[test]
@@ -812,7 +589,7 @@ mod tests {
             synthetic_loop(40, |t| DVec2::new(1.0 + TAU * t, wave(t))),
             synthetic_loop(40, |t| DVec2::new(1.0 - TAU * t, 30.0 + wave(-t))),
         ];
-        // The domain brep::domain would give these loops: a whole period, their v extent.
+        // The domain ingest::domain would give these loops: a whole period, their v extent.
         face.domain.u = (1.0, 1.0 + TAU);
         face.domain.v = (-0.5, 30.5);
         assert!(face
@@ -925,7 +702,7 @@ mod tests {
     /// the synthetic wrapping faces, over the domain, beyond it and shifted by periods.
     #[test]
     fn prepared_trim_agrees_with_contains() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let root = crate::testing::root();
         let mut faces: Vec<Face> = Vec::new();
         // The samples, and the real-world corpus when it is beside the project (its NIST
         // parts have many seamless cylinder bands and cone caps).
@@ -956,13 +733,8 @@ mod tests {
             synthetic_loop(40, |t| DVec2::new(1.0 - TAU * t, 30.0)),
         ];
         faces.push(band);
-        let mut s: u64 = 7;
-        let mut rnd = move || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::testing::distance::Lcg(7);
+        let mut rnd = move || rng.next();
         let mut checked = 0;
         for face in &faces {
             let trim = Trim::new(face);
@@ -999,9 +771,11 @@ mod tests {
     /// cone F75 (when the corpus is present), and the same cap without its vertex loop.
     #[test]
     fn cone_cap_stops_at_its_apex() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../shared/realworld/stepswift_nist_ctc_01_asme1_rd.stp");
-        let Ok(m) = crate::ingest::read_model(&path) else {
+        let Some(dir) = crate::testing::realworld_dir() else {
+            return;
+        };
+        let Ok(m) = crate::ingest::read_model(&dir.join("stepswift_nist_ctc_01_asme1_rd.stp"))
+        else {
             return;
         };
         let face = &m.faces[75];
@@ -1070,13 +844,8 @@ mod tests {
     #[test]
     fn grid_area_matches_loop_area_on_all_samples() {
         const KNOWN_BAD: &[(&str, usize)] = &[];
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples");
         let mut checked = 0;
-        for entry in std::fs::read_dir(dir).unwrap() {
-            let path = entry.unwrap().path();
-            if path.extension().is_none_or(|e| e != "step") {
-                continue;
-            }
+        for path in crate::testing::sample_files() {
             let Ok(m) = crate::ingest::read_model(&path) else {
                 continue;
             };

@@ -1,0 +1,282 @@
+//! The nearest point of an edge ([`nearest_on_edge`]): the best of a few samples (ends
+//! included), then safeguarded Newton on `f(t) = ½‖C(t) − p‖²` (`f′ = C′·(C − p)`,
+//! `f″ = C″·(C − p) + ‖C′‖²`, Gauss–Newton where `f″ ≤ 0`, step halving until `f` decreases),
+//! clamped to the edge's range (wrapped around for a closed edge). Lines are solved in closed
+//! form.
+//!
+//! The descent budgets ([`MAX_DESCENT_ITER`], [`MAX_DESCENT_HALVINGS`]) are shared with the
+//! descent on a face's surface.
+
+use super::hit::Feature;
+use crate::geom::eval::eval_curve;
+use crate::model::{Curve3D, Edge, Model};
+use glam::DVec3;
+
+/// Newton iterations for the nearest point of an edge or a surface.
+pub const MAX_DESCENT_ITER: usize = 50;
+
+/// Step halvings per Newton iteration before giving up.
+pub const MAX_DESCENT_HALVINGS: usize = 40;
+
+/// Samples of a curved edge per quarter turn of a conic's angle parameter (so a full circle
+/// gets 32 intervals, each 11.25°).
+pub const SAMPLES_PER_QUARTER_TURN: usize = 8;
+
+/// Samples per knot span of a B-spline edge per degree + 1.
+pub const SAMPLES_PER_SPAN: usize = 2;
+
+/// Fewest samples of a curved edge.
+pub const MIN_EDGE_SAMPLES: usize = 8;
+
+/// Most samples of a curved edge.
+pub const MAX_EDGE_SAMPLES: usize = 256;
+
+/// The nearest point of edge `edge` to `p`: `(t, point, distance)` with `t` in the edge's
+/// range. `hint_t` (a previous answer) is tried as an extra Newton start.
+pub fn nearest_on_edge(
+    model: &Model,
+    edge: usize,
+    p: DVec3,
+    hint_t: Option<f64>,
+) -> (f64, DVec3, f64) {
+    let e = &model.edges[edge];
+    let (t, x, d2) = edge_nearest(e, p, hint_t, None, wraps_around(e));
+    (t, x, d2.sqrt())
+}
+
+/// `(lo, hi)` of the edge's range.
+#[inline]
+fn edge_span(e: &Edge) -> (f64, f64) {
+    (e.range.0.min(e.range.1), e.range.0.max(e.range.1))
+}
+
+/// Number of samples (ends included) of an edge.
+pub(super) fn edge_sample_count(e: &Edge) -> usize {
+    let (lo, hi) = edge_span(e);
+    let n = match &e.curve {
+        Curve3D::Line(_) => 2,
+        Curve3D::Conic(_) => {
+            let quarter = std::f64::consts::FRAC_PI_2;
+            ((hi - lo) / quarter * SAMPLES_PER_QUARTER_TURN as f64).ceil() as usize + 1
+        }
+        Curve3D::BSplineCurve(c) => {
+            spans_in(c.knot_vec(), lo, hi) * SAMPLES_PER_SPAN * (c.degree() + 1) + 1
+        }
+        Curve3D::NurbsCurve(c) => {
+            spans_in(c.knot_vec(), lo, hi) * SAMPLES_PER_SPAN * (c.non_rationalized().degree() + 1)
+                + 1
+        }
+        Curve3D::Polyline(pl) => 2 * pl.0.len() + 1,
+        Curve3D::PCurve(_) => 4 * SAMPLES_PER_QUARTER_TURN + 1,
+    };
+    if matches!(e.curve, Curve3D::Line(_)) {
+        2
+    } else {
+        n.clamp(MIN_EDGE_SAMPLES, MAX_EDGE_SAMPLES)
+    }
+}
+
+/// Number of non-empty knot spans meeting `[lo, hi]`.
+fn spans_in(knots: &truck_geometry::prelude::KnotVec, lo: f64, hi: f64) -> usize {
+    let mut n = 0;
+    for w in knots.windows(2) {
+        if w[1] > w[0] && w[1] > lo && w[0] < hi {
+            n += 1;
+        }
+    }
+    n.max(1)
+}
+
+/// Parameter of sample `k` of `n` (uniform in `t`, ends exact).
+#[inline]
+pub(super) fn edge_sample_t(e: &Edge, k: usize, n: usize) -> f64 {
+    let (lo, hi) = edge_span(e);
+    if k + 1 == n {
+        hi
+    } else {
+        lo + (hi - lo) * k as f64 / (n - 1) as f64
+    }
+}
+
+/// How near its ends must be, relative to the coordinates' size, for a closed edge to wrap
+/// around ([`wraps_around`]).
+const CLOSED_TOL_REL_COORD: f64 = 1e-9;
+
+/// True when the edge is a closed curve traversed once (a full circle): its parameter wraps.
+#[inline]
+pub(super) fn wraps_around(e: &Edge) -> bool {
+    e.is_closed() && {
+        let (lo, hi) = edge_span(e);
+        let a = eval_curve(&e.curve, lo).p;
+        let b = eval_curve(&e.curve, hi).p;
+        a.distance(b) <= CLOSED_TOL_REL_COORD * (1.0 + a.abs().max_element())
+    }
+}
+
+/// Nearest point of an edge: `(t, point, distance²)`. `samples`, when given, are the edge's
+/// cached samples `(t, point)`; otherwise the edge is sampled on the fly.
+pub(super) fn edge_nearest(
+    e: &Edge,
+    p: DVec3,
+    hint_t: Option<f64>,
+    samples: Option<(&[f64], &[DVec3])>,
+    wrap: bool,
+) -> (f64, DVec3, f64) {
+    let (lo, hi) = edge_span(e);
+    if let Curve3D::Line(_) = e.curve {
+        let d = eval_curve(&e.curve, lo);
+        let len2 = d.d1.length_squared();
+        let t = if len2 > 0.0 {
+            (lo + (p - d.p).dot(d.d1) / len2).clamp(lo, hi)
+        } else {
+            lo
+        };
+        let x = d.p + d.d1 * (t - lo);
+        return (t, x, x.distance_squared(p));
+    }
+    // Best sample (ends included).
+    let mut best = (lo, DVec3::NAN, f64::INFINITY);
+    match samples {
+        Some((ts, ps)) => {
+            for (t, x) in ts.iter().zip(ps) {
+                let d2 = x.distance_squared(p);
+                if d2 < best.2 {
+                    best = (*t, *x, d2);
+                }
+            }
+        }
+        None => {
+            let n = edge_sample_count(e);
+            for k in 0..n {
+                let t = edge_sample_t(e, k, n);
+                let x = eval_curve(&e.curve, t).p;
+                let d2 = x.distance_squared(p);
+                if d2 < best.2 {
+                    best = (t, x, d2);
+                }
+            }
+        }
+    }
+    let mut out = curve_newton(e, p, best.0, wrap);
+    if best.2 < out.2 {
+        out = best;
+    }
+    if let Some(h) = hint_t {
+        let r = curve_newton(e, p, h, wrap);
+        if r.2 < out.2 {
+            out = r;
+        }
+    }
+    out
+}
+
+/// Safeguarded Newton on `½‖C(t) − p‖²` from `t0` (see the module docs). Never returns a
+/// point farther than the start's.
+fn curve_newton(e: &Edge, p: DVec3, t0: f64, wrap: bool) -> (f64, DVec3, f64) {
+    let (lo, hi) = edge_span(e);
+    let fix = |t: f64| {
+        if wrap && hi > lo {
+            lo + (t - lo).rem_euclid(hi - lo)
+        } else {
+            t.clamp(lo, hi)
+        }
+    };
+    let mut t = fix(t0);
+    let mut d = eval_curve(&e.curve, t);
+    let mut f = d.p.distance_squared(p);
+    if !f.is_finite() {
+        return (t, d.p, f64::INFINITY);
+    }
+    for _ in 0..MAX_DESCENT_ITER {
+        let r = d.p - p;
+        let g = d.d1.dot(r);
+        let mut h = d.d2.dot(r) + d.d1.length_squared();
+        if h.is_nan() || h <= 0.0 {
+            h = d.d1.length_squared();
+        }
+        if h.is_nan() || h <= 0.0 || g == 0.0 {
+            break;
+        }
+        let mut step = -g / h;
+        let mut moved = false;
+        for _ in 0..MAX_DESCENT_HALVINGS {
+            let tn = fix(t + step);
+            if tn == t {
+                break;
+            }
+            let dn = eval_curve(&e.curve, tn);
+            let fnew = dn.p.distance_squared(p);
+            if fnew <= f {
+                let small = (tn - t).abs() <= 1e-15 * (1.0 + t.abs()) + 1e-14 * (hi - lo);
+                t = tn;
+                d = dn;
+                f = fnew;
+                moved = !small;
+                break;
+            }
+            step *= 0.5;
+        }
+        if !moved {
+            break;
+        }
+    }
+    (t, d.p, f)
+}
+
+/// The feature of an edge point at parameter `t`: a vertex at an end of an open edge.
+pub(super) fn edge_feature(e: &Edge, edge: usize, t: f64, wrap: bool) -> Feature {
+    if !wrap {
+        if t == e.range.0 {
+            return Feature::Vertex(e.vertices[0]);
+        }
+        if t == e.range.1 {
+            return Feature::Vertex(e.vertices[1]);
+        }
+    }
+    Feature::Edge(edge, t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::distance::Lcg;
+    use crate::testing::sample;
+
+    #[test]
+    fn edge_distance_matches_dense_sampling() {
+        for file in [
+            "filleted_box.step",
+            "cylinder_nurbs.step",
+            "box_bspline_top.step",
+            "plate_with_holes.step",
+        ] {
+            let model = sample(file);
+            let (lo, hi) = model.bounding_box();
+            let scale = (hi - lo).length();
+            let mut rng = Lcg(5);
+            for (ei, e) in model.edges.iter().enumerate() {
+                let m = 20000;
+                let pts: Vec<DVec3> = (0..=m)
+                    .map(|k| {
+                        eval_curve(
+                            &e.curve,
+                            e.range.0 + (e.range.1 - e.range.0) * k as f64 / m as f64,
+                        )
+                        .p
+                    })
+                    .collect();
+                for _ in 0..10 {
+                    let p = rng.in_box(lo - (hi - lo) * 0.2, hi + (hi - lo) * 0.2);
+                    let (t, x, d) = nearest_on_edge(&model, ei, p, None);
+                    let b = pts
+                        .iter()
+                        .map(|q| q.distance(p))
+                        .fold(f64::INFINITY, f64::min);
+                    assert!(eval_curve(&e.curve, t).p.distance(x) < 1e-12 * scale);
+                    assert!((x.distance(p) - d).abs() < 1e-12 * scale);
+                    assert!(d <= b + 1e-9 * scale, "{file} edge {ei}: {d} > {b}");
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,239 @@
+//! The queries on a [`Boundary`]: the nearest point of the whole boundary (of the faces a
+//! filter keeps), the nearest point of one face with the cached samples, and the faces within
+//! a radius.
+//!
+//! The faces are visited by branch and bound on the bounding-volume hierarchy of their boxes:
+//! a face is evaluated only if its box is nearer than the best distance so far (or than the
+//! radius), and then [`face_nearest`] prunes by its cells and edge samples. Queries do not
+//! allocate (but [`Boundary::within`], which returns a new list).
+
+use super::face::{face_nearest, Cached};
+use super::hit::{FaceHit, Feature};
+use super::index::{range, Boundary};
+use super::normal::surface_params;
+use crate::geom::bvh::box_distance_squared;
+use crate::geom::project::project_plane;
+use crate::model::Model;
+use glam::DVec3;
+
+impl Boundary {
+    /// The nearest point of the whole boundary to `p`. For a model without faces the distance
+    /// is infinite and the point NaN.
+    pub fn nearest(&self, model: &Model, p: DVec3) -> FaceHit {
+        self.nearest_face(model, p).map_or(
+            FaceHit {
+                point: DVec3::NAN,
+                distance: f64::INFINITY,
+                uv: (f64::NAN, f64::NAN),
+                on: Feature::Face(usize::MAX),
+            },
+            |h| h.1,
+        )
+    }
+
+    /// Like [`Boundary::nearest`], with the face the hit was found on (an edge or vertex hit
+    /// belongs to several faces; this is the one whose `uv` the hit carries).
+    pub fn nearest_face(&self, model: &Model, p: DVec3) -> Option<(usize, FaceHit)> {
+        self.nearest_face_where(model, p, |_| true)
+    }
+
+    /// [`Boundary::nearest_face`] over the faces for which `keep` holds (one solid of several,
+    /// say).
+    pub fn nearest_face_where(
+        &self,
+        model: &Model,
+        p: DVec3,
+        keep: impl Fn(usize) -> bool,
+    ) -> Option<(usize, FaceHit)> {
+        debug_assert_eq!(
+            model.faces.len(),
+            self.faces.len(),
+            "Boundary built for another model"
+        );
+        let mut best: Option<(usize, FaceHit)> = None;
+        let mut best_d = f64::INFINITY;
+        self.bvh.branch_and_bound(p, f64::INFINITY, |fi, _| {
+            if !keep(fi) {
+                return best_d * best_d;
+            }
+            let cached = Some(Cached { boundary: self });
+            if let Some(hit) = face_nearest(model, fi, p, None, best_d, cached, false) {
+                if hit.distance < best_d {
+                    best_d = hit.distance;
+                    best = Some((fi, hit));
+                }
+            }
+            best_d * best_d
+        });
+        // The surface parameters of an edge hit, computed once for the winner.
+        if let Some((fi, hit)) = &mut best {
+            if !hit.uv.0.is_finite() {
+                let face = &model.faces[*fi];
+                let hint = match hit.on {
+                    Feature::Edge(ei, t) => self.edge_uv_hint(model, ei, *fi, t),
+                    Feature::Vertex(v) => model.faces[*fi]
+                        .loops
+                        .iter()
+                        .flat_map(|l| l.edges.iter())
+                        .find_map(|oe| {
+                            let e = &model.edges[oe.edge];
+                            let t = if e.vertices[0] == v {
+                                Some(e.range.0)
+                            } else if e.vertices[1] == v {
+                                Some(e.range.1)
+                            } else {
+                                None
+                            };
+                            t.and_then(|t| self.edge_uv_hint(model, oe.edge, *fi, t))
+                        }),
+                    Feature::Face(_) => None,
+                };
+                hit.uv = match self.faces[*fi].plane {
+                    Some(frame) => project_plane(frame, hit.point),
+                    None => surface_params(&face.surface, hit.point, hint),
+                };
+            }
+        }
+        best
+    }
+
+    /// The nearest point of face `face` closer than `bound` (use `f64::INFINITY` for no bound),
+    /// with the cached samples: like [`nearest_on_face`](crate::geom::nearest_on_face) but faster.
+    /// `None` when nothing on the face is closer than `bound`.
+    pub fn nearest_on_face(
+        &self,
+        model: &Model,
+        face: usize,
+        p: DVec3,
+        hint: Option<(f64, f64)>,
+        bound: f64,
+    ) -> Option<FaceHit> {
+        face_nearest(
+            model,
+            face,
+            p,
+            hint,
+            bound,
+            Some(Cached { boundary: self }),
+            true,
+        )
+    }
+
+    /// The faces with a point closer than `r` to `p`, in increasing order.
+    pub fn within(&self, model: &Model, p: DVec3, r: f64) -> Vec<usize> {
+        let mut out = Vec::new();
+        self.within_into(model, p, r, &mut out);
+        out
+    }
+
+    /// [`Boundary::within`] into a caller's buffer (cleared first), to avoid allocating.
+    pub fn within_into(&self, model: &Model, p: DVec3, r: f64, out: &mut Vec<usize>) {
+        out.clear();
+        if r.is_nan() || r <= 0.0 {
+            return;
+        }
+        let r2 = r * r;
+        self.bvh.branch_and_bound(p, r2, |fi, _| {
+            if self.face_within(model, fi, p, r) {
+                out.push(fi);
+            }
+            r2
+        });
+        out.sort_unstable();
+    }
+
+    fn face_within(&self, model: &Model, fi: usize, p: DVec3, r: f64) -> bool {
+        let r2 = r * r;
+        // Quick accept: a sampled point of an edge of the face is a point of the face.
+        for &ei in &self.face_edges[range(&self.faces[fi].edges)] {
+            let ec = &self.edges[ei as usize];
+            if box_distance_squared(&ec.bbox, p) < r2
+                && self.edge_p[range(&ec.samples)]
+                    .iter()
+                    .any(|x| x.distance_squared(p) < r2)
+            {
+                return true;
+            }
+        }
+        face_nearest(
+            model,
+            fi,
+            p,
+            None,
+            r,
+            Some(Cached { boundary: self }),
+            false,
+        )
+        .is_some()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::nearest_on_face;
+    use crate::testing::distance::{assert_hit_on_face, Lcg};
+
+    /// `Boundary::nearest` equals the minimum of `nearest_on_face` over all faces, and
+    /// `within` lists exactly the faces closer than r.
+    #[test]
+    fn boundary_nearest_and_within_match_all_faces() {
+        let mut files: Vec<std::path::PathBuf> = [
+            "box.step",
+            "filleted_box.step",
+            "box_bspline_top.step",
+            "plate_with_holes.step",
+            "box_with_void.step",
+            "torus.step",
+            "l_bracket_nurbs.step",
+        ]
+        .iter()
+        .map(|f| crate::testing::sample_path(f))
+        .collect();
+        // Real parts with many faces, when the corpus is beside the project.
+        if let Some(dir) = crate::testing::realworld_dir() {
+            for f in [
+                "stepswift_nist_ftc_06_asme1_rd.stp",
+                "b3d_M6-1x12-countersunk-screw.step",
+            ] {
+                let path = dir.join(f);
+                if path.exists() {
+                    files.push(path);
+                }
+            }
+        }
+        for path in &files {
+            let file = path.file_name().unwrap().to_string_lossy();
+            let model = crate::ingest::read_model(path).expect("reads");
+            let boundary = Boundary::new(&model);
+            let (lo, hi) = model.bounding_box();
+            let pad = (hi - lo) * 0.2;
+            let scale = (hi - lo).length();
+            let mut rng = Lcg(99);
+            for k in 0..60 {
+                let p = rng.in_box(lo - pad, hi + pad);
+                let all: Vec<f64> = (0..model.faces.len())
+                    .map(|f| {
+                        nearest_on_face(&model, f, p, None).map_or(f64::INFINITY, |h| h.distance)
+                    })
+                    .collect();
+                let brute = all.iter().copied().fold(f64::INFINITY, f64::min);
+                let (fi, hit) = boundary.nearest_face(&model, p).unwrap();
+                assert!(
+                    (hit.distance - brute).abs() <= 1e-9 * scale,
+                    "{file} point {k} {p}: BVH {} on face {fi}, all faces {brute}",
+                    hit.distance
+                );
+                assert_hit_on_face(&model, scale, fi, p, &hit, &format!("{file} point {k}"));
+                assert_eq!(boundary.nearest(&model, p), hit);
+                let r = brute * (0.5 + 1.5 * rng.next()) + 1e-3 * scale;
+                let got = boundary.within(&model, p, r);
+                let expect: Vec<usize> = (0..all.len()).filter(|&f| all[f] < r).collect();
+                let borderline = |f: &usize| (all[*f] - r).abs() <= 1e-9 * scale;
+                let g: Vec<usize> = got.iter().copied().filter(|f| !borderline(f)).collect();
+                let e: Vec<usize> = expect.iter().copied().filter(|f| !borderline(f)).collect();
+                assert_eq!(g, e, "{file} point {k} {p} r {r}");
+            }
+        }
+    }
+}

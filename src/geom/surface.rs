@@ -1,0 +1,140 @@
+//! What a surface is, as the rest of the crate asks: its kind as the report names it, its
+//! periods (truck's, plus the closed B-spline and NURBS patches truck does not call periodic)
+//! and its valid parameter range (truck's, corrected for unclamped B-spline knot vectors).
+
+use super::eval::surface_point;
+use crate::model::Surface;
+
+/// The kind of a surface, as the report names it: `plane`, `cylinder`, `cone`, `sphere`,
+/// `torus`, `bspline`, `nurbs`, `extrusion`, `revolution`.
+pub fn surface_kind(surface: &Surface) -> &'static str {
+    use truck_stepio::r#in::alias::{ElementarySurface as E, SweptCurve as S};
+    match surface {
+        Surface::ElementarySurface(e) => match e.as_ref() {
+            E::Plane(_) => "plane",
+            E::CylindricalSurface(_) => "cylinder",
+            E::ConicalSurface(_) => "cone",
+            E::Sphere(_) => "sphere",
+            E::ToroidalSurface(_) => "torus",
+        },
+        Surface::SweptCurve(s) => match s.as_ref() {
+            S::ExtrudedCurve(_) => "extrusion",
+            S::RevolutedCurve(_) => "revolution",
+        },
+        Surface::BSplineSurface(_) => "bspline",
+        Surface::NurbsSurface(_) => "nurbs",
+    }
+}
+
+/// Points at which the two opposite borders of a B-spline or NURBS patch are compared to tell
+/// whether it closes on itself ([`surface_periods`]).
+const CLOSED_SAMPLES: usize = 9;
+
+/// How near the two opposite borders of a patch must be, relative to the patch's size, for
+/// it to close on itself (rounding of control points written to ~13 digits).
+const CLOSED_TOL_REL_SIZE: f64 = 1e-9;
+
+/// Periods of a surface's parametrisation in u and v.
+///
+/// truck's periods for the analytic surfaces, plus what truck does not report: a B-spline or
+/// NURBS surface that closes on itself (`S(u₀, v) = S(u₁, v)` for all v, e.g. the NURBS
+/// version of a cylinder) is treated as periodic with period `u₁ − u₀` for unwrapping its
+/// loops, although evaluation outside `[u₀, u₁]` is extrapolation (loops are kept inside).
+pub fn surface_periods(surface: &Surface) -> (Option<f64>, Option<f64>) {
+    use truck_geometry::prelude::ParametricSurface;
+    let truck = (surface.u_period(), surface.v_period());
+    if !matches!(
+        surface,
+        Surface::BSplineSurface(_) | Surface::NurbsSurface(_)
+    ) {
+        return truck;
+    }
+    let (ur, vr) = parameter_range(surface);
+    let ends = |r: (std::ops::Bound<f64>, std::ops::Bound<f64>)| match r {
+        (
+            std::ops::Bound::Included(a) | std::ops::Bound::Excluded(a),
+            std::ops::Bound::Included(b) | std::ops::Bound::Excluded(b),
+        ) if a.is_finite() && b.is_finite() && b > a => Some((a, b)),
+        _ => None,
+    };
+    let (Some((u0, u1)), Some((v0, v1))) = (ends(ur), ends(vr)) else {
+        return truck;
+    };
+    // Closed when the two border curves coincide at CLOSED_SAMPLES points, to
+    // CLOSED_TOL_REL_SIZE of the patch's size.
+    let at = |u: f64, v: f64| surface_point(surface, u, v);
+    let size = at(u0, v0)
+        .distance(at(u1, v1))
+        .max(at(u0, v1).distance(at(u1, v0)));
+    let size = size
+        .max(at(0.5 * (u0 + u1), 0.5 * (v0 + v1)).distance(at(u0, v0)))
+        .max(1e-300);
+    let closed = |f: &dyn Fn(f64) -> (glam::DVec3, glam::DVec3)| {
+        (0..CLOSED_SAMPLES).all(|k| {
+            let s = k as f64 / (CLOSED_SAMPLES - 1) as f64;
+            let (a, b) = f(s);
+            a.distance(b) <= CLOSED_TOL_REL_SIZE * size
+        })
+    };
+    let u_closed = closed(&|s| {
+        let v = v0 + (v1 - v0) * s;
+        (at(u0, v), at(u1, v))
+    });
+    let v_closed = closed(&|s| {
+        let u = u0 + (u1 - u0) * s;
+        (at(u, v0), at(u, v1))
+    });
+    (
+        truck.0.or(u_closed.then_some(u1 - u0)),
+        truck.1.or(v_closed.then_some(v1 - v0)),
+    )
+}
+
+/// A surface's parameter range, as truck's `parameter_range()` but right for B-splines: an
+/// unclamped (periodic-style) knot vector is valid only between its p-th and (m−p)-th knots,
+/// where truck reports the whole knot vector (the NURBS cylinder FreeCAD writes has knots
+/// `−2.09 … 8.38` over a valid `0 … 2π`).
+pub fn parameter_range(
+    surface: &Surface,
+) -> (
+    truck_geometry::prelude::ParameterRange,
+    truck_geometry::prelude::ParameterRange,
+) {
+    use std::ops::Bound::Included;
+    use truck_geometry::prelude::ParametricSurface;
+    let valid = |k: &truck_geometry::prelude::KnotVec, p: usize| {
+        let m = k.len();
+        (m > 2 * p + 1).then(|| (Included(k[p]), Included(k[m - p - 1])))
+    };
+    let knots = match surface {
+        Surface::BSplineSurface(b) => Some((b.knot_vecs(), b.udegree(), b.vdegree())),
+        Surface::NurbsSurface(n) => {
+            let b = n.non_rationalized();
+            Some((b.knot_vecs(), b.udegree(), b.vdegree()))
+        }
+        _ => None,
+    };
+    let truck = surface.parameter_range();
+    match knots {
+        Some(((ku, kv), pu, pv)) => (
+            valid(ku, pu).unwrap_or(truck.0),
+            valid(kv, pv).unwrap_or(truck.1),
+        ),
+        None => truck,
+    }
+}
+
+/// Directions in which a B-spline/NURBS surface is closed although truck does not call it periodic
+/// (a cylinder or sphere converted to NURBS): `S(u₀, v) = S(u₁, v)` at a few `v` (and likewise in
+/// `v`), to 1e-9 (`CLOSED_TOL_REL_SIZE`) of the surface's size ([`surface_periods`]). Projections
+/// clamp at such a seam; the face continues across it.
+pub fn closed_periods(surface: &Surface) -> (bool, bool) {
+    if !matches!(
+        surface,
+        Surface::BSplineSurface(_) | Surface::NurbsSurface(_)
+    ) {
+        return (false, false);
+    }
+    let (u, v) = surface_periods(surface);
+    (u.is_some(), v.is_some())
+}
