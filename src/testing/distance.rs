@@ -3,7 +3,8 @@
 //! in and around a part, and the check that a hit lies on its face.
 
 use crate::geom::eval::eval_curve;
-use crate::geom::{trim, FaceHit, Feature};
+use crate::geom::{trim, FaceHit};
+use crate::model::Element;
 use crate::model::Model;
 use glam::{DVec2, DVec3};
 
@@ -129,7 +130,7 @@ pub fn assert_hit_on_face(
     // Edge points are on the surface only to the file's precision (≤ 1e-6 of the size
     // in the samples); interior points to rounding.
     match hit.on {
-        Feature::Face(f) => {
+        Element::Face(f) => {
             assert_eq!(f, fi, "{what}");
             assert!(
                 s.distance(hit.point) <= 1e-12 * scale,
@@ -140,8 +141,8 @@ pub fn assert_hit_on_face(
                 "{what}: outside trim"
             );
         }
-        Feature::Edge(e, t) => {
-            let edge = &model.edges[e];
+        Element::Edge(e) => {
+            let (edge, t) = (&model.edges[e], hit.t);
             assert!(
                 face.loops
                     .iter()
@@ -161,7 +162,7 @@ pub fn assert_hit_on_face(
                 "{what}: edge point off surface"
             );
         }
-        Feature::Vertex(v) => {
+        Element::Vertex(v) => {
             assert!(
                 model.vertices[v].point.distance(hit.point) <= 1e-6 * scale,
                 "{what}: vertex"

@@ -33,11 +33,12 @@ pub fn sample_files() -> Vec<PathBuf> {
     files
 }
 
-/// The STEP files of `samples/` and `../shared/realworld/` (at least 30).
+/// The STEP files of `samples/` and, where present, `../shared/realworld/` (see
+/// [`realworld_dir`]).
 pub fn corpus_step_files() -> Vec<PathBuf> {
-    let root = root();
     let mut files = vec![];
-    for dir in [root.join("samples"), root.join("../shared/realworld")] {
+    let dirs = std::iter::once(root().join("samples")).chain(realworld_dir());
+    for dir in dirs {
         for e in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
             let p = e.path();
             let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
@@ -46,14 +47,34 @@ pub fn corpus_step_files() -> Vec<PathBuf> {
             }
         }
     }
-    assert!(files.len() >= 30, "found only {} files", files.len());
+    assert!(files.len() >= 25, "found only {} files", files.len());
     files
 }
 
-/// The third-party corpus `../shared/realworld`, when it is there.
+/// The third-party corpus `../shared/realworld`, when it is there. When it is not, the test
+/// (named by its thread, as the test harness names it) says so on the terminal, past the
+/// harness's output capture, and goes on without it; under CI (the `CI` variable set, not
+/// `false` or `0`), where the corpus must be present, it fails.
 pub fn realworld_dir() -> Option<PathBuf> {
     let d = root().join("../shared/realworld");
-    d.is_dir().then_some(d)
+    if d.is_dir() {
+        return Some(d);
+    }
+    let test = std::thread::current()
+        .name()
+        .unwrap_or("a unit test")
+        .to_string();
+    let ci = std::env::var("CI").is_ok_and(|v| !v.is_empty() && v != "false" && v != "0");
+    assert!(
+        !ci,
+        "{test}: needs the third-party corpus (../shared/realworld), which CI must provide"
+    );
+    use std::io::Write;
+    let _ = writeln!(
+        std::io::stderr(),
+        "SKIPPED (the corpus part of) {test}: needs the third-party corpus (../shared/realworld beside the project)"
+    );
+    None
 }
 
 /// A reference sample, read (panics with the error when it cannot be).

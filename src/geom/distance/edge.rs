@@ -7,9 +7,8 @@
 //! The descent budgets ([`MAX_DESCENT_ITER`], [`MAX_DESCENT_HALVINGS`]) are shared with the
 //! descent on a face's surface.
 
-use super::hit::Feature;
 use crate::geom::eval::eval_curve;
-use crate::model::{Curve3D, Edge, Model};
+use crate::model::{Curve3D, Edge, Element, Model};
 use glam::DVec3;
 
 /// Newton iterations for the nearest point of an edge or a surface.
@@ -223,17 +222,18 @@ fn curve_newton(e: &Edge, p: DVec3, t0: f64, wrap: bool) -> (f64, DVec3, f64) {
     (t, d.p, f)
 }
 
-/// The feature of an edge point at parameter `t`: a vertex at an end of an open edge.
-pub(super) fn edge_feature(e: &Edge, edge: usize, t: f64, wrap: bool) -> Feature {
+/// The element an edge point at parameter `t` lies on, with its curve parameter there (NaN
+/// at a vertex): the edge, or a vertex at an end of an open edge.
+pub(super) fn edge_feature(e: &Edge, edge: usize, t: f64, wrap: bool) -> (Element, f64) {
     if !wrap {
         if t == e.range.0 {
-            return Feature::Vertex(e.vertices[0]);
+            return (Element::Vertex(e.vertices[0]), f64::NAN);
         }
         if t == e.range.1 {
-            return Feature::Vertex(e.vertices[1]);
+            return (Element::Vertex(e.vertices[1]), f64::NAN);
         }
     }
-    Feature::Edge(edge, t)
+    (Element::Edge(edge), t)
 }
 
 #[cfg(test)]

@@ -21,7 +21,7 @@
 use super::edge::{
     edge_feature, edge_nearest, wraps_around, MAX_DESCENT_HALVINGS, MAX_DESCENT_ITER,
 };
-use super::hit::{FaceHit, Feature};
+use super::hit::FaceHit;
 use super::index::{range, Boundary};
 use super::normal::surface_params;
 use crate::geom::bvh::box_distance_squared;
@@ -30,7 +30,7 @@ use crate::geom::project::{clamp_ranges, plane_frame, project_plane};
 use crate::geom::project_point;
 use crate::geom::surface::closed_periods;
 use crate::geom::trim::{self, covered_domain};
-use crate::model::{Curve3D, Face, Model, Surface};
+use crate::model::{Curve3D, Element, Face, Model, Surface};
 use glam::{DVec2, DVec3};
 
 /// Seeds per direction of the grid that finds a hint when [`nearest_on_face`] gets none.
@@ -110,7 +110,8 @@ pub(super) fn face_nearest(
                 point: x,
                 distance: d,
                 uv,
-                on: Feature::Face(fi),
+                on: Element::Face(fi),
+                t: f64::NAN,
             });
         }
     }
@@ -329,7 +330,8 @@ fn nearest_pole(model: &Model, face: &Face, p: DVec3, best_d: &mut f64) -> Optio
                     point: x,
                     distance: d,
                     uv: (uv.x, uv.y),
-                    on: Feature::Vertex(v),
+                    on: Element::Vertex(v),
+                    t: f64::NAN,
                 });
             }
         }
@@ -363,19 +365,21 @@ fn edge_hit(
     } else {
         (f64::NAN, f64::NAN)
     };
+    let (on, t) = edge_feature(
+        &model.edges[ei],
+        ei,
+        t,
+        match cache {
+            Some(c) => c.boundary.edges[ei].wrap,
+            None => wraps_around(&model.edges[ei]),
+        },
+    );
     FaceHit {
         point: x,
         distance: d,
         uv,
-        on: edge_feature(
-            &model.edges[ei],
-            ei,
-            t,
-            match cache {
-                Some(c) => c.boundary.edges[ei].wrap,
-                None => wraps_around(&model.edges[ei]),
-            },
-        ),
+        on,
+        t,
     }
 }
 

@@ -1,18 +1,8 @@
 //! What a distance query answers: the nearest point of a face or of the boundary, and the
-//! feature (face interior, edge, vertex) it lies on.
+//! element (face interior, edge, vertex) it lies on.
 
+use crate::model::Element;
 use glam::DVec3;
-
-/// Which feature of the boundary a nearest point lies on.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Feature {
-    /// Inside face `0` (an interior foot point).
-    Face(usize),
-    /// On edge `0` at curve parameter `1` (not at its ends).
-    Edge(usize, f64),
-    /// At vertex `0` (an end of an open edge).
-    Vertex(usize),
-}
 
 /// The nearest point of a face (or of the boundary) to a query point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -23,6 +13,19 @@ pub struct FaceHit {
     pub distance: f64,
     /// Parameters of `point` on the face's surface: the hint for the next nearby query.
     pub uv: (f64, f64),
-    /// The feature the point lies on.
-    pub on: Feature,
+    /// The element the point lies on: the face (an interior foot point), an edge (not at its
+    /// ends) or a vertex (an end of an open edge).
+    pub on: Element,
+    /// The curve parameter of the point when it lies on an edge; NaN otherwise.
+    pub t: f64,
+}
+
+impl FaceHit {
+    /// The edge and curve parameter of the point, when it lies on an edge.
+    pub fn edge(&self) -> Option<(usize, f64)> {
+        match self.on {
+            Element::Edge(e) => Some((e, self.t)),
+            _ => None,
+        }
+    }
 }

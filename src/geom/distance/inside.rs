@@ -16,10 +16,10 @@
 //! at 180° with opposite normals) has a zero pseudo-normal and reads as outside; non-manifold
 //! edges and solids that touch each other are outside the theorem's assumptions.
 
-use super::hit::{FaceHit, Feature};
+use super::hit::FaceHit;
 use super::index::Boundary;
 use super::normal::face_normal;
-use crate::model::Model;
+use crate::model::{Element, Model};
 use glam::DVec3;
 
 impl Boundary {
@@ -39,11 +39,11 @@ impl Boundary {
     /// Outward (pseudo-)normal of the boundary at a hit (not normalised).
     pub fn pseudo_normal(&self, model: &Model, face: usize, hit: &FaceHit) -> DVec3 {
         match hit.on {
-            Feature::Face(f) => face_normal(&model.faces[f], hit.uv)
+            Element::Face(f) => face_normal(&model.faces[f], hit.uv)
                 .or_else(|| self.normal_at(&model.faces[f], f, hit.point, Some(hit.uv)))
                 .unwrap_or(DVec3::ZERO),
-            Feature::Edge(ei, t) => {
-                let e = &model.edges[ei];
+            Element::Edge(ei) => {
+                let (e, t) = (&model.edges[ei], hit.t);
                 let mut n = DVec3::ZERO;
                 for &f in &e.faces {
                     let hint = if f == face && hit.uv.0.is_finite() {
@@ -57,7 +57,7 @@ impl Boundary {
                 }
                 n
             }
-            Feature::Vertex(v) => self.vertex_normals[v],
+            Element::Vertex(v) => self.vertex_normals[v],
         }
     }
 }

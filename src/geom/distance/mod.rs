@@ -2,7 +2,7 @@
 //! whole boundary (through a bounding-volume hierarchy), faces within a radius, and
 //! point-in-solid.
 //!
-//! - `hit.rs`: what a query answers ([`FaceHit`], [`Feature`]);
+//! - `hit.rs`: what a query answers ([`FaceHit`]);
 //! - `edge.rs`: the nearest point of an edge ([`nearest_on_edge`]);
 //! - `face.rs`: the nearest point of a trimmed face ([`nearest_on_face`]), from a foot point
 //!   on its surface ([`descend`] on B-spline and NURBS patches), its edges and its poles;
@@ -43,7 +43,7 @@ pub use edge::{
     SAMPLES_PER_QUARTER_TURN, SAMPLES_PER_SPAN,
 };
 pub use face::{descend, nearest_on_face, EXTRA_SEED_GRID, FACE_SEED_GRID, MAX_EXTRA_SEEDS};
-pub use hit::{FaceHit, Feature};
+pub use hit::FaceHit;
 pub use index::{
     Boundary, ARC_LENGTH_REL_CHORDS, CELL_CURVATURE_REL_CORNERS, MAX_FACE_GRID, MAX_TRIM_GRID,
     MIN_FACE_GRID, ON_BOUNDARY_REL_DIAGONAL,

@@ -8,12 +8,12 @@
 //! allocate (but [`Boundary::within`], which returns a new list).
 
 use super::face::{face_nearest, Cached};
-use super::hit::{FaceHit, Feature};
+use super::hit::FaceHit;
 use super::index::{range, Boundary};
 use super::normal::surface_params;
 use crate::geom::bvh::box_distance_squared;
 use crate::geom::project::project_plane;
-use crate::model::Model;
+use crate::model::{Element, Model};
 use glam::DVec3;
 
 impl Boundary {
@@ -25,7 +25,8 @@ impl Boundary {
                 point: DVec3::NAN,
                 distance: f64::INFINITY,
                 uv: (f64::NAN, f64::NAN),
-                on: Feature::Face(usize::MAX),
+                on: Element::Face(usize::MAX),
+                t: f64::NAN,
             },
             |h| h.1,
         )
@@ -70,8 +71,8 @@ impl Boundary {
             if !hit.uv.0.is_finite() {
                 let face = &model.faces[*fi];
                 let hint = match hit.on {
-                    Feature::Edge(ei, t) => self.edge_uv_hint(model, ei, *fi, t),
-                    Feature::Vertex(v) => model.faces[*fi]
+                    Element::Edge(ei) => self.edge_uv_hint(model, ei, *fi, hit.t),
+                    Element::Vertex(v) => model.faces[*fi]
                         .loops
                         .iter()
                         .flat_map(|l| l.edges.iter())
@@ -86,7 +87,7 @@ impl Boundary {
                             };
                             t.and_then(|t| self.edge_uv_hint(model, oe.edge, *fi, t))
                         }),
-                    Feature::Face(_) => None,
+                    Element::Face(_) => None,
                 };
                 hit.uv = match self.faces[*fi].plane {
                     Some(frame) => project_plane(frame, hit.point),

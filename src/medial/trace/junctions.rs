@@ -8,7 +8,7 @@ use super::options::{
 };
 use super::tracer::{Start, Tracer};
 use super::unknowns::{seam_x, slot, sorted, sys_point, touches_meet, v3, Pairs};
-use crate::geom::{project_point, FaceHit, Feature};
+use crate::geom::{project_point, FaceHit};
 use crate::medial::axis::{Junction, Node, OpenReason, SeamEnd};
 use crate::medial::equations::{vertex_angles, MedialSystem, NormalField};
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
@@ -57,12 +57,10 @@ impl Tracer<'_> {
         }
         let x = &x_lo;
         let Some((fourth, s4)) = self.hit_segment(f, &hit, v3(&x_hi)) else {
-            let (on, t) = match hit.on {
-                Feature::Face(g) => (Element::Face(g), None),
-                Feature::Edge(e, t) => (Element::Edge(e), Some(t)),
-                Feature::Vertex(v) => (Element::Vertex(v), None),
+            let why = OpenReason::CloserThanR {
+                on: hit.on,
+                t: hit.edge().map(|(_, t)| t),
             };
-            let why = OpenReason::CloserThanR { on, t };
             return Some((SeamEnd::Open(why), None));
         };
         // A hit reported inside a face but next to one of its reflex edges (the trim test
@@ -221,12 +219,12 @@ impl Tracer<'_> {
                 continue;
             };
             let seg = match hit.on {
-                Feature::Face(_) => Some((Element::Face(f), (hit.uv.0, hit.uv.1))),
-                Feature::Edge(..) => self
+                Element::Face(_) => Some((Element::Face(f), (hit.uv.0, hit.uv.1))),
+                Element::Edge(_) => self
                     .hit_segment(f, &hit, p)
                     .filter(|(s, _)| matches!(s, Element::Edge(_)))
                     .map(|(s, q)| (s, (q[0], q[1]))),
-                Feature::Vertex(_) => self
+                Element::Vertex(_) => self
                     .hit_segment(f, &hit, p)
                     .filter(|(s, _)| matches!(s, Element::Vertex(_)))
                     .map(|(s, q)| (s, (q[0], q[1]))),

@@ -4,7 +4,7 @@
 use super::options::{TraceOptions, MAX_CORRECTOR_ITER, UNIT_ROUNDING};
 use super::unknowns::{slot, sys_point};
 use crate::classify::{Classification, EdgeKind, VertexKind};
-use crate::geom::{project_point, Boundary, FaceHit, Feature};
+use crate::geom::{project_point, Boundary, FaceHit};
 use crate::medial::axis::{Degenerate, Junction, MedialAxis, Node, Seam, SeamPoint, TraceStats};
 use crate::medial::equations::{vertex_angles, MedialSystem, NormalField};
 use crate::medial::segments::SegmentGroups;
@@ -258,8 +258,8 @@ impl<'a> Tracer<'a> {
     }
 
     /// The segment a boundary hit of face `f` (from centre `b`) lies on, with its
-    /// parameters: the face itself, or the reflex edge the hit is on. `None` for a hit at a
-    /// vertex that is not convex (a vertex segment).
+    /// parameters: the face itself, the reflex edge or the reflex (or mixed) vertex the hit is
+    /// on. `None` for a hit on a reflex edge where its normal frame is undefined.
     pub(super) fn hit_segment(
         &self,
         f: usize,
@@ -267,12 +267,13 @@ impl<'a> Tracer<'a> {
         b: DVec3,
     ) -> Option<(Element, [f64; 2])> {
         match hit.on {
-            Feature::Edge(e, te) if self.is_reflex(e) => {
+            Element::Edge(e) if self.is_reflex(e) => {
+                let te = hit.t;
                 let n = (hit.point - b).normalize();
                 let th = crate::medial::equations::edge_angle(self.model, e, te, n)?;
                 Some((Element::Edge(e), [te, th]))
             }
-            Feature::Vertex(v)
+            Element::Vertex(v)
                 if matches!(
                     self.class.vertices[v],
                     VertexKind::Reflex | VertexKind::Mixed
