@@ -142,7 +142,10 @@ pub fn assert_hit_on_face(
             );
         }
         Element::Edge(e) => {
-            let (edge, t) = (&model.edges[e], hit.t);
+            let (edge, t) = (
+                &model.edges[e],
+                hit.t.expect("an edge hit has its parameter"),
+            );
             assert!(
                 face.loops
                     .iter()

@@ -222,18 +222,18 @@ fn curve_newton(e: &Edge, p: DVec3, t0: f64, wrap: bool) -> (f64, DVec3, f64) {
     (t, d.p, f)
 }
 
-/// The element an edge point at parameter `t` lies on, with its curve parameter there (NaN
-/// at a vertex): the edge, or a vertex at an end of an open edge.
-pub(super) fn edge_feature(e: &Edge, edge: usize, t: f64, wrap: bool) -> (Element, f64) {
+/// The element an edge point at parameter `t` lies on, with its curve parameter when that
+/// is the edge: the edge, or a vertex at an end of an open edge.
+pub(super) fn edge_feature(e: &Edge, edge: usize, t: f64, wrap: bool) -> (Element, Option<f64>) {
     if !wrap {
         if t == e.range.0 {
-            return (Element::Vertex(e.vertices[0]), f64::NAN);
+            return (Element::Vertex(e.vertices[0]), None);
         }
         if t == e.range.1 {
-            return (Element::Vertex(e.vertices[1]), f64::NAN);
+            return (Element::Vertex(e.vertices[1]), None);
         }
     }
-    (Element::Edge(edge), t)
+    (Element::Edge(edge), Some(t))
 }
 
 #[cfg(test)]

@@ -111,7 +111,7 @@ pub(super) fn face_nearest(
                 distance: d,
                 uv,
                 on: Element::Face(fi),
-                t: f64::NAN,
+                t: None,
             });
         }
     }
@@ -331,7 +331,7 @@ fn nearest_pole(model: &Model, face: &Face, p: DVec3, best_d: &mut f64) -> Optio
                     distance: d,
                     uv: (uv.x, uv.y),
                     on: Element::Vertex(v),
-                    t: f64::NAN,
+                    t: None,
                 });
             }
         }

@@ -16,15 +16,15 @@ pub struct FaceHit {
     /// The element the point lies on: the face (an interior foot point), an edge (not at its
     /// ends) or a vertex (an end of an open edge).
     pub on: Element,
-    /// The curve parameter of the point when it lies on an edge; NaN otherwise.
-    pub t: f64,
+    /// The curve parameter of the point when it lies on an edge.
+    pub t: Option<f64>,
 }
 
 impl FaceHit {
     /// The edge and curve parameter of the point, when it lies on an edge.
     pub fn edge(&self) -> Option<(usize, f64)> {
-        match self.on {
-            Element::Edge(e) => Some((e, self.t)),
+        match (self.on, self.t) {
+            (Element::Edge(e), Some(t)) => Some((e, t)),
             _ => None,
         }
     }

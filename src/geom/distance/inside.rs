@@ -38,12 +38,12 @@ impl Boundary {
 
     /// Outward (pseudo-)normal of the boundary at a hit (not normalised).
     pub fn pseudo_normal(&self, model: &Model, face: usize, hit: &FaceHit) -> DVec3 {
-        match hit.on {
-            Element::Face(f) => face_normal(&model.faces[f], hit.uv)
+        match (hit.on, hit.t) {
+            (Element::Face(f), _) => face_normal(&model.faces[f], hit.uv)
                 .or_else(|| self.normal_at(&model.faces[f], f, hit.point, Some(hit.uv)))
                 .unwrap_or(DVec3::ZERO),
-            Element::Edge(ei) => {
-                let (e, t) = (&model.edges[ei], hit.t);
+            (Element::Edge(ei), Some(t)) => {
+                let e = &model.edges[ei];
                 let mut n = DVec3::ZERO;
                 for &f in &e.faces {
                     let hint = if f == face && hit.uv.0.is_finite() {
@@ -57,7 +57,9 @@ impl Boundary {
                 }
                 n
             }
-            Element::Vertex(v) => self.vertex_normals[v],
+            (Element::Vertex(v), _) => self.vertex_normals[v],
+            // (An edge hit always has its parameter.)
+            (Element::Edge(_), None) => DVec3::ZERO,
         }
     }
 }

@@ -26,7 +26,7 @@ impl Boundary {
                 distance: f64::INFINITY,
                 uv: (f64::NAN, f64::NAN),
                 on: Element::Face(usize::MAX),
-                t: f64::NAN,
+                t: None,
             },
             |h| h.1,
         )
@@ -70,9 +70,9 @@ impl Boundary {
         if let Some((fi, hit)) = &mut best {
             if !hit.uv.0.is_finite() {
                 let face = &model.faces[*fi];
-                let hint = match hit.on {
-                    Element::Edge(ei) => self.edge_uv_hint(model, ei, *fi, hit.t),
-                    Element::Vertex(v) => model.faces[*fi]
+                let hint = match (hit.on, hit.t) {
+                    (Element::Edge(ei), Some(t)) => self.edge_uv_hint(model, ei, *fi, t),
+                    (Element::Vertex(v), _) => model.faces[*fi]
                         .loops
                         .iter()
                         .flat_map(|l| l.edges.iter())
@@ -87,7 +87,8 @@ impl Boundary {
                             };
                             t.and_then(|t| self.edge_uv_hint(model, oe.edge, *fi, t))
                         }),
-                    Element::Face(_) => None,
+                    // (An edge hit always has its parameter.)
+                    (Element::Face(_) | Element::Edge(_), _) => None,
                 };
                 hit.uv = match self.faces[*fi].plane {
                     Some(frame) => project_plane(frame, hit.point),

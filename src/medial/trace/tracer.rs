@@ -266,14 +266,13 @@ impl<'a> Tracer<'a> {
         hit: &FaceHit,
         b: DVec3,
     ) -> Option<(Element, [f64; 2])> {
-        match hit.on {
-            Element::Edge(e) if self.is_reflex(e) => {
-                let te = hit.t;
+        match (hit.on, hit.t) {
+            (Element::Edge(e), Some(te)) if self.is_reflex(e) => {
                 let n = (hit.point - b).normalize();
                 let th = crate::medial::equations::edge_angle(self.model, e, te, n)?;
                 Some((Element::Edge(e), [te, th]))
             }
-            Element::Vertex(v)
+            (Element::Vertex(v), _)
                 if matches!(
                     self.class.vertices[v],
                     VertexKind::Reflex | VertexKind::Mixed
