@@ -287,7 +287,12 @@ mod tests {
     #[test]
     fn direct_holders_are_truck_s_on_every_file() {
         let (mut direct, mut kinds) = (0, 0);
-        for f in crate::testing::corpus_step_files() {
+        let files = crate::testing::corpus_step_files();
+        // The samples hold about 2,600 records of these kinds; with the corpus, over 5,000.
+        let with_corpus = files
+            .iter()
+            .any(|f| !f.starts_with(crate::testing::root().join("samples")));
+        for f in files {
             let text = std::fs::read_to_string(&f).unwrap();
             let mut parsed = p21::parse(&text, MAX_NESTING).unwrap();
             patch_for_truck(&mut parsed.data);
@@ -325,7 +330,7 @@ mod tests {
             assert_eq!(ours.vertex_point, truck.vertex_point, "{f:?}");
             assert_eq!(ours.edge_curve, truck.edge_curve, "{f:?}");
         }
-        assert!(kinds > 5000, "{kinds}");
+        assert!(kinds > if with_corpus { 5000 } else { 2000 }, "{kinds}");
         assert!(direct * 100 >= kinds * 95, "{direct} of {kinds}");
     }
 
