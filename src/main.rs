@@ -27,64 +27,73 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Read a part and print its topology and edge/vertex classification.
-    Inspect {
-        /// STEP (.step, .stp) or IGES (.igs, .iges) file.
-        part: PathBuf,
-        /// Print the report's `input` and `model` objects as JSON instead of a table.
-        #[arg(long)]
-        json: bool,
-        /// Angle (degrees) below which two faces meeting at an edge count as tangent.
-        #[arg(long, default_value_t = matrace::classify::DEFAULT_ANGLE_TOL_DEG)]
-        angle_tol: f64,
-    },
+    Inspect(InspectArgs),
     /// Trace the medial axis; write DIR/<stem>.mat.json (report), <stem>.mat.step (the seams as
     /// B-spline curves, the junctions as points), <stem>.sheets.obj (sheet mesh) and
     /// <stem>.mat.svg (picture).
-    Trace {
-        /// STEP (.step, .stp) or IGES (.igs, .iges) file.
-        part: PathBuf,
-        /// Output folder (created if missing).
-        #[arg(short = 'o', long = "out", default_value = ".")]
-        out: PathBuf,
-        #[command(flatten)]
-        trace: TraceArgs,
-        /// Output file stem (default: the part's file name without extension). Used by
-        /// `batch` to keep parts with the same name apart.
-        #[arg(long, hide = true)]
-        stem: Option<String>,
-    },
+    Trace(TraceCommand),
     /// Trace many parts, each in a process of its own, into OUTDIR (the outputs of
     /// DIR/sub/part.step go to OUTDIR/sub/part.*), with OUTDIR/summary.json and summary.csv.
     /// Exit status 1 when some part failed or timed out.
-    Batch {
-        /// Folders (searched recursively for .step/.stp/.igs/.iges) and files.
-        #[arg(required = true)]
-        inputs: Vec<PathBuf>,
-        /// Output folder (created if missing).
-        #[arg(short = 'o', long = "out")]
-        out: PathBuf,
-        /// Parts traced at once (default: the number of cores).
-        #[arg(short = 'j', long)]
-        jobs: Option<usize>,
-        /// Per-part time limit in seconds (fractions allowed; 0: none); a part over it is
-        /// killed and recorded as `timeout`.
-        #[arg(long, default_value_t = matrace::batch::DEFAULT_TIMEOUT_SECS)]
-        timeout: f64,
-        /// Per-part memory (address-space) limit in MiB, through `prlimit` when installed
-        /// (default: physical memory / jobs; 0: none).
-        #[arg(long)]
-        max_memory: Option<u64>,
-        /// Skip parts whose outputs are complete and made with the same options; failed
-        /// parts are tried again.
-        #[arg(long)]
-        resume: bool,
-        /// Trace only the K-th of N slices of the sorted inputs (K from 1): inputs number
-        /// K, K+N, K+2N, … The summary is then OUTDIR/summary.K-of-N.json/.csv.
-        #[arg(long, value_name = "K/N")]
-        shard: Option<matrace::batch::Shard>,
-        #[command(flatten)]
-        trace: TraceArgs,
-    },
+    Batch(BatchArgs),
+}
+
+#[derive(clap::Args)]
+struct InspectArgs {
+    /// STEP (.step, .stp) or IGES (.igs, .iges) file.
+    part: PathBuf,
+    /// Print the report's `input` and `model` objects as JSON instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Angle (degrees) below which two faces meeting at an edge count as tangent.
+    #[arg(long, default_value_t = matrace::classify::DEFAULT_ANGLE_TOL_DEG)]
+    angle_tol: f64,
+}
+
+#[derive(clap::Args)]
+struct TraceCommand {
+    /// STEP (.step, .stp) or IGES (.igs, .iges) file.
+    part: PathBuf,
+    /// Output folder (created if missing).
+    #[arg(short = 'o', long = "out", default_value = ".")]
+    out: PathBuf,
+    #[command(flatten)]
+    trace: TraceArgs,
+    /// Output file stem (default: the part's file name without extension). Used by
+    /// `batch` to keep parts with the same name apart.
+    #[arg(long, hide = true)]
+    stem: Option<String>,
+}
+
+#[derive(clap::Args)]
+struct BatchArgs {
+    /// Folders (searched recursively for .step/.stp/.igs/.iges) and files.
+    #[arg(required = true)]
+    inputs: Vec<PathBuf>,
+    /// Output folder (created if missing).
+    #[arg(short = 'o', long = "out")]
+    out: PathBuf,
+    /// Parts traced at once (default: the number of cores).
+    #[arg(short = 'j', long)]
+    jobs: Option<usize>,
+    /// Per-part time limit in seconds (fractions allowed; 0: none); a part over it is
+    /// killed and recorded as `timeout`.
+    #[arg(long, default_value_t = matrace::batch::DEFAULT_TIMEOUT_SECS)]
+    timeout: f64,
+    /// Per-part memory (address-space) limit in MiB, through `prlimit` when installed
+    /// (default: physical memory / jobs; 0: none).
+    #[arg(long)]
+    max_memory: Option<u64>,
+    /// Skip parts whose outputs are complete and made with the same options; failed
+    /// parts are tried again.
+    #[arg(long)]
+    resume: bool,
+    /// Trace only the K-th of N slices of the sorted inputs (K from 1): inputs number
+    /// K, K+N, K+2N, … The summary is then OUTDIR/summary.K-of-N.json/.csv.
+    #[arg(long, value_name = "K/N")]
+    shard: Option<matrace::batch::Shard>,
+    #[command(flatten)]
+    trace: TraceArgs,
 }
 
 /// What to compute and write for each part: shared by `trace` and `batch`.
@@ -136,111 +145,109 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
-        Command::Inspect {
-            part,
-            json,
-            angle_tol,
-        } => {
-            if !(angle_tol.is_finite() && angle_tol > 0.0 && angle_tol < 90.0) {
-                anyhow::bail!("--angle-tol must be between 0 and 90 degrees, got {angle_tol}");
-            }
-            let model = matrace::read_model(&part)?;
-            let opts = matrace::ClassifyOptions {
-                angle_tol: angle_tol.to_radians(),
-                ..Default::default()
-            };
-            let class = matrace::classify(&model, &opts);
-            let report = matrace::export::report::Report::new(&model, &class);
-            if json {
-                emit(&format!("{}\n", serde_json::to_string_pretty(&report)?));
-            } else {
-                emit(&matrace::export::report::render_table(&report));
-            }
-            Ok(ExitCode::SUCCESS)
+        Command::Inspect(args) => inspect(args),
+        Command::Trace(args) => trace(args),
+        Command::Batch(args) => batch(args),
+    }
+}
+
+/// `matrace inspect`: the table, or the report's `input` and `model` as JSON.
+fn inspect(args: InspectArgs) -> anyhow::Result<ExitCode> {
+    let angle_tol = args.angle_tol;
+    if !(angle_tol.is_finite() && angle_tol > 0.0 && angle_tol < 90.0) {
+        anyhow::bail!("--angle-tol must be between 0 and 90 degrees, got {angle_tol}");
+    }
+    let model = matrace::read_model(&args.part)?;
+    let opts = matrace::ClassifyOptions {
+        angle_tol: angle_tol.to_radians(),
+        ..Default::default()
+    };
+    let class = matrace::classify(&model, &opts);
+    let report = matrace::export::report::Report::new(&model, &class);
+    if args.json {
+        emit(&format!("{}\n", serde_json::to_string_pretty(&report)?));
+    } else {
+        emit(&matrace::export::report::render_table(&report));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `matrace trace`: one part; exit 1 when `--verify` finds an error above the accuracy.
+fn trace(args: TraceCommand) -> anyhow::Result<ExitCode> {
+    args.trace.check()?;
+    let opts = matrace::pipeline::RunOptions {
+        stem: args.stem,
+        ..matrace::pipeline::RunOptions::new(args.out, args.trace.part_options())
+    };
+    let outcome = matrace::pipeline::trace_part(&args.part, &opts)?;
+    emit(&summary(&args.part, &outcome));
+    if outcome.verification_failed() {
+        let v = outcome.report.stats.verification.as_ref().unwrap();
+        eprintln!(
+            "matrace: verification failed: worst error {:.2e} mm exceeds the accuracy {:.2e} mm",
+            v.worst(),
+            outcome.report.options.accuracy
+        );
+        return Ok(ExitCode::from(1));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `matrace batch`: many parts; exit 1 when some part failed or timed out.
+fn batch(args: BatchArgs) -> anyhow::Result<ExitCode> {
+    let opts = args.batch_options()?;
+    let found = matrace::batch::collect_inputs(&args.inputs, &opts.out_dir)?;
+    let n_found = found.len();
+    let parts = match args.shard {
+        Some(s) => s.select(found),
+        None => found,
+    };
+    let progress = progress::Progress::new();
+    let summary = matrace::batch::run_batch(&parts, n_found, &opts, &|e| progress.show(&e))?;
+    progress.finish();
+    let path = matrace::batch::write_summary(&summary, &opts.out_dir, args.shard)?;
+    let c = &summary.counts;
+    emit(&format!(
+        "{} parts: {} ok ({} resumed), {} failed, {} timed out, {:.1} s -> {}\n",
+        summary.parts.len(),
+        c.ok,
+        c.resumed,
+        c.failed,
+        c.timeout,
+        summary.seconds,
+        path.display()
+    ));
+    Ok(if summary.all_ok() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+impl BatchArgs {
+    /// The library's batch options, the arguments checked.
+    fn batch_options(&self) -> anyhow::Result<matrace::batch::BatchOptions> {
+        self.trace.check()?;
+        let timeout = self.timeout;
+        if !(timeout.is_finite() && timeout >= 0.0) {
+            anyhow::bail!("--timeout must be a number of seconds >= 0, got {timeout}");
         }
-        Command::Trace {
-            part,
-            out,
-            trace,
-            stem,
-        } => {
-            trace.check()?;
-            let opts = matrace::pipeline::RunOptions {
-                stem,
-                ..matrace::pipeline::RunOptions::new(out, trace.part_options())
-            };
-            let outcome = matrace::pipeline::trace_part(&part, &opts)?;
-            emit(&summary(&part, &outcome));
-            if outcome.verification_failed() {
-                let v = outcome.report.stats.verification.as_ref().unwrap();
-                eprintln!(
-                    "matrace: verification failed: worst error {:.2e} mm exceeds the accuracy {:.2e} mm",
-                    v.worst(),
-                    outcome.report.options.accuracy
-                );
-                return Ok(ExitCode::from(1));
-            }
-            Ok(ExitCode::SUCCESS)
+        if self.jobs == Some(0) {
+            anyhow::bail!("-j must be at least 1");
         }
-        Command::Batch {
-            inputs,
-            out,
-            jobs,
-            timeout,
-            max_memory,
-            resume,
-            shard,
-            trace,
-        } => {
-            trace.check()?;
-            if !(timeout.is_finite() && timeout >= 0.0) {
-                anyhow::bail!("--timeout must be a number of seconds >= 0, got {timeout}");
-            }
-            if jobs == Some(0) {
-                anyhow::bail!("-j must be at least 1");
-            }
-            let worker = std::env::current_exe()?;
-            let mut opts = matrace::batch::BatchOptions::new(out, worker);
-            opts.jobs = jobs.unwrap_or(opts.jobs);
-            opts.timeout = (timeout > 0.0).then(|| std::time::Duration::from_secs_f64(timeout));
-            opts.memory_limit = match max_memory {
-                Some(0) => None,
-                Some(mib) => Some(mib.saturating_mul(1 << 20)),
-                None => {
-                    matrace::batch::physical_memory().map(|m| (m / opts.jobs as u64).max(1 << 30))
-                }
-            };
-            opts.shard = shard;
-            opts.resume = resume;
-            opts.part = trace.part_options();
-            let found = matrace::batch::collect_inputs(&inputs, &opts.out_dir)?;
-            let n_found = found.len();
-            let parts = match shard {
-                Some(s) => s.select(found),
-                None => found,
-            };
-            let progress = progress::Progress::new();
-            let summary =
-                matrace::batch::run_batch(&parts, n_found, &opts, &|e| progress.show(&e))?;
-            progress.finish();
-            let path = matrace::batch::write_summary(&summary, &opts.out_dir, shard)?;
-            let c = &summary.counts;
-            emit(&format!(
-                "{} parts: {} ok ({} resumed), {} failed, {} timed out, {:.1} s -> {}\n",
-                summary.parts.len(),
-                c.ok,
-                c.resumed,
-                c.failed,
-                c.timeout,
-                summary.seconds,
-                path.display()
-            ));
-            Ok(if summary.all_ok() {
-                ExitCode::SUCCESS
-            } else {
-                ExitCode::from(1)
-            })
-        }
+        let worker = std::env::current_exe()?;
+        let mut opts = matrace::batch::BatchOptions::new(self.out.clone(), worker);
+        opts.jobs = self.jobs.unwrap_or(opts.jobs);
+        opts.timeout = (timeout > 0.0).then(|| std::time::Duration::from_secs_f64(timeout));
+        opts.memory_limit = match self.max_memory {
+            Some(0) => None,
+            Some(mib) => Some(mib.saturating_mul(1 << 20)),
+            None => matrace::batch::physical_memory().map(|m| (m / opts.jobs as u64).max(1 << 30)),
+        };
+        opts.shard = self.shard;
+        opts.resume = self.resume;
+        opts.part = self.trace.part_options();
+        Ok(opts)
     }
 }
 
