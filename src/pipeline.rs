@@ -170,7 +170,8 @@ struct Traced {
     model: Model,
     class: Classification,
     tol: Tolerances,
-    boundary_axis: (crate::geom::Boundary, MedialAxis),
+    boundary: crate::geom::Boundary,
+    axis: MedialAxis,
     sheets: crate::medial::Sheets,
 }
 
@@ -200,7 +201,8 @@ fn trace_stages(part: &Path, opts: &RunOptions, clock: &mut Clock) -> Result<Tra
         model,
         class,
         tol,
-        boundary_axis: (boundary, axis),
+        boundary,
+        axis,
         sheets,
     })
 }
@@ -218,7 +220,8 @@ fn write_outputs(
         model,
         class,
         tol,
-        boundary_axis: (boundary, axis),
+        boundary,
+        axis,
         sheets,
     } = traced;
     let options = OptionsReport {
