@@ -179,14 +179,18 @@ struct Traced {
 fn trace_stages(part: &Path, opts: &RunOptions, clock: &mut Clock) -> Result<Traced> {
     let model = crate::ingest::read_model(part)?;
     clock.timings.read = clock.lap();
-    let class = crate::classify::classify(&model, &Default::default());
-    clock.timings.classify = clock.lap();
     let tol = Tolerances::new(model.diagonal(), opts.part.accuracy, opts.part.fit_tol).map_err(
         |reason| Error::Model {
             path: part.into(),
             reason,
         },
     )?;
+    let class_opts = crate::classify::ClassifyOptions {
+        angle_tol: tol.angle_deg.to_radians(),
+        ..Default::default()
+    };
+    let class = crate::classify::classify(&model, &class_opts);
+    clock.timings.classify = clock.lap();
     let boundary = crate::geom::Boundary::new(&model);
     let axis = crate::medial::trace_with_boundary(
         &model,
