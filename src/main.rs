@@ -36,6 +36,23 @@ enum Command {
     /// DIR/sub/part.step go to OUTDIR/sub/part.*), with OUTDIR/summary.json and summary.csv.
     /// Exit status 1 when some part failed or timed out.
     Batch(BatchArgs),
+    /// Check a report against its part, whatever run made it: every ball (centre inside, its
+    /// nearest boundary at distance r, touching the boundary in 3 separate places along a seam,
+    /// 4 at a junction, 2 for a degenerate piece) and the graph (no seam end open, junctions
+    /// with their seams, Euler characteristics, every face and convex vertex reached), to the
+    /// report's accuracy. Exit status 1 when a check fails.
+    Verify(VerifyArgs),
+}
+
+#[derive(clap::Args)]
+struct VerifyArgs {
+    /// The part: STEP (.step, .stp) or IGES (.igs, .iges) file.
+    part: PathBuf,
+    /// Its report, <stem>.mat.json.
+    report: PathBuf,
+    /// Print the verification as JSON instead of text.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(clap::Args)]
@@ -148,7 +165,65 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Inspect(args) => inspect(args),
         Command::Trace(args) => trace(args),
         Command::Batch(args) => batch(args),
+        Command::Verify(args) => verify(args),
     }
+}
+
+/// `matrace verify`: exit 1 when any check fails.
+fn verify(args: VerifyArgs) -> anyhow::Result<ExitCode> {
+    let v = matrace::pipeline::verify_report(&args.part, &args.report)?;
+    if args.json {
+        emit(&format!("{}\n", serde_json::to_string_pretty(&v)?));
+    } else {
+        emit(&verification_text(
+            &format!("{} against {}", args.report.display(), args.part.display()),
+            &v,
+        ));
+    }
+    Ok(if v.ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+/// A verification for people: the verdict, every check's count, the worst errors and the
+/// first failures.
+fn verification_text(what: &str, v: &matrace::medial::Verification) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let verdict = if v.ok { "ok" } else { "FAILED" };
+    let _ = writeln!(
+        s,
+        "{what}: {verdict}: {} balls, worst error {:.2e} mm{} (accuracy {:.2e} mm)",
+        v.balls,
+        v.worst(),
+        v.worst_at
+            .as_deref()
+            .map(|a| format!(" at {a}"))
+            .unwrap_or_default(),
+        v.accuracy
+    );
+    let checks: Vec<String> = v
+        .checks
+        .iter()
+        .map(|(k, c)| format!("{k} {}/{}", c.checked - c.failed, c.checked))
+        .collect();
+    let _ = writeln!(s, "  checks passed: {}", checks.join(", "));
+    for w in &v.euler_withheld {
+        let _ = writeln!(s, "  Euler characteristic not compared: {w}");
+    }
+    for f in v.failures.iter().take(20) {
+        let _ = writeln!(s, "  {f}");
+    }
+    if v.failures.len() > 20 {
+        let _ = writeln!(
+            s,
+            "  … {} failures in all",
+            v.checks.values().map(|c| c.failed).sum::<usize>()
+        );
+    }
+    s
 }
 
 /// `matrace inspect`: the table, or the report's `input` and `model` as JSON.
@@ -183,10 +258,18 @@ fn trace(args: TraceCommand) -> anyhow::Result<ExitCode> {
     emit(&summary(&args.part, &outcome));
     if outcome.verification_failed() {
         let v = outcome.report.stats.verification.as_ref().unwrap();
+        let failed: Vec<String> = v
+            .failed_checks()
+            .iter()
+            .map(|(k, n)| format!("{k} {n}"))
+            .collect();
         eprintln!(
-            "matrace: verification failed: worst error {:.2e} mm exceeds the accuracy {:.2e} mm",
-            v.worst(),
-            outcome.report.options.accuracy
+            "matrace: verification failed: {}{}",
+            failed.join(", "),
+            v.failures
+                .first()
+                .map(|f| format!(" (first: {f})"))
+                .unwrap_or_default()
         );
         return Ok(ExitCode::from(1));
     }
@@ -419,17 +502,7 @@ fn summary(part: &std::path::Path, outcome: &matrace::pipeline::PartOutcome) -> 
     }
     let _ = writeln!(s, "  wrote {}", r.outputs.join(", "));
     if let Some(v) = &st.verification {
-        let _ = writeln!(
-            s,
-            "verified {} balls: worst error {:.2e} mm{} (distance {:.2e}, touch {:.2e}, touch off boundary {:.2e}; accuracy {:.2e})",
-            v.balls,
-            v.worst(),
-            v.worst_at.as_deref().map(|a| format!(" at {a}")).unwrap_or_default(),
-            v.worst_distance_error,
-            v.worst_touch_error,
-            v.worst_touch_off_boundary,
-            r.options.accuracy
-        );
+        s.push_str(&verification_text("verified", v));
     }
     s
 }

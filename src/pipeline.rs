@@ -90,14 +90,48 @@ pub struct PartOutcome {
 }
 
 impl PartOutcome {
-    /// True when a verification ran and found an error above the accuracy.
+    /// True when a verification ran and some check failed.
     pub fn verification_failed(&self) -> bool {
         self.report
             .stats
             .verification
             .as_ref()
-            .is_some_and(|v| v.worst() > self.report.options.accuracy)
+            .is_some_and(|v| !v.ok)
     }
+}
+
+/// `matrace verify`: checks the report at `report` against the part `part`, whatever run made
+/// it: every ball and the graph, to the accuracy the report claims ([`crate::medial::verify`]).
+/// An error when the part cannot be read or the report is not one; a failed check is in the
+/// [`Verification`](crate::medial::Verification), not an error.
+pub fn verify_report(part: &Path, report: &Path) -> Result<crate::medial::Verification> {
+    let text = std::fs::read_to_string(report).map_err(|source| Error::Io {
+        path: report.into(),
+        source,
+    })?;
+    let reported = crate::export::read::read_report(&text).map_err(|reason| Error::Model {
+        path: report.into(),
+        reason: format!("not a usable report: {reason}"),
+    })?;
+    let model = crate::ingest::read_model(part)?;
+    let angle = reported.angle_tol_deg;
+    let class_opts = crate::classify::ClassifyOptions {
+        angle_tol: if angle.is_finite() && angle > 0.0 {
+            angle.to_radians()
+        } else {
+            crate::classify::DEFAULT_ANGLE_TOL_DEG.to_radians()
+        },
+        ..Default::default()
+    };
+    let class = crate::classify::classify(&model, &class_opts);
+    let boundary = crate::geom::Boundary::new(&model);
+    Ok(crate::medial::verify(
+        &model,
+        &boundary,
+        &class,
+        &reported.axis,
+        reported.accuracy,
+    ))
 }
 
 /// The output file stem of `part` (its file name without the extension).
@@ -290,7 +324,13 @@ fn write_outputs(
         clock.timings.picture = clock.lap();
     }
     if opts.part.verify {
-        report.stats.verification = Some(crate::medial::verify(model, boundary, axis));
+        report.stats.verification = Some(crate::medial::verify(
+            model,
+            boundary,
+            class,
+            axis,
+            tol.accuracy,
+        ));
         clock.timings.verify = clock.lap();
     }
     let report_path = opts.out_dir.join(format!("{stem}.mat.json"));

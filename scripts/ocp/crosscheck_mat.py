@@ -1,42 +1,86 @@
 """Independent cross-check of a traced medial axis with OpenCASCADE (shares no code with matrace).
 
-    .venv-ocp/bin/python scripts/ocp/crosscheck_mat.py PART.step PART.mat.json [--every N] [--tol T]
+    .venv-ocp/bin/python scripts/ocp/crosscheck_mat.py PART.step PART.mat.json
+        [--every N] [--tol T] [--mesh PART.sheets.obj] [--mesh-samples K] [--json]
 
-For every junction and every N-th seam point (plus each seam's ends) it checks, in OCCT:
-  * the centre is inside the solid (BRepClass3d_SolidClassifier; a centre with r ~ 0 at a
-    convex vertex may be ON);
-  * its distance to the boundary (the shells, BRepExtrema_DistShapeShape) equals r;
-  * each reported touch point lies on the boundary, at distance r from the centre, and the touch
-    points are at least 3 (seam) / 4 (junction) distinct places (a ball may touch one face
-    twice, or a reflex edge shared by two faces).
-Degenerate balls (a cylinder's axis, a sphere's centre) are checked for the first two.
-Lengths are in mm; the STEP reader converts units the same way matrace does. The tolerance
-defaults to 1e-6 x the model's bounding-box diagonal plus 1e-7 mm (OCCT's own precision).
-Prints one line per failure and a summary; exit status 1 when anything fails.
+A point B with radius r is on the medial axis of a solid when B is inside it, its nearest
+boundary points are at distance r, and there are at least two of them in separate places
+(three along a seam, four at a junction). Checked in OCCT, for every junction, every seam point
+(every N-th with --every N; default: all) and every degenerate ball:
+
+  finite             every number of the ball is a number;
+  inside             the centre is inside the solid (BRepClass3d_SolidClassifier, retried at
+                     six nearby points where its ray grazes an edge; a ball with r <= tol, a
+                     seam's end at a convex vertex, is exempt);
+  distance           its distance to the boundary shells (BRepExtrema_DistShapeShape) is r;
+  touch_on_boundary  each reported touch point is on the boundary,
+  touch_at_radius    and at distance r from the centre;
+  separated          the touch points make enough separate places: two count as separate when
+                     farther apart than sqrt(8 r tol), the chord over which a sphere of radius r
+                     and a surface tangent to it stay within tol of each other, so that one
+                     smooth contact cannot pass for two. Seam points need 3 (2 at a seam end at
+                     a curvature limit, where the ball osculates a face), junctions 4,
+                     degenerate balls 2. Exempt: r <= tol.
+
+With --mesh, K distinct vertices of the sheet mesh (default 200, spread over the file) are checked too:
+`inside`, and `mesh_contacts` -- the ball of radius r = distance to the boundary has a second
+contact, separated from the first: the growth test steps the centre away from the first contact
+(by r/2, r/8, r/32); the nearest boundary point from there, projected back from the centre onto
+the face, edge or vertex it lies on, must be at distance r (+ tol) and separated. A ball that
+could grow away from its only contact is not on the medial axis.
+
+The report must describe a medial axis, not merely hold no wrong point:
+  nonempty           the report has balls;
+  faces_touched      every face of the part is touched by some ball (a touch point on it);
+  seam_ends          no seam end is open;
+  junction_seams     every junction with 4 segments has 4 seam ends, and every junction a seam
+                     ends at exists.
+
+Lengths are in mm (OCCT's STEP reader converts units as matrace does). The tolerance is the
+accuracy the report claims (`options.accuracy`; 1e-6 x OCCT's bounding-box diagonal when the
+report has none) plus 1e-7 mm, OCCT's own precision; --tol T sets it. Prints one line
+per failure (the first 50) and a summary, or with --json one object {"checked": {check: n},
+"failed": {check: n}, "failures": [...]}; exit status 1 when anything fails, 2 when the input
+cannot be read.
 """
 
 import argparse
 import json
+import math
 import sys
 
 from OCP.Bnd import Bnd_Box
-from OCP.BRep import BRep_Builder
+from OCP.BRep import BRep_Builder, BRep_Tool
 from OCP.BRepBndLib import BRepBndLib
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
+from OCP.BRepClass import BRepClass_FaceClassifier
 from OCP.BRepClass3d import BRepClass3d_SolidClassifier
-from OCP.BRepExtrema import BRepExtrema_DistShapeShape
-from OCP.gp import gp_Pnt
+from OCP.BRepExtrema import BRepExtrema_DistShapeShape, BRepExtrema_SupportType
+from OCP.GeomAPI import GeomAPI_ProjectPointOnCurve, GeomAPI_ProjectPointOnSurf
+from OCP.gp import gp_Pnt, gp_Pnt2d
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.STEPControl import STEPControl_Reader
-from OCP.TopAbs import TopAbs_IN, TopAbs_ON, TopAbs_SHELL
-from OCP.TopExp import TopExp_Explorer
-from OCP.TopoDS import TopoDS_Compound
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_IN, TopAbs_ON, TopAbs_SHELL, TopAbs_VERTEX
+from OCP.TopExp import TopExp, TopExp_Explorer
+from OCP.TopoDS import TopoDS, TopoDS_Compound
+from OCP.collections import (
+    IndexedDataMap_TopoDS_Shape_List_TopoDS_Shape_TopTools_ShapeMapHasher as ShapeListMap,
+    IndexedMap_TopoDS_Shape_TopTools_ShapeMapHasher as ShapeMap,
+)
+
+SEAM_PLACES = 3
+CURVATURE_END_PLACES = 2
+JUNCTION_PLACES = 4
+DEGENERATE_PLACES = 2
+# Steps of the growth test, as fractions of r.
+GROWTH_STEPS = (0.5, 0.125, 0.03125)
 
 
 def read_step(path):
     r = STEPControl_Reader()
     if r.ReadFile(path) != IFSelect_RetDone:
-        sys.exit(f"{path}: OCCT cannot read it")
+        print(f"{path}: OCCT cannot read it", file=sys.stderr)
+        sys.exit(2)
     r.TransferRoots()
     return r.OneShape()
 
@@ -59,81 +103,348 @@ def compound(shapes):
     return c
 
 
-def dist(a, b):
-    d = BRepExtrema_DistShapeShape(a, b)
-    d.Perform()
-    return d.Value() if d.IsDone() else float("inf")
+def dist3(a, b):
+    return math.sqrt(sum((a[k] - b[k]) ** 2 for k in range(3)))
+
+
+def separation(r, tol):
+    return math.sqrt(8.0 * r * tol)
+
+
+def places(touch, s):
+    found = []
+    for t in touch:
+        if all(dist3(t, q) > s for q in found):
+            found.append(t)
+    return len(found)
+
+
+def finite(*values):
+    for v in values:
+        if isinstance(v, (list, tuple)):
+            if not finite(*v):
+                return False
+        elif v is None or not math.isfinite(v):
+            return False
+    return True
+
+
+class Part:
+    """The part in OCCT: the shape, its shells, its faces and what each edge and vertex bounds."""
+
+    def __init__(self, path):
+        self.shape = read_step(path)
+        self.shells = compound(collect(self.shape, TopAbs_SHELL))
+        box = Bnd_Box()
+        BRepBndLib.Add_s(self.shape, box)
+        self.diagonal = box.CornerMin().Distance(box.CornerMax())
+        self.faces = ShapeMap()
+        TopExp.MapShapes_s(self.shape, TopAbs_FACE, self.faces)
+        self.face_boxes = []
+        for i in range(1, self.faces.Extent() + 1):
+            b = Bnd_Box()
+            BRepBndLib.Add_s(self.faces.FindKey(i), b)
+            self.face_boxes.append(b)
+        self.edge_faces = ShapeListMap()
+        TopExp.MapShapesAndAncestors_s(self.shape, TopAbs_EDGE, TopAbs_FACE, self.edge_faces)
+        self.vertex_faces = ShapeListMap()
+        TopExp.MapShapesAndAncestors_s(self.shape, TopAbs_VERTEX, TopAbs_FACE, self.vertex_faces)
+
+    def nearest(self, p):
+        """(distance, [(point, support type, support shape), ...]) from p to the boundary."""
+        d = BRepExtrema_DistShapeShape(vertex(p), self.shells)
+        d.Perform()
+        if not d.IsDone() or d.NbSolution() == 0:
+            return math.inf, []
+        sols = []
+        for i in range(1, d.NbSolution() + 1):
+            q = d.PointOnShape2(i)
+            sols.append(((q.X(), q.Y(), q.Z()), d.SupportTypeShape2(i), d.SupportOnShape2(i)))
+        return d.Value(), sols
+
+    def face_contacts(self, p, reach):
+        """The nearest point of every face within `reach` of `p`."""
+        out = []
+        v = vertex(p)
+        for i in range(1, self.faces.Extent() + 1):
+            box = self.face_boxes[i - 1]
+            if box.IsOut(gp_Pnt(*p)) and box_distance(box, p) > reach:
+                continue
+            d = BRepExtrema_DistShapeShape(v, self.faces.FindKey(i))
+            d.Perform()
+            if d.IsDone() and d.NbSolution() > 0 and d.Value() <= reach:
+                for k in range(1, d.NbSolution() + 1):
+                    q = d.PointOnShape2(k)
+                    out.append((q.X(), q.Y(), q.Z()))
+        return out
+
+    def inside(self, p, clearance=0.0):
+        """OCCT's classifier says IN. Its ray can graze an edge and say OUT for a point well
+        inside (seen on a point 0.35 mm deep, IN 0.006 mm away): a point `clearance` or more
+        from the boundary, so that every point within `clearance` of it is on its side, that
+        is not IN is tried again at the six points half `clearance` away along the axes, and
+        is inside when most of them are IN."""
+        if self.state(p) == TopAbs_IN:
+            return True
+        if clearance <= 0.0:
+            return False
+        d = 0.5 * clearance
+        moved = [
+            tuple(p[k] + (sign * d if k == j else 0.0) for k in range(3))
+            for j in range(3)
+            for sign in (1.0, -1.0)
+        ]
+        return sum(self.state(q) == TopAbs_IN for q in moved) >= 4
+
+    def state(self, p):
+        return BRepClass3d_SolidClassifier(self.shape, gp_Pnt(*p), 1e-7).State()
+
+    def faces_of(self, kind, support):
+        """The indices (from 1, file order) of the faces a support lies on."""
+        if kind == BRepExtrema_SupportType.BRepExtrema_IsInFace:
+            return [self.faces.FindIndex(support)]
+        table = self.edge_faces if kind == BRepExtrema_SupportType.BRepExtrema_IsOnEdge else self.vertex_faces
+        if not table.Contains(support):
+            return []
+        return [self.faces.FindIndex(f) for f in table.FindFromKey(support)]
+
+    def local_contact(self, centre, kind, support, near):
+        """The point of `support` (a face, edge or vertex) nearest to `centre` among its
+        extrema, the one closest to `near`; None when there is none inside the support."""
+        c = gp_Pnt(*centre)
+        if kind == BRepExtrema_SupportType.BRepExtrema_IsVertex:
+            q = BRep_Tool.Pnt_s(TopoDS.Vertex(support))
+            return (q.X(), q.Y(), q.Z())
+        best = None
+        if kind == BRepExtrema_SupportType.BRepExtrema_IsOnEdge:
+            edge = TopoDS.Edge(support)
+            first, last = BRep_Tool.Range_s(edge)
+            curve = BRep_Tool.Curve_s(edge, first, last)
+            if curve is None:
+                return None
+            proj = GeomAPI_ProjectPointOnCurve(c, curve, first, last)
+            for i in range(1, proj.NbPoints() + 1):
+                q = proj.Point(i)
+                p = (q.X(), q.Y(), q.Z())
+                if best is None or dist3(p, near) < dist3(best, near):
+                    best = p
+            return best
+        face = TopoDS.Face(support)
+        surface = BRep_Tool.Surface_s(face)
+        proj = GeomAPI_ProjectPointOnSurf(c, surface)
+        for i in range(1, proj.NbPoints() + 1):
+            u, v = proj.Parameters(i)
+            inside = BRepClass_FaceClassifier(face, gp_Pnt2d(u, v), 1e-7).State()
+            if inside not in (TopAbs_IN, TopAbs_ON):
+                continue
+            q = proj.Point(i)
+            p = (q.X(), q.Y(), q.Z())
+            if best is None or dist3(p, near) < dist3(best, near):
+                best = p
+        return best
+
+
+def box_distance(box, p):
+    """The distance from `p` to an axis-aligned box."""
+    lo, hi = box.CornerMin(), box.CornerMax()
+    d2 = 0.0
+    for x, a, b in ((p[0], lo.X(), hi.X()), (p[1], lo.Y(), hi.Y()), (p[2], lo.Z(), hi.Z())):
+        if x < a:
+            d2 += (a - x) ** 2
+        elif x > b:
+            d2 += (x - b) ** 2
+    return math.sqrt(d2)
+
+
+def vertex(p):
+    return BRepBuilderAPI_MakeVertex(gp_Pnt(*p)).Vertex()
+
+
+class Checks:
+    def __init__(self, tol):
+        self.tol = tol
+        self.checked = {}
+        self.failed = {}
+        self.failures = []
+
+    def record(self, check, passed, what):
+        self.checked[check] = self.checked.get(check, 0) + 1
+        if not passed:
+            self.failed[check] = self.failed.get(check, 0) + 1
+            if len(self.failures) < 200:
+                self.failures.append(f"{check}: {what()}")
+
+
+def check_ball(part, checks, touched, what, centre, r, touch, need):
+    tol = checks.tol
+    ok = finite(centre, r, touch)
+    checks.record("finite", ok, lambda: f"{what}: a number is not finite")
+    if not ok:
+        return
+    point_ball = r <= tol
+    d, _ = part.nearest(centre)
+    if not point_ball:
+        checks.record("inside", part.inside(centre, min(d, r)),
+                      lambda: f"{what}: centre {centre} not inside the solid")
+    checks.record("distance", abs(d - r) <= tol, lambda: f"{what}: distance to boundary {d:.9g}, r = {r:.9g}")
+    for t in touch:
+        dt, sols = part.nearest(t)
+        checks.record("touch_on_boundary", dt <= tol, lambda: f"{what}: touch point {t} is {dt:.3g} mm off the boundary")
+        for _, kind, support in sols:
+            touched.update(part.faces_of(kind, support))
+        dc = dist3(t, centre)
+        checks.record("touch_at_radius", abs(dc - r) <= tol,
+                      lambda: f"{what}: touch point {t} at {dc:.9g} from the centre, r = {r:.9g}")
+    if not point_ball:
+        s = separation(r, tol)
+        n = places(touch, s)
+        checks.record("separated", n >= need,
+                      lambda: f"{what}: touches {n} separate places (farther apart than {s:.3g} mm), needs {need}")
+
+
+def check_mesh_vertex(part, checks, what, p):
+    tol = checks.tol
+    if not finite(p):
+        checks.record("finite", False, lambda: f"{what}: a number is not finite")
+        return
+    r, sols = part.nearest(p)
+    checks.record("inside", part.inside(p, r), lambda: f"{what}: {p} not inside the solid")
+    if not sols:
+        checks.record("mesh_contacts", False, lambda: f"{what}: no nearest boundary point")
+        return
+    if r <= tol:
+        return
+    s = separation(r, tol)
+    p1 = sols[0][0]
+    # The contacts: every face's nearest point within r + tol of the centre.
+    contacts = [q for q, _, _ in sols] + part.face_contacts(p, r + tol)
+    ok = places(contacts, s) >= 2 or growth_contact(part, p, r, p1, s, tol)
+    checks.record("mesh_contacts", ok,
+                  lambda: f"{what}: the ball at {p} (r {r:.6g}) has no second contact: it could grow")
+
+
+def growth_contact(part, p, r, p1, s, tol):
+    """The growth test, for a second contact on the face of the first (a face touched twice,
+    a ball touching a face along a circle): step the centre away from the first contact; the
+    nearest boundary point from there, or its foot from the centre on the same face, edge or
+    vertex, must be a contact of the ball (at r + tol) separated from the first."""
+    u = [(p[k] - p1[k]) / r for k in range(3)]
+    for step in GROWTH_STEPS:
+        q = tuple(p[k] + step * r * u[k] for k in range(3))
+        _, qs = part.nearest(q)
+        for near, kind, support in qs:
+            for c in (near, part.local_contact(p, kind, support, near)):
+                if c is not None and dist3(c, p) <= r + tol and dist3(c, p1) > s:
+                    return True
+    return False
+
+
+def mesh_vertices(path, k):
+    """About k of the mesh's distinct vertices, spread over the file, with their numbers in it
+    (from 0). Many vertices can be one point (every ball of a sphere has its centre): each
+    point is checked once."""
+    vs, seen, n = [], set(), 0
+    with open(path) as f:
+        for line in f:
+            if line.startswith("v "):
+                v = tuple(float(x) for x in line.split()[1:4])
+                if v not in seen:
+                    seen.add(v)
+                    vs.append((n, v))
+                n += 1
+    if not vs or k <= 0:
+        return []
+    stride = max(1, len(vs) // k)
+    return vs[::stride][:k]
+
+
+def check_graph(mat, checks, touched, n_faces):
+    seams, junctions = mat.get("seams", []), mat.get("junctions", [])
+    n_balls = sum(len(s.get("points", [])) for s in seams) + len(junctions) + sum(
+        len(d.get("balls", [])) for d in mat.get("degenerate", []))
+    checks.record("nonempty", n_balls > 0, lambda: "the report has no balls")
+    ends_at = [0] * len(junctions)
+    for s in seams:
+        for k, e in enumerate(s.get("ends", [])):
+            is_open = isinstance(e, dict) and "open" in e
+            checks.record("seam_ends", not is_open, lambda: f"seam {s.get('id')} end {k} is open: {e}")
+            if isinstance(e, dict) and "junction" in e:
+                j = e["junction"]
+                exists = isinstance(j, int) and 0 <= j < len(junctions)
+                checks.record("junction_seams", exists, lambda: f"seam {s.get('id')} ends at missing junction {j}")
+                if exists:
+                    ends_at[j] += 1
+    for j, n in enumerate(ends_at):
+        generic = len(junctions[j].get("segments", [])) == 4
+        if generic:
+            checks.record("junction_seams", n == 4, lambda: f"junction {j} (4 segments) has {n} seam ends")
+    for f in range(1, n_faces + 1):
+        checks.record("faces_touched", f in touched, lambda: f"face F{f - 1} is touched by no ball")
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("step")
     ap.add_argument("report")
-    ap.add_argument("--every", type=int, default=5)
+    ap.add_argument("--every", type=int, default=1)
     ap.add_argument("--tol", type=float, default=None)
+    ap.add_argument("--mesh", default=None)
+    ap.add_argument("--mesh-samples", type=int, default=200)
+    ap.add_argument("--json", action="store_true")
     a = ap.parse_args()
 
-    shape = read_step(a.step)
-    shells = compound(collect(shape, TopAbs_SHELL))
-    box = Bnd_Box()
-    BRepBndLib.Add_s(shape, box)
-    lo, hi = box.CornerMin(), box.CornerMax()
-    diag = lo.Distance(hi)
-    tol = a.tol if a.tol is not None else 1e-6 * diag + 1e-7
-    report = json.load(open(a.report))
-    mat = report["mat"]
+    part = Part(a.step)
+    try:
+        report = json.load(open(a.report))
+        mat = report["mat"]
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        print(f"{a.report}: not a usable report: {e}", file=sys.stderr)
+        sys.exit(2)
+    # The accuracy the report claims (or 1e-6 x the diagonal), plus OCCT's own precision.
+    claimed = report.get("options", {}).get("accuracy")
+    if a.tol is not None:
+        tol = a.tol
+    elif isinstance(claimed, (int, float)) and math.isfinite(claimed) and claimed > 0:
+        tol = claimed + 1e-7
+    else:
+        tol = 1e-6 * part.diagonal + 1e-7
 
-    failures = []
-    checked = 0
-
-    def vertex(p):
-        return BRepBuilderAPI_MakeVertex(gp_Pnt(*p)).Vertex()
-
-    def check(what, centre, r, touch, need):
-        nonlocal checked
-        checked += 1
-        v = vertex(centre)
-        state = BRepClass3d_SolidClassifier(shape, gp_Pnt(*centre), 1e-7).State()
-        if state != TopAbs_IN and not (state == TopAbs_ON and r <= tol):
-            failures.append(f"{what}: centre {centre} not inside the solid")
-        d = dist(v, shells)
-        if abs(d - r) > tol:
-            failures.append(f"{what}: distance to boundary {d:.9g}, r = {r:.9g}")
-        places = []
-        for t in touch:
-            tv = vertex(t)
-            if dist(tv, shells) > tol:
-                failures.append(f"{what}: touch point {t} is not on the boundary")
-            dc = sum((t[k] - centre[k]) ** 2 for k in range(3)) ** 0.5
-            if abs(dc - r) > tol:
-                failures.append(f"{what}: touch point {t} at {dc:.9g} from the centre, r = {r:.9g}")
-            # Distinct places: a ball may touch one face twice, or a reflex edge between two.
-            # (A tiny ball near a convex corner has its touch points within ~r of each other.)
-            sep = min(max(10 * tol, 1e-4 * r), 0.05 * r)
-            if all(sum((t[k] - q[k]) ** 2 for k in range(3)) ** 0.5 > sep for q in places):
-                places.append(t)
-        if r > tol and need and len(places) < need:
-            failures.append(f"{what}: touches {len(places)} places, needs {need}")
-
-    for j in mat["junctions"]:
-        check(f"junction {j['id']}", j["point"], j["radius"], j["touch"], 4)
+    checks = Checks(tol)
+    touched = set()
+    for j in mat.get("junctions", []):
+        check_ball(part, checks, touched, f"junction {j['id']}", j["point"], j["radius"], j["touch"],
+                   JUNCTION_PLACES)
     for i, d in enumerate(mat.get("degenerate", [])):
+        touch = d.get("touch", [])
         for k, b in enumerate(d["balls"]):
-            check(f"degenerate {i} ball {k}", b[:3], b[3], [], 0)
-    for s in mat["seams"]:
+            t = touch[k] if k < len(touch) else []
+            check_ball(part, checks, touched, f"degenerate {i} ball {k}", b[:3], b[3], t, DEGENERATE_PLACES)
+    for s in mat.get("seams", []):
         pts = s["points"]
         picks = sorted(set(list(range(0, len(pts), max(1, a.every))) + [len(pts) - 1]))
         for k in picks:
             p = pts[k]
-            # Where a seam ends by curvature the ball osculates a face: its two touch points
-            # on that face have merged into one.
             end = s["ends"][0] if k == 0 else s["ends"][1] if k == len(pts) - 1 else None
-            need = 2 if isinstance(end, dict) and "curvature_limit" in end else 3
-            check(f"seam {s['id']} point {k}", p["point"][:3], p["point"][3], p["touch"], need)
-    print(f"{a.step}: {checked} balls checked against OCCT, {len(failures)} failures (tol {tol:.3g} mm)")
-    for f in failures[:50]:
-        print("  " + f)
-    sys.exit(1 if failures else 0)
+            need = CURVATURE_END_PLACES if isinstance(end, dict) and "curvature_limit" in end else SEAM_PLACES
+            check_ball(part, checks, touched, f"seam {s['id']} point {k}", p["point"][:3], p["point"][3],
+                       p["touch"], need)
+    check_graph(mat, checks, touched, part.faces.Extent())
+    if a.mesh:
+        for i, v in mesh_vertices(a.mesh, a.mesh_samples):
+            check_mesh_vertex(part, checks, f"mesh vertex {i + 1}", v)
+
+    failed = sum(checks.failed.values())
+    if a.json:
+        print(json.dumps({"tol": tol, "checked": checks.checked, "failed": checks.failed,
+                          "failures": checks.failures}, indent=1, sort_keys=True))
+    else:
+        made = sum(checks.checked.values())
+        print(f"{a.step}: {made} checks against OCCT, {failed} failed (tol {tol:.3g} mm)")
+        for name in sorted(checks.checked):
+            print(f"  {name}: {checks.checked[name] - checks.failed.get(name, 0)}/{checks.checked[name]}")
+        for f in checks.failures[:50]:
+            print("  " + f)
+    sys.exit(1 if failed else 0)
 
 
 if __name__ == "__main__":

@@ -114,22 +114,38 @@ pub(super) fn record_from_report(
 ) -> PartRecord {
     let stats = &report["stats"];
     let count = |v: &serde_json::Value| v.as_u64().map(|n| n as usize);
-    let worst_error = stats["verification"].as_object().map(|v| {
+    let verification = stats["verification"].as_object();
+    // The worst of the three errors; a NaN (written as null) is the worst of all.
+    let worst_error = verification.map(|v| {
         [
             "worst_distance_error",
             "worst_touch_error",
             "worst_touch_off_boundary",
         ]
         .iter()
-        .filter_map(|k| v.get(*k).and_then(|x| x.as_f64()))
-        .fold(0.0, f64::max)
+        .map(|k| v.get(*k).and_then(|x| x.as_f64()).unwrap_or(f64::NAN))
+        .fold(0.0, crate::medial::verify::nan_max)
     });
-    let accuracy = report["options"]["accuracy"].as_f64().unwrap_or(0.0);
     let mut error = None;
-    if let Some(w) = worst_error.filter(|w| *w > accuracy) {
+    if let Some(v) = verification.filter(|v| v.get("ok") != Some(&serde_json::Value::Bool(true))) {
+        let failed: Vec<String> = v
+            .get("checks")
+            .and_then(|c| c.as_object())
+            .into_iter()
+            .flatten()
+            .filter_map(|(k, c)| {
+                let n = c["failed"].as_u64().unwrap_or(0);
+                (n > 0).then(|| format!("{k} {n}"))
+            })
+            .collect();
         error = Some(format!(
-            "{}: verification failed: worst error {w:.2e} mm exceeds the accuracy {accuracy:.2e} mm",
-            input.path.display()
+            "{}: verification failed: {}",
+            input.path.display(),
+            if failed.is_empty() {
+                "the report says so".to_string()
+            } else {
+                failed.join(", ")
+            }
         ));
     }
     let dir_rel = input.out_rel.parent().unwrap_or(Path::new(""));

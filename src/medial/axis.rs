@@ -9,11 +9,13 @@ use crate::model::Element;
 use std::fmt;
 
 /// One point of a seam.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SeamPoint {
     /// `[x, y, z, r]`.
+    #[serde(deserialize_with = "nullable::ball")]
     pub point: [f64; 4],
     /// The touch points on the three elements.
+    #[serde(deserialize_with = "nullable::triple")]
     pub touch: [[f64; 3]; 3],
 }
 
@@ -25,7 +27,7 @@ pub enum Node {
 }
 
 /// How a seam ends.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SeamEnd {
     /// At a convex vertex, `r = 0`.
@@ -123,6 +125,8 @@ pub enum OpenReason {
     /// An element came closer than `r`, but the four-element system has no junction on
     /// the elements.
     NoJunction { element: Element },
+    /// A reason read back from a report, by its text.
+    Other(String),
 }
 
 impl OpenReason {
@@ -149,6 +153,7 @@ impl OpenReason {
             OpenReason::NoSeamPointAfterHandover { .. } => "no_seam_point_after_handover",
             OpenReason::CloserThanR { .. } => "closer_than_r",
             OpenReason::NoJunction { .. } => "no_junction",
+            OpenReason::Other(_) => "other",
         }
     }
 }
@@ -219,6 +224,7 @@ impl fmt::Display for OpenReason {
                 f,
                 "{element} comes closer than r, but no junction with it on the segments"
             ),
+            OpenReason::Other(text) => write!(f, "{text}"),
         }
     }
 }
@@ -230,8 +236,15 @@ impl serde::Serialize for OpenReason {
     }
 }
 
+impl<'de> serde::Deserialize<'de> for OpenReason {
+    /// From its text, as [`OpenReason::Other`].
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<OpenReason, D::Error> {
+        <String as serde::Deserialize>::deserialize(d).map(OpenReason::Other)
+    }
+}
+
 /// A seam: a curve of ball centres touching three elements.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Seam {
     pub id: usize,
     /// Index of the solid in the model.
@@ -256,7 +269,7 @@ impl Seam {
 
 /// A touch point passing from one element to the next along a seam (over a smooth edge, onto
 /// or off a reflex edge).
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Handover {
     /// Index of the seam point where it happens (on both elements).
     pub point: usize,
@@ -265,19 +278,22 @@ pub struct Handover {
 }
 
 /// A junction: a ball touching four elements (more at a non-generic junction).
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Junction {
     pub id: usize,
     /// Index of the solid in the model.
     pub solid: usize,
+    #[serde(deserialize_with = "nullable::point")]
     pub point: [f64; 3],
+    #[serde(deserialize_with = "nullable::number")]
     pub radius: f64,
     pub segments: Vec<Element>,
+    #[serde(deserialize_with = "nullable::points")]
     pub touch: Vec<[f64; 3]>,
 }
 
 /// What a degenerate piece's centres form.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum DegenerateKind {
     /// The centres move along a curve: the sheet between the elements has collapsed to it
@@ -300,13 +316,18 @@ impl DegenerateKind {
 /// A degenerate piece of the medial axis (a cylinder's axis, a sphere's centre, a torus's
 /// core circle): maximal balls that touch `segments` along a continuum, found by sampling.
 /// Its centres are not traced as seams; `balls` are the sampled ones, each verified maximal.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Degenerate {
     pub solid: usize,
     pub kind: DegenerateKind,
     pub segments: Vec<Element>,
     /// Sampled balls `[x, y, z, r]`.
+    #[serde(deserialize_with = "nullable::balls")]
     pub balls: Vec<[f64; 4]>,
+    /// Two touch points of each ball (one on each of `segments`), in the order of `balls`
+    /// (missing in reports made before they were recorded).
+    #[serde(default, deserialize_with = "nullable::pairs")]
+    pub touch: Vec<[[f64; 3]; 2]>,
 }
 
 /// Counters of a trace.
@@ -350,4 +371,62 @@ impl MedialAxis {
         }
         counts
     }
+}
+
+/// Reading numbers back from a report, where serde_json writes a NaN as `null`: a `null`
+/// reads as NaN again (so that verification fails on it instead of the reading).
+mod nullable {
+    use serde::{Deserialize, Deserializer};
+
+    /// A number, or an array or vector of them, read with `null` as NaN.
+    pub(super) struct N<T>(pub(super) T);
+
+    impl<'de> Deserialize<'de> for N<f64> {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+            Ok(N(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN)))
+        }
+    }
+
+    macro_rules! arrays {
+        ($($k:literal)*) => {$(
+            impl<'de, T> Deserialize<'de> for N<[T; $k]>
+            where
+                N<T>: Deserialize<'de>,
+            {
+                fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                    let a = <[N<T>; $k]>::deserialize(d)?;
+                    Ok(N(a.map(|n| n.0)))
+                }
+            }
+        )*};
+    }
+    arrays!(2 3 4);
+
+    impl<'de, T> Deserialize<'de> for N<Vec<T>>
+    where
+        N<T>: Deserialize<'de>,
+    {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+            let v = Vec::<N<T>>::deserialize(d)?;
+            Ok(N(v.into_iter().map(|n| n.0).collect()))
+        }
+    }
+
+    macro_rules! readers {
+        ($($name:ident: $t:ty),*) => {$(
+            /// For `#[serde(deserialize_with = ...)]` on a field of this type.
+            pub(super) fn $name<'de, D: Deserializer<'de>>(d: D) -> Result<$t, D::Error> {
+                N::<$t>::deserialize(d).map(|n| n.0)
+            }
+        )*};
+    }
+    readers!(
+        number: f64,
+        point: [f64; 3],
+        ball: [f64; 4],
+        triple: [[f64; 3]; 3],
+        points: Vec<[f64; 3]>,
+        balls: Vec<[f64; 4]>,
+        pairs: Vec<[[f64; 3]; 2]>
+    );
 }

@@ -33,6 +33,14 @@ impl serde::Serialize for Element {
     }
 }
 
+impl<'de> serde::Deserialize<'de> for Element {
+    /// From its text, `"F3"`.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Element, D::Error> {
+        let text = <String as serde::Deserialize>::deserialize(d)?;
+        text.parse().map_err(serde::de::Error::custom)
+    }
+}
+
 impl std::str::FromStr for Element {
     type Err = String;
 

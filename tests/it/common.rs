@@ -32,3 +32,14 @@ pub fn matrace(args: &[&str], cwd: &Path) -> std::process::Output {
         .output()
         .expect("run matrace")
 }
+
+/// Every STEP file of `samples/`, sorted.
+pub fn sample_files() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("samples"))
+        .expect("samples/")
+        .map(|e| e.expect("samples/ entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "step"))
+        .collect();
+    files.sort();
+    files
+}

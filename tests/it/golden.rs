@@ -10,6 +10,22 @@ use crate::common::{matrace, root, sample};
 use serde_json::{json, Value};
 use std::collections::BTreeSet;
 
+/// True when the goldens are to be rewritten: `MATRACE_BLESS=1`, and never under CI (a CI
+/// run that rewrote its goldens would compare nothing). Any other value is a mistake.
+fn blessing() -> bool {
+    match std::env::var("MATRACE_BLESS").ok().as_deref() {
+        None => false,
+        Some("1") => {
+            assert!(
+                !crate::tools::under_ci(),
+                "MATRACE_BLESS=1 under CI: the goldens are compared in CI, never rewritten"
+            );
+            true
+        }
+        Some(other) => panic!("MATRACE_BLESS={other:?}: set it to 1 to rewrite the goldens"),
+    }
+}
+
 /// Every key path of a JSON value, arrays written `[]` (their elements merged).
 fn key_paths(v: &Value, prefix: &str, out: &mut BTreeSet<String>) {
     match v {
@@ -147,7 +163,7 @@ fn check(name: &str) {
     let got = stable(&report);
     let golden_path = golden_dir.join(format!("{name}.json"));
     let schema_path = golden_dir.join(format!("{name}.schema.txt"));
-    if std::env::var_os("MATRACE_BLESS").is_some() {
+    if blessing() {
         std::fs::create_dir_all(&golden_dir).unwrap();
         std::fs::write(
             &golden_path,

@@ -1,6 +1,7 @@
 //! Integration tests, compiled into one binary (`cargo test --test it`); `docs/testing.md`
 //! says what each needs and how tests that need a missing tool are skipped.
 
+mod analytic;
 mod architecture;
 mod bad_input;
 mod batch;
@@ -15,3 +16,4 @@ mod samples;
 mod step_out;
 mod svg;
 mod tools;
+mod verify;

@@ -26,7 +26,18 @@ impl Boundary {
     /// True when `p` is inside the material (see the module docs for the method and its
     /// limits). Points on the boundary count as inside.
     pub fn contains_point(&self, model: &Model, p: DVec3) -> bool {
-        let Some((fi, hit)) = self.nearest_face(model, p) else {
+        self.contains_point_where(model, p, |_| true)
+    }
+
+    /// [`Boundary::contains_point`] for the solid bounded by the faces for which `keep` holds
+    /// (one solid of several, say).
+    pub fn contains_point_where(
+        &self,
+        model: &Model,
+        p: DVec3,
+        keep: impl Fn(usize) -> bool,
+    ) -> bool {
+        let Some((fi, hit)) = self.nearest_face_where(model, p, keep) else {
             return false;
         };
         if hit.distance <= self.on_boundary {

@@ -115,10 +115,8 @@ mod tests {
         let Some(dir) = crate::testing::realworld_dir() else {
             return;
         };
-        let Ok(model) = crate::ingest::read_model(&dir.join("stepswift_nist_ftc_06_asme1_rd.stp"))
-        else {
-            return;
-        };
+        let model = crate::ingest::read_model(&dir.join("stepswift_nist_ftc_06_asme1_rd.stp"))
+            .unwrap_or_else(|e| panic!("{e}"));
         let mut checked = 0;
         for face in &model.faces {
             let Some(apex) = face.loops.iter().find_map(|l| l.vertex) else {

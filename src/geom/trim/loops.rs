@@ -702,22 +702,12 @@ mod tests {
     /// the synthetic wrapping faces, over the domain, beyond it and shifted by periods.
     #[test]
     fn prepared_trim_agrees_with_contains() {
-        let root = crate::testing::root();
         let mut faces: Vec<Face> = Vec::new();
         // The samples, and the real-world corpus when it is beside the project (its NIST
         // parts have many seamless cylinder bands and cone caps).
-        for dir in [root.join("samples"), root.join("../shared/realworld")] {
-            let Ok(entries) = std::fs::read_dir(dir) else {
-                continue;
-            };
-            for entry in entries {
-                let path = entry.unwrap().path();
-                if path.extension().is_some_and(|e| e != "json" && e != "md") {
-                    if let Ok(m) = crate::ingest::read_model(&path) {
-                        faces.extend(m.faces);
-                    }
-                }
-            }
+        for path in crate::testing::corpus_step_files() {
+            let m = crate::ingest::read_model(&path).unwrap_or_else(|e| panic!("{e}"));
+            faces.extend(m.faces);
         }
         let m = sample("cylinder.step");
         let mut band = m
@@ -774,10 +764,8 @@ mod tests {
         let Some(dir) = crate::testing::realworld_dir() else {
             return;
         };
-        let Ok(m) = crate::ingest::read_model(&dir.join("stepswift_nist_ctc_01_asme1_rd.stp"))
-        else {
-            return;
-        };
+        let m = crate::ingest::read_model(&dir.join("stepswift_nist_ctc_01_asme1_rd.stp"))
+            .unwrap_or_else(|e| panic!("{e}"));
         let face = &m.faces[75];
         assert_eq!(crate::geom::surface_kind(&face.surface), "cone");
         let mut bare = face.clone();
@@ -846,9 +834,7 @@ mod tests {
         const KNOWN_BAD: &[(&str, usize)] = &[];
         let mut checked = 0;
         for path in crate::testing::sample_files() {
-            let Ok(m) = crate::ingest::read_model(&path) else {
-                continue;
-            };
+            let m = crate::ingest::read_model(&path).unwrap_or_else(|e| panic!("{e}"));
             for (i, face) in m.faces.iter().enumerate() {
                 let periods = (face.domain.u_period, face.domain.v_period);
                 let edge_loops: Vec<&Loop> =

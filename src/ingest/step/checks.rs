@@ -1,7 +1,7 @@
 //! Checks of the STEP records before truck sees them.
 //!
 //! They refuse what truck would panic on, overflow its stack on, or silently misread:
-//! unsorted or non-finite knots, B-spline degrees that do not match the control points and
+//! unsorted or non-finite knots, multiplicities that are not one per knot, B-spline degrees that do not match the control points and
 //! knots, references to nothing, and reference cycles.
 
 use super::error::entity_err;
@@ -26,8 +26,8 @@ pub fn check_records(path: &Path, recs: &Records) -> Result<()> {
     Ok(())
 }
 
-/// Finds a knot vector that is not non-decreasing, or a non-finite real anywhere in a
-/// B-spline record. Returns `(id, entity, reason)` for the first offender.
+/// Finds a knot vector that is not non-decreasing, a non-finite knot, or knot multiplicities
+/// that are not one per knot, in a B-spline record. Returns `(id, entity, reason)` for the first offender.
 pub fn check_knots(records: &Records) -> Option<(u64, String, String)> {
     for id in records.ids_in_order() {
         let Some(inst) = records.get(id) else {
@@ -37,11 +37,18 @@ pub fn check_knots(records: &Records) -> Option<(u64, String, String)> {
             if !rec.name.contains("WITH_KNOTS") {
                 continue;
             }
+            // Multiplicity lists (integers) and knot lists (reals), in order: one of each
+            // per parametric direction.
+            let (mut mults, mut knot_lists) = (vec![], vec![]);
             for p in params(rec) {
                 let Parameter::List(list) = p else { continue };
+                if !list.is_empty() && list.iter().all(|x| matches!(x, Parameter::Integer(_))) {
+                    mults.push(list.len());
+                }
                 if list.is_empty() || !list.iter().all(|x| matches!(x, Parameter::Real(_))) {
                     continue;
                 }
+                knot_lists.push(list.len());
                 let knots: Vec<f64> = list.iter().filter_map(as_real).collect();
                 if knots.iter().any(|k| !k.is_finite()) {
                     return Some((id, rec.name.clone(), "knot is not a finite number".into()));
@@ -49,6 +56,17 @@ pub fn check_knots(records: &Records) -> Option<(u64, String, String)> {
                 if knots.windows(2).any(|w| w[1] < w[0]) {
                     return Some((id, rec.name.clone(), "knots not sorted".into()));
                 }
+            }
+            // truck indexes the multiplicities by the knots' positions.
+            if mults != knot_lists {
+                return Some((
+                    id,
+                    rec.name.clone(),
+                    format!(
+                        "knot multiplicities ({mults:?} per direction) do not match the knots \
+                         ({knot_lists:?})"
+                    ),
+                ));
             }
         }
     }

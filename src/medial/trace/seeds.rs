@@ -8,7 +8,7 @@ use super::options::{
     SAME_PLACE_REL_ACCURACY, UNIT_ROUNDING,
 };
 use super::tracer::Tracer;
-use super::unknowns::{seam_x, slot, sorted, to_chord, touches_meet, v3, Pairs};
+use super::unknowns::{seam_x, slot, sorted, sys_point, to_chord, touches_meet, v3, Pairs};
 use crate::geom::project_point;
 use crate::medial::axis::{Degenerate, DegenerateKind, Handover, SeamEnd, SeamPoint};
 use crate::medial::equations::{MedialSystem, NormalField};
@@ -203,17 +203,25 @@ impl Tracer<'_> {
         let segments = vec![a, b];
         let solid = self.solid_of(a);
         let ball = [c.x, c.y, c.z, r];
+        let at = |seg: Element, s: [f64; 2]| {
+            sys_point(self.model, seg, s).map_or([f64::NAN; 3], |p| p.to_array())
+        };
+        let touch = [at(a, sa), at(b, sb)];
         match self
             .degenerate
             .iter_mut()
             .find(|d| d.solid == solid && d.kind == kind && d.segments == segments)
         {
-            Some(d) => d.balls.push(ball),
+            Some(d) => {
+                d.balls.push(ball);
+                d.touch.push(touch);
+            }
             None => self.degenerate.push(Degenerate {
                 solid,
                 kind,
                 segments,
                 balls: vec![ball],
+                touch: vec![touch],
             }),
         }
         if let Element::Face(f) = a {

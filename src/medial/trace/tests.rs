@@ -13,9 +13,11 @@ fn traced(name: &str) -> (Model, MedialAxis) {
     (m, mat)
 }
 
-/// The worst error of [`crate::medial::verify`] over every seam point and junction.
+/// The worst error of [`crate::medial::verify`] over every ball.
 fn verify(m: &Model, mat: &MedialAxis) -> f64 {
-    crate::medial::verify(m, &Boundary::new(m), mat).worst()
+    let class = crate::classify::classify(m, &Default::default());
+    let accuracy = TraceOptions::for_model(m).accuracy;
+    crate::medial::verify(m, &Boundary::new(m), &class, mat, accuracy).worst()
 }
 
 /// Box [0,60]×[0,40]×[0,20] (c < b < a): 12 seams, 4 junctions at

@@ -1,0 +1,140 @@
+//! Verification of a medial axis against the definition, point by point, and of its graph.
+//!
+//! A point `B` with radius `r` is on the medial axis of a solid Ω when `B` is inside Ω, its
+//! nearest boundary points are at distance `r`, and there are at least two of them in
+//! separate places (three along a seam, four at a junction). [`verify`] checks that for every
+//! ball a result holds, to the result's accuracy `a`:
+//! - every number is finite (a NaN is a failure, never a pass);
+//! - `inside`: the centre is inside the ball's solid (point in solid by the pseudo-normal);
+//! - `distance`: `|d(B, ∂Ω) − r| ≤ a`, with the exact trimmed-face distance: nothing of the
+//!   boundary is closer than `r`, so the ball is maximal in the global sense;
+//! - `touch_on_boundary` and `touch_at_radius`: every reported touch point `t` is on the
+//!   boundary (`d(t, ∂Ω) ≤ a`) and on the ball (`|‖t − B‖ − r| ≤ a`);
+//! - `separated`: the touch points lie in enough separate places — two touch points count as
+//!   separate when they are farther apart than `√(8·r·a)`, the chord over which a sphere of
+//!   radius `r` and a surface tangent to it stay within `a` of each other, so that one smooth
+//!   contact cannot pass for two. Seam points need 3 places (2 at a curvature-limit end,
+//!   where the ball osculates a face), junctions 4, degenerate balls 2. A ball with `r ≤ a`
+//!   (a seam's end at a convex vertex) is a point and is exempt from this and from `inside`.
+//!
+//! Then the graph ([`topology`]): every seam end is proper (a convex vertex, a junction, a
+//! closed loop or a curvature limit; an open end is a failure), every generic junction has
+//! four seam ends and every junction a seam names exists, where the Euler characteristic of a
+//! solid's medial axis is counted it equals the solid's (where it is withheld, that is
+//! listed), every face of every solid is touched by some ball, and every convex vertex is
+//! the end of a seam. The sheets and the Euler characteristics are computed afresh from the
+//! seams given, not taken from a report.
+//!
+//! [`Verification`] counts each check (made, failed), keeps the first failures with where
+//! they are, and the worst errors; `ok` only when nothing failed.
+
+mod balls;
+pub mod topology;
+
+pub use topology::{check_topology, Topology};
+
+use crate::classify::Classification;
+use crate::geom::Boundary;
+use crate::medial::axis::MedialAxis;
+use crate::model::Model;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// Failures kept in a [`Verification`] (the counts cover all of them).
+pub const MAX_FAILURES_KEPT: usize = 100;
+
+/// How often one check was made, and how often it failed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct CheckCount {
+    pub checked: usize,
+    pub failed: usize,
+}
+
+/// The outcome of verifying a medial axis.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Verification {
+    /// Balls checked: seam points, junctions, degenerate balls.
+    pub balls: usize,
+    /// Worst `|d(B, ∂Ω) − r|` (mm; NaN when any was not a number).
+    pub worst_distance_error: f64,
+    /// Worst `|‖t − B‖ − r|` over touch points.
+    pub worst_touch_error: f64,
+    /// Worst distance of a touch point from the boundary.
+    pub worst_touch_off_boundary: f64,
+    /// Where the worst of the three errors is: `seam S point K`, `junction J`, …
+    pub worst_at: Option<String>,
+    /// The accuracy the errors were held to (mm).
+    pub accuracy: f64,
+    /// Every check by name: how often it was made and how often it failed.
+    pub checks: BTreeMap<&'static str, CheckCount>,
+    /// The first [`MAX_FAILURES_KEPT`] failures, each saying where and what.
+    pub failures: Vec<String>,
+    /// Solids whose medial axis's Euler characteristic is not counted, with why.
+    pub euler_withheld: Vec<String>,
+    /// True when no check failed.
+    pub ok: bool,
+}
+
+impl Verification {
+    /// The largest of the three errors (NaN when any is).
+    pub fn worst(&self) -> f64 {
+        nan_max(
+            nan_max(self.worst_distance_error, self.worst_touch_error),
+            self.worst_touch_off_boundary,
+        )
+    }
+
+    /// Failures by check, the checks that failed only (`{"separated": 3}`).
+    pub fn failed_checks(&self) -> BTreeMap<&'static str, usize> {
+        self.checks
+            .iter()
+            .filter(|(_, c)| c.failed > 0)
+            .map(|(k, c)| (*k, c.failed))
+            .collect()
+    }
+
+    /// Records one check: made, and failed unless `passed` (then `what` says where and why).
+    fn record(&mut self, check: &'static str, passed: bool, what: impl FnOnce() -> String) {
+        let c = self.checks.entry(check).or_default();
+        c.checked += 1;
+        if !passed {
+            c.failed += 1;
+            if self.failures.len() < MAX_FAILURES_KEPT {
+                self.failures.push(format!("{check}: {}", what()));
+            }
+        }
+    }
+}
+
+/// The larger of two numbers, NaN when either is (`f64::max` would drop the NaN).
+pub fn nan_max(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
+    }
+}
+
+/// Verifies `axis` against `model` to `accuracy` (mm): every ball, then the graph, as the
+/// module docs say. `class` is the model's classification (for convex vertices, mixed edges
+/// and the sheets).
+pub fn verify(
+    model: &Model,
+    boundary: &Boundary,
+    class: &Classification,
+    axis: &MedialAxis,
+    accuracy: f64,
+) -> Verification {
+    let mut v = Verification {
+        accuracy,
+        ..Default::default()
+    };
+    balls::check_balls(model, boundary, axis, accuracy, &mut v);
+    // The graph's checks index the model by the elements the axis names: only when they
+    // all exist.
+    if topology::check_elements(model, axis, &mut v) {
+        topology::check_graph(model, boundary, class, axis, &mut v);
+    }
+    v.ok = v.checks.values().all(|c| c.failed == 0) && v.worst() <= accuracy;
+    v
+}

@@ -1,0 +1,259 @@
+//! The medial axis as a graph: its seam–junction graph checked, and the Euler characteristics
+//! of each solid and of its medial axis set side by side.
+
+use super::Verification;
+use crate::classify::{Classification, VertexKind};
+use crate::geom::Boundary;
+use crate::medial::axis::{MedialAxis, SeamEnd};
+use crate::medial::sheets::{Sheets, SolidEuler};
+use crate::model::{Element, Model};
+use glam::DVec3;
+
+/// Consistency of the seam–junction graph, and the Euler characteristic of each solid next to
+/// its medial axis's (which must be equal: the medial axis is a deformation retract of the
+/// solid).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Topology {
+    /// Junctions plus convex vertices where seams end.
+    pub graph_nodes: usize,
+    /// Seams (a closed seam counts as one edge with one node of its own).
+    pub graph_edges: usize,
+    /// Seam ends that are not a vertex, a junction, a closed loop or a curvature limit.
+    pub open_ends: usize,
+    /// Generic junctions (4 segments) that do not have exactly 4 seam ends, and seam ends
+    /// naming a junction that does not exist: both would be tracer bugs.
+    pub inconsistencies: Vec<String>,
+    /// Per solid: `V − E + F` of the B-rep and `V − E + Σ χ(sheet)` of its medial axis.
+    pub euler: Vec<SolidEuler>,
+    /// Sheet-boundary arc ends that could not be paired at a node (tracer gaps).
+    pub unpaired: Vec<String>,
+}
+
+/// Checks the seam–junction graph of `mat`, and takes the Euler characteristics and the
+/// unpaired sheet-boundary ends from its `sheets`.
+pub fn check_topology(mat: &MedialAxis, sheets: &Sheets) -> Topology {
+    let mut ends_at = vec![0usize; mat.junctions.len()];
+    let mut vertices = std::collections::BTreeSet::new();
+    let mut inconsistencies = vec![];
+    let mut open_ends = 0;
+    let mut closed = 0;
+    for s in &mat.seams {
+        for e in &s.ends {
+            match e {
+                SeamEnd::Junction(j) if *j < ends_at.len() => ends_at[*j] += 1,
+                SeamEnd::Junction(j) => {
+                    inconsistencies.push(format!("seam {} ends at missing junction {j}", s.id))
+                }
+                SeamEnd::Vertex(v) => {
+                    vertices.insert(*v);
+                }
+                SeamEnd::Open(_) => open_ends += 1,
+                SeamEnd::Closed => closed += 1,
+                SeamEnd::CurvatureLimit { .. } => {}
+            }
+        }
+    }
+    for (j, n) in ends_at.iter().enumerate() {
+        if mat.junctions[j].segments.len() == 4 && *n != 4 {
+            inconsistencies.push(format!("junction {j} (4 segments) has {n} seam ends"));
+        }
+    }
+    Topology {
+        graph_nodes: mat.junctions.len() + vertices.len() + closed / 2,
+        graph_edges: mat.seams.len(),
+        open_ends,
+        inconsistencies,
+        euler: sheets.solids.clone(),
+        unpaired: sheets.unpaired.clone(),
+    }
+}
+
+/// True when every element, vertex and solid `axis` names exists in `model` (a report read
+/// back may name anything); each one that does not is a failure.
+pub(super) fn check_elements(model: &Model, axis: &MedialAxis, v: &mut Verification) -> bool {
+    let exists = |e: &Element| match *e {
+        Element::Face(i) => i < model.faces.len(),
+        Element::Edge(i) => i < model.edges.len(),
+        Element::Vertex(i) => i < model.vertices.len(),
+    };
+    let mut all = true;
+    let mut check = |v: &mut Verification, ok: bool, what: &dyn Fn() -> String| {
+        all &= ok;
+        v.record("elements", ok, what);
+    };
+    for s in &axis.seams {
+        let named = s
+            .segments
+            .iter()
+            .chain(&s.end_segments)
+            .chain(s.handovers.iter().flat_map(|h| [&h.from, &h.to]))
+            .chain(s.ends.iter().filter_map(|e| match e {
+                SeamEnd::CurvatureLimit { segment } => Some(segment),
+                _ => None,
+            }));
+        for e in named {
+            check(v, exists(e), &|| {
+                format!("seam {} names {e}, which the part lacks", s.id)
+            });
+        }
+        for e in &s.ends {
+            if let SeamEnd::Vertex(k) = e {
+                let ok = *k < model.vertices.len();
+                check(v, ok, &|| {
+                    format!("seam {} ends at vertex V{k}, which the part lacks", s.id)
+                });
+            }
+        }
+        let three = s.segments.len() == 3 && s.end_segments.len() == 3;
+        check(v, three, &|| {
+            format!("seam {} does not name three elements", s.id)
+        });
+        check(v, s.solid < model.solids.len(), &|| {
+            format!(
+                "seam {} is in solid {}, which the part lacks",
+                s.id, s.solid
+            )
+        });
+    }
+    for j in &axis.junctions {
+        for e in &j.segments {
+            check(v, exists(e), &|| {
+                format!("junction {} names {e}, which the part lacks", j.id)
+            });
+        }
+        check(v, j.solid < model.solids.len(), &|| {
+            format!(
+                "junction {} is in solid {}, which the part lacks",
+                j.id, j.solid
+            )
+        });
+    }
+    for (i, d) in axis.degenerate.iter().enumerate() {
+        for e in &d.segments {
+            check(v, exists(e), &|| {
+                format!("degenerate {i} names {e}, which the part lacks")
+            });
+        }
+        check(v, d.solid < model.solids.len(), &|| {
+            format!(
+                "degenerate {i} is in solid {}, which the part lacks",
+                d.solid
+            )
+        });
+    }
+    all
+}
+
+/// Checks the graph of `axis` into `v`: proper seam ends, junctions with their seams, the
+/// Euler characteristics where they are counted (the sheets found afresh), every face of every
+/// solid touched by some ball, every convex vertex the end of a seam.
+pub(super) fn check_graph(
+    model: &Model,
+    boundary: &Boundary,
+    class: &Classification,
+    axis: &MedialAxis,
+    v: &mut Verification,
+) {
+    for s in &axis.seams {
+        for (k, e) in s.ends.iter().enumerate() {
+            let proper = !matches!(e, SeamEnd::Open(_));
+            v.record("seam_ends", proper, || match e {
+                SeamEnd::Open(why) => format!("seam {} end {k} is open: {why}", s.id),
+                _ => String::new(),
+            });
+        }
+    }
+    let sheets = crate::medial::sheets::sheets(model, class, axis);
+    let topology = check_topology(axis, &sheets);
+    let graph_checks = axis.junctions.len() + axis.seams.len();
+    for i in 0..graph_checks.max(topology.inconsistencies.len()) {
+        let bad = topology.inconsistencies.get(i);
+        v.record("junction_seams", bad.is_none(), || {
+            bad.cloned().unwrap_or_default()
+        });
+    }
+    for e in &topology.euler {
+        match e.mat_euler {
+            Some(chi) => v.record("euler", chi == e.solid_euler, || {
+                format!(
+                    "solid {}: the medial axis has Euler characteristic {chi}, the solid {}",
+                    e.solid, e.solid_euler
+                )
+            }),
+            None => v.euler_withheld.push(format!(
+                "solid {}: {}",
+                e.solid,
+                e.unknown.as_deref().unwrap_or("not counted")
+            )),
+        }
+    }
+    check_faces_touched(model, boundary, axis, v);
+    check_convex_vertices(model, class, axis, v);
+}
+
+/// Every face of every solid is touched by some ball: a face no touch point is on (to the
+/// accuracy) is a part of the boundary the medial axis has not reached.
+fn check_faces_touched(
+    model: &Model,
+    boundary: &Boundary,
+    axis: &MedialAxis,
+    v: &mut Verification,
+) {
+    let a = v.accuracy;
+    let mut touched = vec![false; model.faces.len()];
+    let points = axis
+        .seams
+        .iter()
+        .flat_map(|s| s.points.iter().flat_map(|p| p.touch.iter()))
+        .chain(axis.junctions.iter().flat_map(|j| j.touch.iter()))
+        .chain(
+            axis.degenerate
+                .iter()
+                .flat_map(|d| d.touch.iter().flatten()),
+        );
+    let mut near = vec![];
+    for t in points {
+        let t = DVec3::from_array(*t);
+        if !t.is_finite() {
+            continue;
+        }
+        boundary.within_into(model, t, a, &mut near);
+        for &f in &near {
+            touched[f] = true;
+        }
+    }
+    for (f, hit) in touched.iter().enumerate() {
+        v.record("faces_touched", *hit, || {
+            format!(
+                "face F{f} (solid {}) is touched by no ball",
+                model.solid_of_face(f)
+            )
+        });
+    }
+}
+
+/// Every convex vertex ends a seam (the ball shrinks to nothing there).
+fn check_convex_vertices(
+    model: &Model,
+    class: &Classification,
+    axis: &MedialAxis,
+    v: &mut Verification,
+) {
+    let mut ends = vec![false; model.vertices.len()];
+    for s in &axis.seams {
+        for e in &s.ends {
+            if let SeamEnd::Vertex(k) = e {
+                if let Some(x) = ends.get_mut(*k) {
+                    *x = true;
+                }
+            }
+        }
+    }
+    for (k, kind) in class.vertices.iter().enumerate() {
+        if *kind == VertexKind::Convex {
+            v.record("convex_vertices", ends[k], || {
+                format!("convex vertex V{k} ends no seam")
+            });
+        }
+    }
+}

@@ -1,0 +1,258 @@
+//! The checks can fail: `matrace verify` and OpenCASCADE's cross-check
+//! (`scripts/ocp/crosscheck_mat.py`) accept the genuine report of a part and reject each of a
+//! set of wrong reports made from it by hand — an empty one, a seam point whose ball touches
+//! one face (its three touch points clustered within 0.01 mm), a fake junction with four
+//! clustered touch points, degenerate balls moved off a torus's core circle (with touch points
+//! that agree with the move, and with clustered ones), a seam removed, a junction moved by
+//! 1 mm, a NaN radius. Each wrong report must fail the check it breaks, in both checkers.
+
+use crate::common::{matrace, root, sample};
+use crate::tools::{occt_python, require, Tool};
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+
+/// Traces `name` into `dir` and returns its report.
+fn genuine(name: &str, dir: &Path) -> Value {
+    let out = matrace(
+        &[
+            "trace",
+            sample(name).to_str().unwrap(),
+            "-o",
+            dir.to_str().unwrap(),
+        ],
+        &root(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stem = name.trim_end_matches(".step");
+    serde_json::from_slice(&std::fs::read(dir.join(format!("{stem}.mat.json"))).unwrap()).unwrap()
+}
+
+/// Writes `report` as `<dir>/<name>.json`.
+fn write(dir: &Path, name: &str, report: &Value) -> PathBuf {
+    let p = dir.join(format!("{name}.json"));
+    std::fs::write(&p, serde_json::to_string(report).unwrap()).unwrap();
+    p
+}
+
+/// `matrace verify PART REPORT --json`: its exit status and the checks that failed.
+fn verify(part: &Path, report: &Path) -> (i32, Vec<String>) {
+    let out = matrace(
+        &[
+            "verify",
+            part.to_str().unwrap(),
+            report.to_str().unwrap(),
+            "--json",
+        ],
+        &root(),
+    );
+    let code = out.status.code().unwrap_or(-1);
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!(
+            "{}: verify printed no JSON ({e}): {}",
+            report.display(),
+            String::from_utf8_lossy(&out.stderr)
+        )
+    });
+    let failed = v["checks"]
+        .as_object()
+        .unwrap()
+        .iter()
+        .filter(|(_, c)| c["failed"].as_u64().unwrap() > 0)
+        .map(|(k, _)| k.clone())
+        .collect();
+    (code, failed)
+}
+
+/// The OCCT cross-check's exit status and the checks that failed.
+fn occt(part: &Path, report: &Path) -> (i32, Vec<String>) {
+    let out = std::process::Command::new(occt_python())
+        .arg(root().join("scripts/ocp/crosscheck_mat.py"))
+        .arg(part)
+        .arg(report)
+        .arg("--json")
+        .output()
+        .expect("run the OCCT cross-check");
+    let code = out.status.code().unwrap_or(-1);
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!(
+            "{}: the cross-check printed no JSON ({e}): {}",
+            report.display(),
+            String::from_utf8_lossy(&out.stderr)
+        )
+    });
+    let failed = v["failed"].as_object().unwrap().keys().cloned().collect();
+    (code, failed)
+}
+
+/// A seam point's ball touching one face of the box, its touch points clustered (the box is
+/// [0,60]×[0,40]×[0,20]: the ball of radius 5 on the bottom at (30, 20) touches nothing else).
+fn one_face_ball() -> (Vec<f64>, Vec<Vec<f64>>) {
+    let touch = vec![
+        vec![30.0, 20.0, 0.0],
+        vec![30.005, 20.0, 0.0],
+        vec![30.0, 20.01, 0.0],
+    ];
+    (vec![30.0, 20.0, 5.0, 5.0], touch)
+}
+
+/// The wrong reports made from the box's and the torus's genuine ones, each with the checks
+/// of `matrace verify` and of OCCT it must fail (one of each at least).
+fn wrong_reports(
+    boxr: &Value,
+    torus: &Value,
+) -> Vec<(&'static str, &'static str, Value, &'static [&'static str])> {
+    let mut out = vec![];
+    let mut empty = boxr.clone();
+    for k in ["seams", "junctions", "degenerate"] {
+        empty["mat"][k] = json!([]);
+    }
+    out.push(("box.step", "empty", empty, &["faces_touched"][..]));
+
+    let mut clustered = boxr.clone();
+    let (ball, touch) = one_face_ball();
+    clustered["mat"]["seams"][0]["points"][3] = json!({"point": ball, "touch": touch});
+    out.push(("box.step", "clustered", clustered, &["separated"][..]));
+
+    let mut junction = boxr.clone();
+    let (ball, mut touch) = one_face_ball();
+    touch.push(vec![30.0, 19.99, 0.0]);
+    let id = junction["mat"]["junctions"].as_array().unwrap().len();
+    junction["mat"]["junctions"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({
+            "id": id, "solid": 0, "point": &ball[..3], "radius": ball[3],
+            "segments": ["F0", "F1", "F2", "F3"], "touch": touch,
+        }));
+    out.push(("box.step", "fake_junction", junction, &["separated"][..]));
+
+    // The torus: core circle of radius 20 in z = 0, tube radius 5. Its degenerate balls
+    // moved 0.5 mm outwards, r the distance to the nearer (outer) wall, touch points on the
+    // tube's meridian circle through the centre: the outer wall's at r, the inner's farther.
+    let mut moved = torus.clone();
+    let mut moved_clustered = torus.clone();
+    for (m, clustered) in [(&mut moved, false), (&mut moved_clustered, true)] {
+        for d in m["mat"]["degenerate"].as_array_mut().unwrap() {
+            let balls = d["balls"].as_array().unwrap().clone();
+            let mut new_balls = vec![];
+            let mut new_touch = vec![];
+            for b in balls {
+                let (x, y) = (b[0].as_f64().unwrap(), b[1].as_f64().unwrap());
+                let rho = x.hypot(y);
+                let (cx, cy) = (x / rho, y / rho);
+                let c = [cx * 20.5, cy * 20.5, 0.0];
+                new_balls.push(json!([c[0], c[1], c[2], 4.5]));
+                let outer = [cx * 25.0, cy * 25.0, 0.0];
+                let second = if clustered {
+                    [cx * 25.0, cy * 25.0, 0.001]
+                } else {
+                    [cx * 15.0, cy * 15.0, 0.0]
+                };
+                new_touch.push(json!([outer, second]));
+            }
+            d["balls"] = json!(new_balls);
+            d["touch"] = json!(new_touch);
+        }
+    }
+    out.push(("torus.step", "off_axis", moved, &["touch_at_radius"][..]));
+    out.push((
+        "torus.step",
+        "off_axis_clustered",
+        moved_clustered,
+        &["separated"][..],
+    ));
+
+    // The box's inner seams run between its junctions: one removed leaves two junctions
+    // with three seam ends.
+    let mut removed = boxr.clone();
+    let seams = removed["mat"]["seams"].as_array_mut().unwrap();
+    let inner = seams
+        .iter()
+        .position(|s| {
+            s["ends"][0].get("junction").is_some() && s["ends"][1].get("junction").is_some()
+        })
+        .expect("an inner seam");
+    seams.remove(inner);
+    out.push(("box.step", "removed_seam", removed, &["junction_seams"][..]));
+
+    // Moved up: now 9 mm from the top and 11 mm from the bottom, with radius 10.
+    let mut jmoved = boxr.clone();
+    let z = jmoved["mat"]["junctions"][0]["point"][2].as_f64().unwrap();
+    jmoved["mat"]["junctions"][0]["point"][2] = json!(z + 1.0);
+    out.push(("box.step", "moved_junction", jmoved, &["distance"][..]));
+
+    let mut nan = boxr.clone();
+    nan["mat"]["seams"][0]["points"][2]["point"][3] = Value::Null;
+    out.push(("box.step", "nan_radius", nan, &["finite"][..]));
+    out
+}
+
+#[test]
+fn verify_accepts_genuine_reports_and_rejects_wrong_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    let boxr = genuine("box.step", dir.path());
+    let torus = genuine("torus.step", dir.path());
+    let occt_present = require(
+        "verify::verify_accepts_genuine_reports_and_rejects_wrong_ones (OCCT half)",
+        &[Tool::Occt],
+    );
+    let mut problems = vec![];
+    for (part, report) in [("box.step", &boxr), ("torus.step", &torus)] {
+        let path = write(dir.path(), &format!("genuine_{part}"), report);
+        let (code, failed) = verify(&sample(part), &path);
+        if code != 0 {
+            problems.push(format!("verify rejects the genuine {part}: {failed:?}"));
+        }
+        if occt_present {
+            let (code, failed) = occt(&sample(part), &path);
+            if code != 0 {
+                problems.push(format!("OCCT rejects the genuine {part}: {failed:?}"));
+            }
+        }
+    }
+    for (part, name, report, must_fail) in wrong_reports(&boxr, &torus) {
+        let path = write(dir.path(), name, &report);
+        let mut checkers = vec![("verify", verify(&sample(part), &path))];
+        if occt_present {
+            checkers.push(("OCCT", occt(&sample(part), &path)));
+        }
+        for (who, (code, failed)) in checkers {
+            if code != 1 {
+                problems.push(format!("{who} {name}: exit {code}, failed {failed:?}"));
+            }
+            for check in must_fail {
+                if !failed.iter().any(|f| f == check) {
+                    problems.push(format!("{who} {name}: {check} did not fail ({failed:?})"));
+                }
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn verify_refuses_what_is_not_a_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.json");
+    std::fs::write(&bad, b"{\"schema\": \"matrace.report/1\", \"mat\": {}}").unwrap();
+    for report in [bad.as_path(), Path::new("missing.json")] {
+        let out = matrace(
+            &[
+                "verify",
+                sample("box.step").to_str().unwrap(),
+                report.to_str().unwrap(),
+            ],
+            &root(),
+        );
+        assert_eq!(out.status.code(), Some(2), "{}", report.display());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains(report.file_name().unwrap().to_str().unwrap()),
+            "{err}"
+        );
+    }
+}
