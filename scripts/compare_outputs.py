@@ -13,7 +13,8 @@ Left out of the comparison, because they cannot be equal between two runs:
   part and in all), and the seconds in `trace`'s printed summary and `batch`'s closing line;
 - the date in the STEP header (`FILE_NAME(...)`);
 - the keys given with `--ignore` (dotted paths into the report, e.g.
-  `stats.open_ends_by_reason`), for fields that one binary adds on purpose.
+  `stats.open_ends_by_reason`, or `mat.degenerate[].touch` for a key of every element of an
+  array), for fields that one binary adds or changes on purpose.
 
 Prints one line per difference and exits 1 when there is any, 0 when every output is
 identical. Needs only Python 3 (no third-party modules).
@@ -90,14 +91,19 @@ STEP_DATE = re.compile(rb"FILE_NAME\('((?:[^']|'')*)','[^']*'")
 
 
 def drop(obj, dotted: str) -> None:
-    """Removes the key at the dotted path `dotted` from a JSON object, where present."""
-    *path, last = dotted.split(".")
-    for key in path:
-        if not isinstance(obj, dict) or key not in obj:
-            return
-        obj = obj[key]
-    if isinstance(obj, dict):
-        obj.pop(last, None)
+    """Removes the key at the dotted path `dotted` from a JSON object, where present; a key
+    written `name[]` stands for every element of the array `name` (`mat.degenerate[].touch`)."""
+    key, _, rest = dotted.partition(".")
+    if not isinstance(obj, dict):
+        return
+    if key.endswith("[]"):
+        for item in obj.get(key[:-2], []) if rest else []:
+            drop(item, rest)
+        return
+    if not rest:
+        obj.pop(key, None)
+    elif key in obj:
+        drop(obj[key], rest)
 
 
 def normalise(name: str, data: bytes, ignore: list[str], here: Path) -> bytes:

@@ -20,13 +20,22 @@ use std::path::{Path, PathBuf};
 
 /// Open seam ends at hand-overs near vertices (the system there singular, or the corrector
 /// converging to another ball), and seam points near shallow creases whose touch points the
-/// accuracy cannot separate; with them, junctions missing a seam end and, in OCCT, a few
-/// sheet-mesh vertices past a sheet's boundary.
+/// accuracy cannot separate; with them, junctions missing a seam end, sheets that do not
+/// close and, in OCCT, a few sheet-mesh vertices past a sheet's boundary.
 const OPEN_AND_SHALLOW: &str = "seams end open where a touch point is handed to the next \
     element near a vertex (a junction with the vertex or edge, not located yet); seams leaving \
     a vertex between faces at a shallow angle have points whose touch points on those faces \
     lie closer than √(8·r·accuracy) (`separated`); a junction whose seam ended open misses \
-    that seam end (`junction_seams`)";
+    that seam end (`junction_seams`); sheet boundaries stay open where seams end open and at \
+    mixed vertices, where a convex edge's rim meets no seam (on the LCD knob all 36 are at \
+    mixed vertices: `sheets_closed`, issue 20)";
+
+/// The apex of a square pyramid is a non-generic point: four faces meet symmetrically, so the
+/// seam from it is where four sheets meet, which the sheet pairing does not handle yet.
+const NON_GENERIC_APEX: &str = "the seam from the apex is non-generic (four sheets meet \
+    along it, and at its junction five faces are touched), which the sheet pairing does not \
+    handle: six arc ends stay unpaired (`sheets_closed`; non-generic junctions are issue 20); \
+    every ball passes";
 
 /// Degenerate pieces (a cylinder's or a fillet's axis) are sampled by one ball each and not
 /// traced, so the faces only their sheets reach (a cylinder's caps) are touched by no ball.
@@ -89,6 +98,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("verify:junction_seams", 1),
             ("verify:seam_ends", 8),
             ("verify:separated", 20),
+            ("verify:sheets_closed", 15),
             ("verify:touch_on_boundary", 1139),
         ],
         SCREW,
@@ -120,7 +130,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
     ),
     (
         "prusa_LCD-knob.stp",
-        &[("occt:separated", 12), ("verify:separated", 12)],
+        &[
+            ("occt:separated", 12),
+            ("verify:separated", 12),
+            ("verify:sheets_closed", 36),
+        ],
         OPEN_AND_SHALLOW,
     ),
     ("prusa_adapter-printer.stp", &[("read", 1)], NOT_READ_GAPS),
@@ -131,6 +145,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:separated", 15),
             ("verify:seam_ends", 9),
             ("verify:separated", 15),
+            ("verify:sheets_closed", 72),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -151,6 +166,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("verify:junction_seams", 4),
             ("verify:seam_ends", 40),
             ("verify:separated", 88),
+            ("verify:sheets_closed", 62),
             ("verify:touch_at_radius", 1),
             ("verify:touch_on_boundary", 3),
         ],
@@ -163,6 +179,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:separated", 5),
             ("verify:seam_ends", 2),
             ("verify:separated", 5),
+            ("verify:sheets_closed", 26),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -176,6 +193,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("verify:faces_touched", 15),
             ("verify:seam_ends", 39),
             ("verify:separated", 6),
+            ("verify:sheets_closed", 19),
         ],
         READERS_DISAGREE,
     ),
@@ -186,8 +204,14 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:separated", 24),
             ("verify:seam_ends", 20),
             ("verify:separated", 24),
+            ("verify:sheets_closed", 79),
         ],
         OPEN_AND_SHALLOW,
+    ),
+    (
+        "pyramid.step",
+        &[("verify:sheets_closed", 6)],
+        NON_GENERIC_APEX,
     ),
     (
         "pyocc_eight_cyl.stp",
@@ -225,6 +249,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:separated", 38),
             ("verify:seam_ends", 15),
             ("verify:separated", 38),
+            ("verify:sheets_closed", 56),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -239,6 +264,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("verify:faces_touched", 6),
             ("verify:seam_ends", 9),
             ("verify:separated", 35),
+            ("verify:sheets_closed", 22),
         ],
         FTC06,
     ),
@@ -249,6 +275,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:separated", 14),
             ("verify:seam_ends", 6),
             ("verify:separated", 14),
+            ("verify:sheets_closed", 6),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -282,6 +309,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("verify:junction_seams", 2),
             ("verify:seam_ends", 22),
             ("verify:separated", 2),
+            ("verify:sheets_closed", 28),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -299,6 +327,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("verify:junction_seams", 10),
             ("verify:seam_ends", 29),
             ("verify:separated", 198),
+            ("verify:sheets_closed", 186),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -313,6 +342,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("verify:junction_seams", 8),
             ("verify:seam_ends", 18),
             ("verify:separated", 196),
+            ("verify:sheets_closed", 147),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -327,6 +357,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("verify:junction_seams", 9),
             ("verify:seam_ends", 94),
             ("verify:separated", 202),
+            ("verify:sheets_closed", 184),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -337,6 +368,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:seam_ends", 10),
             ("verify:faces_touched", 6),
             ("verify:seam_ends", 10),
+            ("verify:sheets_closed", 4),
         ],
         OPEN_AND_DEGENERATE,
     ),

@@ -221,6 +221,8 @@ fn verify_accepts_genuine_reports_and_rejects_wrong_ones() {
             checkers.push(("OCCT", occt(&sample(part), &path)));
         }
         for (who, (code, failed)) in checkers {
+            // Shown with --nocapture: what each checker found wrong.
+            println!("{who} {name}: exit {code}, failed {failed:?}");
             if code != 1 {
                 problems.push(format!("{who} {name}: exit {code}, failed {failed:?}"));
             }

@@ -1,7 +1,7 @@
 //! The balls of a medial axis checked against the definition, one by one (see the parent
 //! module for the checks).
 
-use super::{nan_max, Verification};
+use super::outcome::{nan_max, Verification};
 use crate::geom::Boundary;
 use crate::medial::axis::{MedialAxis, SeamEnd};
 use crate::model::Model;

@@ -19,101 +19,26 @@
 //!
 //! Then the graph ([`topology`]): every seam end is proper (a convex vertex, a junction, a
 //! closed loop or a curvature limit; an open end is a failure), every generic junction has
-//! four seam ends and every junction a seam names exists, where the Euler characteristic of a
-//! solid's medial axis is counted it equals the solid's (where it is withheld, that is
-//! listed), every face of every solid is touched by some ball, and every convex vertex is
-//! the end of a seam. The sheets and the Euler characteristics are computed afresh from the
-//! seams given, not taken from a report.
+//! four seam ends and every junction a seam names exists, every sheet's boundary closes,
+//! where the Euler characteristic of a solid's medial axis is counted it equals the solid's
+//! (where it is withheld, that is listed), every face of every solid is touched by some ball,
+//! and every convex vertex is the end of a seam. The sheets and the Euler characteristics
+//! are computed afresh from the seams given, not taken from a report.
 //!
 //! [`Verification`] counts each check (made, failed), keeps the first failures with where
 //! they are, and the worst errors; `ok` only when nothing failed.
 
 mod balls;
+mod outcome;
 pub mod topology;
 
+pub use outcome::{nan_max, CheckCount, Verification, MAX_FAILURES_KEPT};
 pub use topology::{check_topology, Topology};
 
 use crate::classify::Classification;
 use crate::geom::Boundary;
 use crate::medial::axis::MedialAxis;
 use crate::model::Model;
-use serde::Serialize;
-use std::collections::BTreeMap;
-
-/// Failures kept in a [`Verification`] (the counts cover all of them).
-pub const MAX_FAILURES_KEPT: usize = 100;
-
-/// How often one check was made, and how often it failed.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
-pub struct CheckCount {
-    pub checked: usize,
-    pub failed: usize,
-}
-
-/// The outcome of verifying a medial axis.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct Verification {
-    /// Balls checked: seam points, junctions, degenerate balls.
-    pub balls: usize,
-    /// Worst `|d(B, ∂Ω) − r|` (mm; NaN when any was not a number).
-    pub worst_distance_error: f64,
-    /// Worst `|‖t − B‖ − r|` over touch points.
-    pub worst_touch_error: f64,
-    /// Worst distance of a touch point from the boundary.
-    pub worst_touch_off_boundary: f64,
-    /// Where the worst of the three errors is: `seam S point K`, `junction J`, …
-    pub worst_at: Option<String>,
-    /// The accuracy the errors were held to (mm).
-    pub accuracy: f64,
-    /// Every check by name: how often it was made and how often it failed.
-    pub checks: BTreeMap<&'static str, CheckCount>,
-    /// The first [`MAX_FAILURES_KEPT`] failures, each saying where and what.
-    pub failures: Vec<String>,
-    /// Solids whose medial axis's Euler characteristic is not counted, with why.
-    pub euler_withheld: Vec<String>,
-    /// True when no check failed.
-    pub ok: bool,
-}
-
-impl Verification {
-    /// The largest of the three errors (NaN when any is).
-    pub fn worst(&self) -> f64 {
-        nan_max(
-            nan_max(self.worst_distance_error, self.worst_touch_error),
-            self.worst_touch_off_boundary,
-        )
-    }
-
-    /// Failures by check, the checks that failed only (`{"separated": 3}`).
-    pub fn failed_checks(&self) -> BTreeMap<&'static str, usize> {
-        self.checks
-            .iter()
-            .filter(|(_, c)| c.failed > 0)
-            .map(|(k, c)| (*k, c.failed))
-            .collect()
-    }
-
-    /// Records one check: made, and failed unless `passed` (then `what` says where and why).
-    fn record(&mut self, check: &'static str, passed: bool, what: impl FnOnce() -> String) {
-        let c = self.checks.entry(check).or_default();
-        c.checked += 1;
-        if !passed {
-            c.failed += 1;
-            if self.failures.len() < MAX_FAILURES_KEPT {
-                self.failures.push(format!("{check}: {}", what()));
-            }
-        }
-    }
-}
-
-/// The larger of two numbers, NaN when either is (`f64::max` would drop the NaN).
-pub fn nan_max(a: f64, b: f64) -> f64 {
-    if a.is_nan() || b.is_nan() {
-        f64::NAN
-    } else {
-        a.max(b)
-    }
-}
 
 /// Verifies `axis` against `model` to `accuracy` (mm): every ball, then the graph, as the
 /// module docs say. `class` is the model's classification (for convex vertices, mixed edges

@@ -1,7 +1,7 @@
 //! The medial axis as a graph: its seam–junction graph checked, and the Euler characteristics
 //! of each solid and of its medial axis set side by side.
 
-use super::Verification;
+use super::outcome::Verification;
 use crate::classify::{Classification, VertexKind};
 use crate::geom::Boundary;
 use crate::medial::axis::{MedialAxis, SeamEnd};
@@ -171,6 +171,16 @@ pub(super) fn check_graph(
         v.record("junction_seams", bad.is_none(), || {
             bad.cloned().unwrap_or_default()
         });
+    }
+    // A sheet's boundary that does not close (an arc end no other pairs at its node) is a
+    // piece of the medial axis not found (an untraced skeletal edge, a seam not traced).
+    for u in &topology.unpaired {
+        v.record("sheets_closed", false, || {
+            format!("sheet boundary open at {u}")
+        });
+    }
+    if topology.unpaired.is_empty() {
+        v.record("sheets_closed", true, String::new);
     }
     for e in &topology.euler {
         match e.mat_euler {
