@@ -101,10 +101,15 @@ impl PartOutcome {
 }
 
 /// `matrace verify`: checks the report at `report` against the part `part`, whatever run made
-/// it: every ball and the graph, to the accuracy the report claims ([`crate::medial::verify`]).
-/// An error when the part cannot be read or the report is not one; a failed check is in the
-/// [`Verification`](crate::medial::Verification), not an error.
-pub fn verify_report(part: &Path, report: &Path) -> Result<crate::medial::Verification> {
+/// it: every ball and the graph, to `accuracy` when given, else to the accuracy the report
+/// claims ([`crate::medial::verify`]). An error when the part cannot be read or the report is
+/// not one; a failed check is in the [`Verification`](crate::medial::Verification), not an
+/// error.
+pub fn verify_report(
+    part: &Path,
+    report: &Path,
+    accuracy: Option<f64>,
+) -> Result<crate::medial::Verification> {
     let text = std::fs::read_to_string(report).map_err(|source| Error::Io {
         path: report.into(),
         source,
@@ -130,7 +135,7 @@ pub fn verify_report(part: &Path, report: &Path) -> Result<crate::medial::Verifi
         &boundary,
         &class,
         &reported.axis,
-        reported.accuracy,
+        accuracy.unwrap_or(reported.accuracy),
     ))
 }
 

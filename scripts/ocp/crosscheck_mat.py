@@ -35,6 +35,8 @@ The report must describe a medial axis, not merely hold no wrong point:
   seam_ends          no seam end is open;
   junction_seams     every junction with 4 segments has 4 seam ends, and every junction a seam
                      ends at exists.
+  accuracy           the accuracy the report claims is positive and at most 1e-3 x the
+                     bounding-box diagonal (without --tol).
 
 Lengths are in mm (OCCT's STEP reader converts units as matrace does). The tolerance is the
 accuracy the report claims (`options.accuracy`; 1e-6 x OCCT's bounding-box diagonal when the
@@ -105,6 +107,11 @@ def compound(shapes):
 
 def dist3(a, b):
     return math.sqrt(sum((a[k] - b[k]) ** 2 for k in range(3)))
+
+
+# The largest accuracy a report may claim, relative to the bounding-box diagonal (as matrace's
+# own verify): beyond it a ball could be anywhere in a thin wall and pass.
+MAX_ACCURACY_REL_DIAGONAL = 1e-3
 
 
 def separation(r, tol):
@@ -410,6 +417,11 @@ def main():
         tol = 1e-6 * part.diagonal + 1e-7
 
     checks = Checks(tol)
+    if a.tol is None:
+        # A claimed accuracy that is not a small positive length would let anything pass.
+        good = isinstance(claimed, (int, float)) and 0 < claimed <= MAX_ACCURACY_REL_DIAGONAL * part.diagonal
+        checks.record("accuracy", good, lambda: f"the claimed accuracy {claimed!r} mm is not in (0, "
+                      f"{MAX_ACCURACY_REL_DIAGONAL} x the diagonal {part.diagonal:.4f} mm]")
     touched = set()
     for j in mat.get("junctions", []):
         check_ball(part, checks, touched, f"junction {j['id']}", j["point"], j["radius"], j["touch"],

@@ -4,7 +4,8 @@
 //! one face (its three touch points clustered within 0.01 mm), a fake junction with four
 //! clustered touch points, degenerate balls moved off a torus's core circle (with touch points
 //! that agree with the move, and with clustered ones), a seam removed, a junction moved by
-//! 1 mm, a NaN radius. Each wrong report must fail the check it breaks, in both checkers.
+//! 1 mm, a NaN radius, a junction 0.5 mm off in a report claiming an accuracy of 1 mm. Each
+//! wrong report must fail the check it breaks, in both checkers.
 
 use crate::common::{matrace, root, sample};
 use crate::tools::{occt_python, require, Tool};
@@ -40,15 +41,19 @@ fn write(dir: &Path, name: &str, report: &Value) -> PathBuf {
 
 /// `matrace verify PART REPORT --json`: its exit status and the checks that failed.
 fn verify(part: &Path, report: &Path) -> (i32, Vec<String>) {
-    let out = matrace(
-        &[
-            "verify",
-            part.to_str().unwrap(),
-            report.to_str().unwrap(),
-            "--json",
-        ],
-        &root(),
-    );
+    verify_with(part, report, &[])
+}
+
+/// As [`verify`], with more arguments.
+fn verify_with(part: &Path, report: &Path, more: &[&str]) -> (i32, Vec<String>) {
+    let mut args = vec![
+        "verify",
+        part.to_str().unwrap(),
+        report.to_str().unwrap(),
+        "--json",
+    ];
+    args.extend_from_slice(more);
+    let out = matrace(&args, &root());
     let code = out.status.code().unwrap_or(-1);
     let v: Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
         panic!(
@@ -188,6 +193,14 @@ fn wrong_reports(
     let mut nan = boxr.clone();
     nan["mat"]["seams"][0]["points"][2]["point"][3] = Value::Null;
     out.push(("box.step", "nan_radius", nan, &["finite"][..]));
+
+    // A junction 0.5 mm off, in a report claiming an accuracy of 1 mm: passes every ball
+    // check at that accuracy, so the claim itself must be refused.
+    let mut coarse = boxr.clone();
+    let z = coarse["mat"]["junctions"][0]["point"][2].as_f64().unwrap();
+    coarse["mat"]["junctions"][0]["point"][2] = json!(z + 0.5);
+    coarse["options"]["accuracy"] = json!(1.0);
+    out.push(("box.step", "coarse_accuracy", coarse, &["accuracy"][..]));
     out
 }
 
@@ -234,6 +247,32 @@ fn verify_accepts_genuine_reports_and_rejects_wrong_ones() {
         }
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn verify_holds_a_report_to_a_given_accuracy() {
+    let dir = tempfile::tempdir().unwrap();
+    let boxr = genuine("box.step", dir.path());
+    let path = write(dir.path(), "genuine", &boxr);
+    let part = sample("box.step");
+    assert_eq!(verify_with(&part, &path, &["--accuracy", "1e-5"]).0, 0);
+    // The box's balls are exact to about 1e-13 mm: held to 1e-17 mm some fail.
+    let (code, failed) = verify_with(&part, &path, &["--accuracy", "1e-17"]);
+    assert_eq!(code, 1, "{failed:?}");
+    assert!(!failed.is_empty());
+    for bad in ["0", "-1", "nan"] {
+        let out = matrace(
+            &[
+                "verify",
+                part.to_str().unwrap(),
+                path.to_str().unwrap(),
+                "--accuracy",
+                bad,
+            ],
+            &root(),
+        );
+        assert_eq!(out.status.code(), Some(2), "--accuracy {bad}");
+    }
 }
 
 #[test]

@@ -3,7 +3,8 @@
 //! A point `B` with radius `r` is on the medial axis of a solid Ω when `B` is inside Ω, its
 //! nearest boundary points are at distance `r`, and there are at least two of them in
 //! separate places (three along a seam, four at a junction). [`verify`] checks that for every
-//! ball a result holds, to the result's accuracy `a`:
+//! ball a result holds, to the result's accuracy `a` (itself checked first, `accuracy`: it
+//! must be positive and at most [`MAX_ACCURACY_REL_DIAGONAL`] × the diagonal):
 //! - every number is finite (a NaN is a failure, never a pass);
 //! - `inside`: the centre is inside the ball's solid (point in solid by the pseudo-normal);
 //! - `distance`: `|d(B, ∂Ω) − r| ≤ a`, with the exact trimmed-face distance: nothing of the
@@ -40,6 +41,10 @@ use crate::geom::Boundary;
 use crate::medial::axis::MedialAxis;
 use crate::model::Model;
 
+/// The largest accuracy a medial axis can be held to, relative to the part's bounding-box
+/// diagonal: beyond it a ball could be anywhere in a thin wall and pass.
+pub const MAX_ACCURACY_REL_DIAGONAL: f64 = 1e-3;
+
 /// Verifies `axis` against `model` to `accuracy` (mm): every ball, then the graph, as the
 /// module docs say. `class` is the model's classification (for convex vertices, mixed edges
 /// and the sheets).
@@ -54,6 +59,18 @@ pub fn verify(
         accuracy,
         ..Default::default()
     };
+    // An accuracy that is not a small positive length would let anything pass.
+    let diagonal = model.diagonal();
+    v.record(
+        "accuracy",
+        accuracy > 0.0 && accuracy <= MAX_ACCURACY_REL_DIAGONAL * diagonal,
+        || {
+            format!(
+                "the accuracy {accuracy:e} mm is not in (0, {MAX_ACCURACY_REL_DIAGONAL} × the \
+                 diagonal {diagonal:.4} mm]"
+            )
+        },
+    );
     balls::check_balls(model, boundary, axis, accuracy, &mut v);
     // The graph's checks index the model by the elements the axis names: only when they
     // all exist.
