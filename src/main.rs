@@ -247,12 +247,25 @@ fn inspect(args: InspectArgs) -> anyhow::Result<ExitCode> {
     };
     let class = matrace::classify(&model, &opts);
     let report = matrace::export::report::Report::new(&model, &class);
+    warn_repairs(&args.part, &report.input.warnings);
     if args.json {
         emit(&format!("{}\n", serde_json::to_string_pretty(&report)?));
     } else {
         emit(&matrace::export::report::render_table(&report));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// One line on stderr for what the reader repaired or ignored in `part`, if anything.
+fn warn_repairs(part: &std::path::Path, warnings: &[matrace::model::ReadWarning]) {
+    if !warnings.is_empty() {
+        eprintln!(
+            "matrace: warning: {}: read with {} repair(s) or omission(s): {}",
+            part.display(),
+            warnings.iter().map(|w| w.count).sum::<usize>(),
+            matrace::model::warnings::summary_line(warnings)
+        );
+    }
 }
 
 /// `matrace trace`: one part; exit 1 when a check of `--verify` fails.
@@ -263,6 +276,7 @@ fn trace(args: TraceCommand) -> anyhow::Result<ExitCode> {
         ..matrace::pipeline::RunOptions::new(args.out, args.trace.part_options())
     };
     let outcome = matrace::pipeline::trace_part(&args.part, &opts)?;
+    warn_repairs(&args.part, &outcome.report.input.warnings);
     emit(&summary(&args.part, &outcome));
     if outcome.verification_failed() {
         let v = outcome.report.stats.verification.as_ref().unwrap();

@@ -170,6 +170,8 @@ pub struct InputReport {
     pub file_unit: String,
     /// Millimetres per file unit (the factor applied on reading).
     pub mm_per_unit: f64,
+    /// What the reader repaired or ignored, grouped (empty for a clean file).
+    pub warnings: Vec<crate::model::ReadWarning>,
 }
 
 /// The B-rep and its classification.
@@ -332,6 +334,7 @@ impl Report {
                 length_unit: "mm",
                 file_unit: model.source.file_unit.clone(),
                 mm_per_unit: model.source.mm_per_unit,
+                warnings: model.source.warnings.clone(),
             },
             model: ModelReport {
                 solids: model.solids.len(),
@@ -381,6 +384,14 @@ pub fn render_table(r: &Report) -> String {
         m.bbox[1][2],
         m.diagonal
     );
+    for w in &r.input.warnings {
+        let _ = writeln!(
+            s,
+            "  warning ({}): {}",
+            w.kind,
+            crate::model::warnings::summary_line(std::slice::from_ref(w))
+        );
+    }
     let _ = writeln!(s, "  surfaces: {}", kinds(&m.counts.surfaces));
     let _ = writeln!(s, "  edges:    {}", kinds(&m.counts.edge_kinds));
     let _ = writeln!(s, "  vertices: {}", kinds(&m.counts.vertex_kinds));

@@ -16,11 +16,13 @@
 
 mod element;
 pub mod tolerances;
+pub mod warnings;
 
 pub use element::Element;
 use glam::DVec3;
 pub use tolerances::Tolerances;
 pub use truck_stepio::r#in::alias::{Curve3D, Surface};
+pub use warnings::{ReadWarning, Warnings};
 
 /// What the model was read from.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -33,6 +35,8 @@ pub struct SourceInfo {
     pub file_unit: String,
     /// Millimetres per file unit; every coordinate in the model has been multiplied by it.
     pub mm_per_unit: f64,
+    /// What the reader repaired or ignored (empty for a clean file).
+    pub warnings: Vec<ReadWarning>,
 }
 
 /// A whole part: one or more solids.

@@ -52,25 +52,44 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
     if bytes.iter().all(|b| b.is_ascii_whitespace()) {
         return Err(model_err(path, "file is empty"));
     }
-    let text = std::str::from_utf8(bytes).map_err(|e| {
-        model_err(
-            path,
-            format!(
-                "not a readable IGES file: not text (invalid UTF-8 at byte {})",
-                e.valid_up_to()
-            ),
-        )
-    })?;
+    // IGES's columns and Hollerith counts are in bytes. Names written in UTF-8 or Latin-1
+    // (Inventor's `8HSólido1`) have bytes outside ASCII: each becomes a `?`, which keeps every
+    // column and count; anywhere but inside a string it is then a syntax error as before.
+    let first_non_ascii = bytes.iter().position(|b| !b.is_ascii());
+    let ascii: std::borrow::Cow<[u8]> = match first_non_ascii {
+        None => bytes.into(),
+        Some(_) => bytes
+            .iter()
+            .map(|&b| if b.is_ascii() { b } else { b'?' })
+            .collect::<Vec<u8>>()
+            .into(),
+    };
+    let text = std::str::from_utf8(&ascii).expect("ASCII is UTF-8");
     let file = format::parse(text)
         .map_err(|reason| model_err(path, format!("not a readable IGES file: {reason}")))?;
     let (mm, unit) = file.global.unit().map_err(|r| model_err(path, r))?;
     // truck can panic on geometry no check here foresaw; that is an error, not a crash.
-    crate::panic_guard::catch(|| build(path, &file, mm, unit)).unwrap_or_else(|p| {
-        Err(model_err(
-            path,
-            format!("IGES reader panicked (please report): {p}"),
-        ))
-    })
+    let mut model =
+        crate::panic_guard::catch(|| build(path, &file, mm, unit)).unwrap_or_else(|p| {
+            Err(model_err(
+                path,
+                format!("IGES reader panicked (please report): {p}"),
+            ))
+        })?;
+    if let Some(at) = first_non_ascii {
+        let line = bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1;
+        let n = bytes.iter().filter(|b| !b.is_ascii()).count();
+        let mut w = Warnings::default();
+        w.add_many(
+            "text",
+            format!("line {line}"),
+            n,
+            "bytes outside ASCII (UTF-8 or Latin-1 in a name)",
+            "each read as '?' (names only: the file's structure is ASCII)",
+        );
+        model.source.warnings.extend(w.into_vec());
+    }
+    Ok(model)
 }
 
 /// The model from a parsed file (see the module docs).
@@ -82,6 +101,7 @@ fn build(path: &Path, file: &IgesFile, mm: f64, unit: String) -> Result<Model> {
             format: "iges".into(),
             file_unit: unit,
             mm_per_unit: mm,
+            warnings: vec![],
         },
         solids: vec![],
         shells: vec![],

@@ -7,7 +7,9 @@
 use super::error::{first_line, guarded};
 use super::source::Source;
 use crate::error::{Error, Result};
-use crate::ingest::tolerance::{VERTEX_AT_END_REL_COORD, VERTEX_ON_CURVE_REL_COORD};
+use crate::ingest::tolerance::{
+    vertex_gap_allowed, VERTEX_AT_END_REL_COORD, VERTEX_ON_CURVE_REL_COORD,
+};
 use crate::ingest::transform::{placed, Mat4};
 use crate::model::{Curve3D, Surface};
 use glam::DVec3;
@@ -144,11 +146,22 @@ impl Source<'_> {
         };
         let s0 = proj(pa, t0);
         let s1 = proj(pb, t1);
+        let allowed = vertex_gap_allowed(scale, self.uncertainty_mm);
         match (s0, s1) {
             (Some(s0), Some(s1))
-                if at(s0).distance(pa) <= VERTEX_ON_CURVE_REL_COORD * scale
-                    && at(s1).distance(pb) <= VERTEX_ON_CURVE_REL_COORD * scale =>
+                if at(s0).distance(pa) <= allowed && at(s1).distance(pb) <= allowed =>
             {
+                let gap = at(s0).distance(pa).max(at(s1).distance(pb));
+                if gap > VERTEX_ON_CURVE_REL_COORD * scale {
+                    self.warn_gap(
+                        "gap",
+                        id,
+                        "vertex off its edge curve by more than matrace's tolerance, within the \
+                         file's declared uncertainty",
+                        "accepted: the edge ends at the curve points nearest its vertices",
+                        Some(gap),
+                    );
+                }
                 if closed || (s1 - s0).abs() < 1e-12 {
                     Ok((t0, t1))
                 } else {

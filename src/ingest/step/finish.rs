@@ -22,8 +22,10 @@ pub fn finish(src: &Source, model: &mut Model) -> Result<()> {
     Ok(())
 }
 
-/// Compares what the file defines with what the model holds: every `ADVANCED_FACE`,
-/// `EDGE_CURVE` and `VERTEX_POINT` in the file must belong to a solid.
+/// Compares what the file defines with what the model holds: an `ADVANCED_FACE`,
+/// `EDGE_CURVE` or `VERTEX_POINT` that belongs to no solid read (stray edges some exporters
+/// write, the surface model of a hybrid file, a shape no assembly uses) is ignored with a
+/// warning. Nothing a solid references can be missing: the walk converts all of it or fails.
 fn check_everything_used(src: &Source, model: &Model) -> Result<()> {
     let used_faces: FxHashSet<u64> = model.faces.iter().map(|f| f.source_id).collect();
     let used_edges: FxHashSet<u64> = model.edges.iter().map(|e| e.source_id).collect();
@@ -39,7 +41,11 @@ fn check_everything_used(src: &Source, model: &Model) -> Result<()> {
             _ => false,
         };
         if lost {
-            return Err(src.err(id, "defined in the file but not part of any solid"));
+            let problem = format!(
+                "{} defined in the file but not part of any solid read",
+                rec.name
+            );
+            src.warn("unused", id, &problem, "ignored");
         }
     }
     Ok(())

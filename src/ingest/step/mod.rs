@@ -26,6 +26,7 @@ mod finish;
 pub mod p21;
 mod placement;
 mod records;
+mod repair;
 mod source;
 mod table;
 mod topology;
@@ -49,9 +50,20 @@ pub const MAX_NESTING: usize = 64;
 
 /// Reads STEP text already in memory; `path` is used in messages and the report.
 pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
-    let mut exchange = parse(path, bytes)?;
+    let (mut exchange, latin1_at) = parse(path, bytes)?;
+    let directions = repair::normalise_directions(&mut exchange.data)
+        .map_err(|(id, reason)| error::entity_err(path, id, "DIRECTION", reason))?;
     truck::patch_for_truck(&mut exchange.data);
     let recs = Records::new(&exchange.data);
+    if let Some(id) = recs.repeated() {
+        return Err(error::entity_err(
+            path,
+            id,
+            recs.name(id),
+            "the file defines this id more than once: which definition a reference means is \
+             unknown",
+        ));
+    }
     checks::check_records(path, &recs)?;
     let (mut table, undecodable) = table::fill_table(&exchange.data, &recs);
     truck::cone_angles_in_radians(&mut table, &recs);
@@ -60,20 +72,40 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
         recs: &recs,
         table: &table,
         undecodable: &undecodable,
+        uncertainty_mm: units::length_uncertainty_mm(&recs),
+        warnings: Default::default(),
     };
+    if let Some(at) = latin1_at {
+        src.warnings.lock().unwrap_or_else(|e| e.into_inner()).add(
+            "text",
+            format!("byte {at}"),
+            "not UTF-8: strings with bytes outside ASCII",
+            "strings decoded as Latin-1",
+        );
+    }
+    if let Some((id, length)) = directions.first {
+        src.warn_many(
+            "direction",
+            id,
+            directions.count,
+            &format!("DIRECTION not of length one (e.g. {length:.6})"),
+            "scaled to length one",
+        );
+    }
     let mut model = topology::build_solids(&src)?;
     finish::finish(&src, &mut model)?;
+    model.source.warnings = src.take_warnings();
     Ok(model)
 }
 
 /// The file parsed, after the checks that it is STEP text with a data section.
-fn parse(path: &Path, bytes: &[u8]) -> Result<p21::Parsed> {
+fn parse(path: &Path, bytes: &[u8]) -> Result<(p21::Parsed, Option<usize>)> {
     if bytes.iter().all(|b| b.is_ascii_whitespace()) {
         return Err(model_err(path, "file is empty"));
     }
-    let text = std::str::from_utf8(bytes).map_err(|e| Error::Syntax {
+    let text = decode(bytes).map_err(|reason| Error::Syntax {
         path: path.into(),
-        reason: format!("not text (invalid UTF-8 at byte {})", e.valid_up_to()),
+        reason,
     })?;
     let head = text.trim_start_matches('\u{feff}').trim_start();
     if !head.starts_with("ISO-10303-21") {
@@ -88,7 +120,11 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<p21::Parsed> {
             reason: "no END-ISO-10303-21; (file truncated?)".into(),
         });
     }
-    let exchange = p21::parse(text, MAX_NESTING).map_err(|e| Error::Syntax {
+    let latin1_at = match &text {
+        std::borrow::Cow::Owned(_) => bytes.iter().position(|b| !b.is_ascii()),
+        std::borrow::Cow::Borrowed(_) => None,
+    };
+    let exchange = p21::parse(&text, MAX_NESTING).map_err(|e| Error::Syntax {
         path: path.into(),
         reason: e.to_string(),
     })?;
@@ -98,5 +134,39 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<p21::Parsed> {
             reason: "no DATA section".into(),
         });
     }
-    Ok(exchange)
+    Ok((exchange, latin1_at))
+}
+
+/// The file as text: UTF-8, or, where it is not, a file whose strings hold single bytes
+/// outside ASCII (Windows-1252 or Latin-1 names, common from European CAD users) decoded as
+/// Latin-1. Outside strings and comments the file must be ASCII: an error there names the
+/// byte.
+fn decode(bytes: &[u8]) -> std::result::Result<std::borrow::Cow<'_, str>, String> {
+    let utf8_err = match std::str::from_utf8(bytes) {
+        Ok(text) => return Ok(text.into()),
+        Err(e) => e,
+    };
+    let (mut in_string, mut in_comment) = (false, false);
+    for (k, &b) in bytes.iter().enumerate() {
+        match b {
+            b'\'' if !in_comment => in_string = !in_string,
+            b'/' if !in_string && !in_comment && bytes.get(k + 1) == Some(&b'*') => {
+                in_comment = true
+            }
+            b'/' if in_comment && k > 0 && bytes[k - 1] == b'*' => in_comment = false,
+            _ if !b.is_ascii() && !in_string && !in_comment => {
+                return Err(format!(
+                    "not text (invalid UTF-8 at byte {}, and byte {k} outside ASCII is not in a \
+                     string)",
+                    utf8_err.valid_up_to()
+                ))
+            }
+            _ => {}
+        }
+    }
+    Ok(bytes
+        .iter()
+        .map(|&b| char::from(b))
+        .collect::<String>()
+        .into())
 }

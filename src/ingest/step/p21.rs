@@ -94,6 +94,12 @@ impl CompactPoint {
         &self.coords[..usize::from(self.len)]
     }
 
+    /// Replaces the coordinates (as many as there were).
+    pub fn set_coords(&mut self, coords: &[f64]) {
+        let n = usize::from(self.len).min(coords.len());
+        self.coords[..n].copy_from_slice(&coords[..n]);
+    }
+
     /// The record ruststep reads for it.
     pub fn to_record(&self) -> Record {
         Record {

@@ -15,6 +15,8 @@ pub struct Records<'a> {
     order: Vec<u64>,
     /// Every instance by its position in the file, repeated ids included.
     by_position: Vec<&'a Item>,
+    /// The first id the file defines twice, if any.
+    repeated: Option<u64>,
 }
 
 /// Ids are usually dense integers from 1: then a table indexed by id, which every lookup of
@@ -60,18 +62,29 @@ impl<'a> Records<'a> {
         };
         let mut order = Vec::with_capacity(n);
         let by_position: Vec<&Item> = items().collect();
+        let mut repeated = None;
         for (i, item) in items().enumerate() {
             let id = item.id();
-            // A repeated id: the last definition wins, as in the index.
+            // A repeated id: the last definition wins in the index, and the reader refuses
+            // the file (see [`Self::repeated`]).
             if by_id.insert(id, (i, item)) {
                 order.push(id);
+            } else {
+                repeated.get_or_insert(id);
             }
         }
         Records {
             by_id,
             order,
             by_position,
+            repeated,
         }
+    }
+
+    /// The first id the file defines more than once: which definition a reference means
+    /// cannot be known.
+    pub fn repeated(&self) -> Option<u64> {
+        self.repeated
     }
 
     /// All instance ids, in file order.

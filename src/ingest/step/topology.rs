@@ -34,6 +34,7 @@ pub fn build_solids(src: &Source) -> Result<Model> {
                 format: "step".into(),
                 file_unit: "mm".into(),
                 mm_per_unit: 1.0,
+                warnings: vec![],
             },
             solids: vec![],
             shells: vec![],

@@ -136,3 +136,22 @@ pub fn plane_angle_factor(records: &Records) -> f64 {
     }
     1.0
 }
+
+/// The largest distance uncertainty the file declares (`UNCERTAINTY_MEASURE_WITH_UNIT` of a
+/// length unit), in millimetres; `None` when it declares none that can be read.
+pub fn length_uncertainty_mm(records: &Records) -> Option<f64> {
+    records
+        .ids_in_order()
+        .filter_map(|id| records.simple(id))
+        .filter(|r| r.name == "UNCERTAINTY_MEASURE_WITH_UNIT")
+        .filter_map(|r| {
+            let p = params(r);
+            let value = p.first().and_then(as_real)?;
+            let unit = length_unit(records, p.get(1).and_then(as_ref)?, 0)?.ok()?;
+            let mm = value * unit.mm;
+            (mm.is_finite() && mm > 0.0).then_some(mm)
+        })
+        .fold(None, |acc: Option<f64>, x| {
+            Some(acc.map_or(x, |a| a.max(x)))
+        })
+}
