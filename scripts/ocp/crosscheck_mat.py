@@ -62,7 +62,8 @@ from OCP.GeomAPI import GeomAPI_ProjectPointOnCurve, GeomAPI_ProjectPointOnSurf
 from OCP.gp import gp_Pnt, gp_Pnt2d
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.STEPControl import STEPControl_Reader
-from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_IN, TopAbs_ON, TopAbs_SHELL, TopAbs_VERTEX
+from OCP.TopAbs import (TopAbs_EDGE, TopAbs_FACE, TopAbs_IN, TopAbs_ON, TopAbs_OUT, TopAbs_SHELL,
+                        TopAbs_SOLID, TopAbs_VERTEX)
 from OCP.TopExp import TopExp, TopExp_Explorer
 from OCP.TopoDS import TopoDS, TopoDS_Compound
 from OCP.collections import (
@@ -156,10 +157,44 @@ class Part:
         TopExp.MapShapesAndAncestors_s(self.shape, TopAbs_EDGE, TopAbs_FACE, self.edge_faces)
         self.vertex_faces = ShapeListMap()
         TopExp.MapShapesAndAncestors_s(self.shape, TopAbs_VERTEX, TopAbs_FACE, self.vertex_faces)
+        # Several solids (an assembly's parts often touch): a ball is checked against the
+        # solid its centre is in, not against its neighbours' faces.
+        self.solids = collect(self.shape, TopAbs_SOLID)
+        self.solid_shells = [compound(collect(s, TopAbs_SHELL)) for s in self.solids]
+        self.solid_boxes = []
+        self.solid_faces = []
+        for s in self.solids:
+            b = Bnd_Box()
+            BRepBndLib.Add_s(s, b)
+            self.solid_boxes.append(b)
+            self.solid_faces.append({self.faces.FindIndex(f) for f in collect(s, TopAbs_FACE)})
 
-    def nearest(self, p):
-        """(distance, [(point, support type, support shape), ...]) from p to the boundary."""
-        d = BRepExtrema_DistShapeShape(vertex(p), self.shells)
+    def solids_holding(self, p):
+        """The solids (indices) whose interior holds p, when there are several solids (parts
+        may overlap a little); [None], meaning the whole shape, when there is one solid or p
+        is in none."""
+        if len(self.solids) < 2:
+            return [None]
+        inside = [
+            k for k, s in enumerate(self.solids)
+            if not self.solid_boxes[k].IsOut(gp_Pnt(*p))
+            and BRepClass3d_SolidClassifier(s, gp_Pnt(*p), 1e-7).State() == TopAbs_IN
+        ]
+        return inside or [None]
+
+    def ball_solid(self, centre, r):
+        """The solid a ball is checked against: of the solids holding its centre, the one
+        whose boundary is nearest to being r away (None: the whole shape)."""
+        ks = self.solids_holding(centre)
+        if len(ks) == 1:
+            return ks[0]
+        return min(ks, key=lambda k: abs(self.nearest(centre, k)[0] - r))
+
+    def nearest(self, p, k=None):
+        """(distance, [(point, support type, support shape), ...]) from p to the boundary of
+        solid k (None: of the whole shape)."""
+        shells = self.shells if k is None else self.solid_shells[k]
+        d = BRepExtrema_DistShapeShape(vertex(p), shells)
         d.Perform()
         if not d.IsDone() or d.NbSolution() == 0:
             return math.inf, []
@@ -169,11 +204,13 @@ class Part:
             sols.append(((q.X(), q.Y(), q.Z()), d.SupportTypeShape2(i), d.SupportOnShape2(i)))
         return d.Value(), sols
 
-    def face_contacts(self, p, reach):
-        """The nearest point of every face within `reach` of `p`."""
+    def face_contacts(self, p, reach, k=None):
+        """The nearest point of every face (of solid k, if not None) within `reach` of `p`."""
         out = []
         v = vertex(p)
         for i in range(1, self.faces.Extent() + 1):
+            if k is not None and i not in self.solid_faces[k]:
+                continue
             box = self.face_boxes[i - 1]
             if box.IsOut(gp_Pnt(*p)) and box_distance(box, p) > reach:
                 continue
@@ -204,7 +241,17 @@ class Part:
         return sum(self.state(q) == TopAbs_IN for q in moved) >= 4
 
     def state(self, p):
-        return BRepClass3d_SolidClassifier(self.shape, gp_Pnt(*p), 1e-7).State()
+        if len(self.solids) < 2:
+            return BRepClass3d_SolidClassifier(self.shape, gp_Pnt(*p), 1e-7).State()
+        states = [
+            BRepClass3d_SolidClassifier(s, gp_Pnt(*p), 1e-7).State()
+            for k, s in enumerate(self.solids)
+            if not self.solid_boxes[k].IsOut(gp_Pnt(*p))
+        ]
+        for want in (TopAbs_IN, TopAbs_ON):
+            if want in states:
+                return want
+        return TopAbs_OUT
 
     def faces_of(self, kind, support):
         """The indices (from 1, file order) of the faces a support lies on."""
@@ -289,13 +336,14 @@ def check_ball(part, checks, touched, what, centre, r, touch, need):
     if not ok:
         return
     point_ball = r <= tol
-    d, _ = part.nearest(centre)
+    k = part.ball_solid(centre, r)
+    d, _ = part.nearest(centre, k)
     if not point_ball:
         checks.record("inside", part.inside(centre, min(d, r)),
                       lambda: f"{what}: centre {centre} not inside the solid")
     checks.record("distance", abs(d - r) <= tol, lambda: f"{what}: distance to boundary {d:.9g}, r = {r:.9g}")
     for t in touch:
-        dt, sols = part.nearest(t)
+        dt, sols = part.nearest(t, k)
         checks.record("touch_on_boundary", dt <= tol, lambda: f"{what}: touch point {t} is {dt:.3g} mm off the boundary")
         for _, kind, support in sols:
             touched.update(part.faces_of(kind, support))
@@ -314,7 +362,8 @@ def check_mesh_vertex(part, checks, what, p):
     if not finite(p):
         checks.record("finite", False, lambda: f"{what}: a number is not finite")
         return
-    r, sols = part.nearest(p)
+    k = part.solids_holding(p)[0]
+    r, sols = part.nearest(p, k)
     checks.record("inside", part.inside(p, r), lambda: f"{what}: {p} not inside the solid")
     if not sols:
         checks.record("mesh_contacts", False, lambda: f"{what}: no nearest boundary point")
@@ -324,13 +373,13 @@ def check_mesh_vertex(part, checks, what, p):
     s = separation(r, tol)
     p1 = sols[0][0]
     # The contacts: every face's nearest point within r + tol of the centre.
-    contacts = [q for q, _, _ in sols] + part.face_contacts(p, r + tol)
-    ok = places(contacts, s) >= 2 or growth_contact(part, p, r, p1, s, tol)
+    contacts = [q for q, _, _ in sols] + part.face_contacts(p, r + tol, k)
+    ok = places(contacts, s) >= 2 or growth_contact(part, p, r, p1, s, tol, k)
     checks.record("mesh_contacts", ok,
                   lambda: f"{what}: the ball at {p} (r {r:.6g}) has no second contact: it could grow")
 
 
-def growth_contact(part, p, r, p1, s, tol):
+def growth_contact(part, p, r, p1, s, tol, k=None):
     """The growth test, for a second contact on the face of the first (a face touched twice,
     a ball touching a face along a circle): step the centre away from the first contact; the
     nearest boundary point from there, or its foot from the centre on the same face, edge or
@@ -338,7 +387,7 @@ def growth_contact(part, p, r, p1, s, tol):
     u = [(p[k] - p1[k]) / r for k in range(3)]
     for step in GROWTH_STEPS:
         q = tuple(p[k] + step * r * u[k] for k in range(3))
-        _, qs = part.nearest(q)
+        _, qs = part.nearest(q, k)
         for near, kind, support in qs:
             for c in (near, part.local_contact(p, kind, support, near)):
                 if c is not None and dist3(c, p) <= r + tol and dist3(c, p1) > s:

@@ -178,6 +178,9 @@ pub struct InputReport {
 #[derive(Clone, Debug, Serialize)]
 pub struct ModelReport {
     pub solids: usize,
+    /// Where an assembly places each solid (only for assemblies).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub instances: Vec<SolidInstance>,
     pub shells: usize,
     /// `[[xmin, ymin, zmin], [xmax, ymax, zmax]]`, millimetres.
     pub bbox: [[f64; 3]; 2],
@@ -187,6 +190,18 @@ pub struct ModelReport {
     pub faces: Vec<FaceReport>,
     pub edges: Vec<EdgeReport>,
     pub vertices: Vec<VertexReport>,
+}
+
+/// One solid of an assembly: which brep it is and where the product structure places it.
+#[derive(Clone, Debug, Serialize)]
+pub struct SolidInstance {
+    pub solid: usize,
+    /// The `MANIFOLD_SOLID_BREP` / `BREP_WITH_VOIDS` (`step_id`).
+    pub step_id: u64,
+    pub name: String,
+    /// The products from the root down, `/`-separated, each component with its
+    /// `NEXT_ASSEMBLY_USAGE_OCCURRENCE`'s id.
+    pub path: String,
 }
 
 /// Counts by kind (keys sorted, so reports are stable).
@@ -338,6 +353,19 @@ impl Report {
             },
             model: ModelReport {
                 solids: model.solids.len(),
+                instances: model
+                    .solids
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(k, s)| {
+                        Some(SolidInstance {
+                            solid: k,
+                            step_id: s.source_id,
+                            name: s.name.clone(),
+                            path: s.instance.clone()?,
+                        })
+                    })
+                    .collect(),
                 shells: model.shells.len(),
                 bbox: [lo.to_array(), hi.to_array()],
                 diagonal: (hi - lo).length(),

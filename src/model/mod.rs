@@ -58,6 +58,8 @@ pub struct Model {
 pub struct Solid {
     pub source_id: u64,
     pub name: String,
+    /// Where an assembly places it: the products from the root down, `/`-separated.
+    pub instance: Option<String>,
     pub shells: Vec<usize>,
 }
 

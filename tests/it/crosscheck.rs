@@ -65,11 +65,18 @@ const FTC06: &str = "seams end open at hand-overs; two convex vertices start no 
     are in `stats.skipped_vertices`); faces only degenerate pieces reach are touched by no \
     ball";
 
-const NOT_READ_GAPS: &str = "not read: vertices 8.7e-3 mm off their curves, within the \
-    file's own uncertainty (issue 18)";
+const GAPS_ACCEPTED: &str = "a vertex 8.7e-3 mm off its curve, accepted within the file's \
+    uncertainty (0.01 mm): near it the two readers' boundaries differ by about that much, so \
+    a few touch points and balls are off by more than the accuracy (2e-5 mm); seams end open \
+    at hand-overs (issue 19)";
 
-const NOT_READ_DIRECTIONS: &str = "not read: CATIA V5 writes non-unit directions in inches \
-    and circles without a reference direction (issue 18)";
+const THIN_SPHERICAL_SHELL: &str = "a hemispherical shell 1 mm thick (CATIA V5, directions \
+    normalised on reading): its two seams end open where a touch point leaves a sphere face \
+    (issue 19), and a few sheet-mesh vertices near those ends lie outside the part";
+
+const CURVATURE_LIMITS_AND_CYLINDERS: &str = "CATIA V5 (directions normalised on reading): \
+    faces only degenerate pieces reach are touched by no ball, and two sheets end at \
+    curvature limits whose skeletal edges are not traced (issue 20)";
 
 const READERS_DISAGREE: &str = "OCCT puts 1242 centres (and mesh vertices) outside the solid \
     that matrace reads and traces inside it: the two readers disagree about this part \
@@ -78,10 +85,6 @@ const READERS_DISAGREE: &str = "OCCT puts 1242 centres (and mesh vertices) outsi
 const DM1: &str = "seven I-DEAS solids: OCCT puts 110 centres outside the solids, 12 balls \
     are up to 9e-3 mm bigger than their distance to the boundary, three solids' Euler \
     characteristics differ: matrace and OCCT disagree about these solids (issue 18)";
-
-const ASSEMBLY: &str = "an assembly: six part shapes placed ten times; matrace reads each \
-    shape once in its own coordinates, so OCCT, which places them, finds every ball off \
-    the part (issue 18); matrace's own checks pass on what it read";
 
 /// Parts known not to pass: every failing check with its count, and why.
 type Expected = (&'static str, &'static [(&'static str, usize)], &'static str);
@@ -137,7 +140,23 @@ const EXPECTED_FAILURES: &[Expected] = &[
         ],
         OPEN_AND_SHALLOW,
     ),
-    ("prusa_adapter-printer.stp", &[("read", 1)], NOT_READ_GAPS),
+    (
+        "prusa_adapter-printer.stp",
+        &[
+            ("occt:distance", 30),
+            ("occt:junction_seams", 2),
+            ("occt:mesh_contacts", 4),
+            ("occt:seam_ends", 17),
+            ("occt:separated", 3),
+            ("occt:touch_on_boundary", 21),
+            ("verify:distance", 11),
+            ("verify:junction_seams", 2),
+            ("verify:seam_ends", 17),
+            ("verify:separated", 3),
+            ("verify:sheets_closed", 10),
+        ],
+        GAPS_ACCEPTED,
+    ),
     (
         "prusa_extruder-idler.stp",
         &[
@@ -220,13 +239,22 @@ const EXPECTED_FAILURES: &[Expected] = &[
     ),
     (
         "stepswift_FOOT_FRONT_000.stp",
-        &[("read", 1)],
-        NOT_READ_DIRECTIONS,
+        &[
+            ("occt:faces_touched", 4),
+            ("verify:faces_touched", 4),
+            ("verify:sheets_closed", 2),
+        ],
+        CURVATURE_LIMITS_AND_CYLINDERS,
     ),
     (
         "stepswift_HEAD_FRONT.stp",
-        &[("read", 1)],
-        NOT_READ_DIRECTIONS,
+        &[
+            ("occt:inside", 4),
+            ("occt:mesh_contacts", 5),
+            ("occt:seam_ends", 4),
+            ("verify:seam_ends", 4),
+        ],
+        THIN_SPHERICAL_SHELL,
     ),
     (
         "stepswift_dm1-id-214.stp",
@@ -287,17 +315,6 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("verify:faces_touched", 2),
         ],
         DEGENERATE_ONLY,
-    ),
-    (
-        "trimesh_box_sides.STEP",
-        &[
-            ("occt:distance", 6666),
-            ("occt:faces_touched", 402),
-            ("occt:inside", 6600),
-            ("occt:mesh_contacts", 200),
-            ("occt:touch_on_boundary", 20139),
-        ],
-        ASSEMBLY,
     ),
     (
         "trimesh_featuretype.STEP",

@@ -10,6 +10,7 @@ mod common;
 mod crosscheck;
 mod golden;
 mod iges;
+mod reader;
 mod realworld;
 mod regenerate;
 mod samples;

@@ -34,6 +34,7 @@ pub fn build_solid(ctx: &Ctx, model: &mut Model, de: usize) -> Result<()> {
     let voids = ctx.count(e, 2, "number of void shells").unwrap_or(0);
     let solid = model.solids.len();
     model.solids.push(Solid {
+        instance: None,
         source_id: de as u64,
         name: String::new(),
         shells: vec![],
@@ -54,6 +55,7 @@ pub fn build_solid(ctx: &Ctx, model: &mut Model, de: usize) -> Result<()> {
 pub fn build_shell_solid(ctx: &Ctx, model: &mut Model, de: usize) -> Result<()> {
     let solid = model.solids.len();
     model.solids.push(Solid {
+        instance: None,
         source_id: de as u64,
         name: String::new(),
         shells: vec![],

@@ -388,6 +388,7 @@ fn nest_voids(model: &mut Model) {
         if depth[s].is_multiple_of(2) {
             solid_of[s] = solids.len();
             solids.push(Solid {
+                instance: None,
                 source_id: model.shells[s].source_id,
                 name: String::new(),
                 shells: vec![s],

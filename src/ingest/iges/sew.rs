@@ -257,6 +257,7 @@ fn shells_from_components(model: &mut Model, first_face: usize) {
         let shell = model.shells.len();
         let solid = model.solids.len();
         model.solids.push(Solid {
+            instance: None,
             source_id: model.faces[seed].source_id,
             name: String::new(),
             shells: vec![shell],

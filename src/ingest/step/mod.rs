@@ -19,6 +19,7 @@
 //!
 //! The later stages share the file as a [`source::Source`]; errors are made in [`error`].
 
+mod assembly;
 mod checks;
 mod convert;
 mod error;

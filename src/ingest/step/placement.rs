@@ -131,7 +131,7 @@ pub type Link = (u64, u64, Mat4);
 pub fn representation_links(records: &Records) -> Result<Vec<Link>, (u64, String)> {
     let mut links = Vec::new();
     for id in records.ids_in_order() {
-        let Some(rel) = records.complex_part(id, "REPRESENTATION_RELATIONSHIP") else {
+        let Some(rel) = super::assembly::relationship(records, id) else {
             continue;
         };
         let p = params(rel);

@@ -74,6 +74,8 @@ struct SolidJob {
     brep: u64,
     unit: LengthUnit,
     placement: Mat4,
+    /// Where an assembly places it: the product path.
+    path: Option<String>,
 }
 
 /// The walk's state: the model so far, and what each (entity, placement) became.
@@ -98,6 +100,12 @@ impl Walk<'_> {
             })
             .collect();
         let reps = representations(recs);
+        let is_brep = |id: u64| breps.contains(&id);
+        let placed = super::assembly::placed_solids(recs, &is_brep)
+            .map_err(|(id, reason)| self.src.err(id, reason))?;
+        if let Some(placed) = placed.filter(|p| !p.is_empty()) {
+            return self.assembly_jobs(&breps, &reps, placed);
+        }
         let links = representation_links(recs).map_err(|(id, reason)| self.src.err(id, reason))?;
         let fallback_unit = || -> Result<LengthUnit> {
             let units = all_length_units(recs);
@@ -126,6 +134,7 @@ impl Walk<'_> {
                     brep,
                     unit: fallback_unit()?,
                     placement: IDENTITY,
+                    path: None,
                 });
                 continue;
             }
@@ -140,16 +149,63 @@ impl Walk<'_> {
                     brep,
                     unit: unit.clone(),
                     placement,
+                    path: None,
                 });
             }
         }
+        same_unit(self.src, &jobs)?;
+        Ok(jobs)
+    }
+
+    /// The jobs of an assembly: one per solid the product structure places; solids it does
+    /// not reach are left out with a warning.
+    fn assembly_jobs(
+        &self,
+        breps: &[u64],
+        reps: &[Representation],
+        placed: Vec<super::assembly::Placed>,
+    ) -> Result<Vec<SolidJob>> {
+        let recs = self.src.recs;
+        let mut jobs = Vec::with_capacity(placed.len());
+        for p in &placed {
+            let context = reps.iter().find(|r| r.id == p.rep).and_then(|r| r.context);
+            let unit = match context.and_then(|c| context_length_unit(recs, c)) {
+                Some(Ok(u)) => u,
+                Some(Err(e)) => return Err(self.src.err(context.unwrap_or(p.rep), e)),
+                None => LengthUnit::mm(),
+            };
+            jobs.push(SolidJob {
+                brep: p.brep,
+                unit,
+                placement: p.placement,
+                path: Some(p.path.clone()),
+            });
+        }
+        for &brep in breps {
+            if !placed.iter().any(|p| p.brep == brep) {
+                self.src.warn(
+                    "assembly",
+                    brep,
+                    "solid the assembly's product structure does not use",
+                    "ignored",
+                );
+            }
+        }
+        same_unit(self.src, &jobs)?;
+        Ok(jobs)
+    }
+}
+
+/// Solids in different length units are refused: the model has one unit.
+fn same_unit(src: &Source, jobs: &[SolidJob]) -> Result<()> {
+    {
         if let Some(first) = jobs.first() {
             if let Some(other) = jobs
                 .iter()
                 .find(|j| (j.unit.mm - first.unit.mm).abs() > 1e-12 * first.unit.mm)
             {
                 return Err(model_err(
-                    self.src.path,
+                    src.path,
                     format!(
                         "solids in different length units ({} and {}) are not supported",
                         first.unit.name, other.unit.name
@@ -157,9 +213,11 @@ impl Walk<'_> {
                 ));
             }
         }
-        Ok(jobs)
+        Ok(())
     }
+}
 
+impl Walk<'_> {
     fn build_solid(&mut self, instance: usize, job: &SolidJob) -> Result<()> {
         let recs = self.src.recs;
         let rec = recs
@@ -190,6 +248,7 @@ impl Walk<'_> {
         self.model.solids.push(Solid {
             source_id: job.brep,
             name,
+            instance: job.path.clone(),
             shells: vec![],
         });
         for (k, shell) in std::iter::once(outer).chain(voids).enumerate() {

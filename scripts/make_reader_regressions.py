@@ -1,0 +1,185 @@
+#!/usr/bin/env python3
+"""Writes samples/reader/: one small file per way real exporters write STEP and IGES that the
+reader must take in stride (with a warning) or refuse (with an error naming the entity).
+
+Each is made from a reference sample by editing its text, so what the right answer is stays
+obvious: the same solid as the sample (or, for the assemblies, the sample placed twice).
+tests/it/reader.rs reads each and checks the warning or the error, and the answer.
+
+    python3 scripts/make_reader_regressions.py      # rewrites samples/reader/
+"""
+
+import pathlib
+import re
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+SAMPLES = ROOT / "samples"
+OUT = SAMPLES / "reader"
+
+
+def text(name):
+    return (SAMPLES / name).read_text()
+
+
+def max_id(t):
+    return max(int(m) for m in re.findall(r"^#(\d+)\s*=", t, re.M))
+
+
+def add_before_endsec(t, lines):
+    """Adds instances at the end of the DATA section."""
+    i = t.rindex("ENDSEC;")
+    return t[:i] + "".join(line + "\n" for line in lines) + t[i:]
+
+
+def write(name, data):
+    path = OUT / name
+    if isinstance(data, str):
+        data = data.encode("ascii")
+    path.write_bytes(data)
+    print(f"wrote {path.relative_to(ROOT)} ({len(data)} bytes)")
+
+
+def unused_entities():
+    """Cause 1: an exporter's stray EDGE_CURVE (with its vertices and line) that no face uses,
+    and a loose face beside the solid: ignored with a warning, the box read as it is."""
+    t = text("box.step")
+    n = max_id(t)
+    a = n + 1
+    return add_before_endsec(t, [
+        f"#{a} = CARTESIAN_POINT('',(100.,0.,0.));",
+        f"#{a + 1} = CARTESIAN_POINT('',(100.,10.,0.));",
+        f"#{a + 2} = VERTEX_POINT('',#{a});",
+        f"#{a + 3} = VERTEX_POINT('',#{a + 1});",
+        f"#{a + 4} = DIRECTION('',(0.,1.,0.));",
+        f"#{a + 5} = VECTOR('',#{a + 4},1.);",
+        f"#{a + 6} = LINE('',#{a},#{a + 5});",
+        f"#{a + 7} = EDGE_CURVE('',#{a + 2},#{a + 3},#{a + 6},.T.);",
+    ])
+
+
+def scaled_directions():
+    """Cause 2: CATIA V5 in inches writes every DIRECTION with length 1/25.4, and circle
+    placements without a reference direction. Read right, it is the cylinder."""
+    t = text("cylinder.step")
+
+    def scale(m):
+        ratios = [float(x) / 25.4 for x in m.group(2).split(",")]
+        return f"DIRECTION({m.group(1)},({','.join(repr(r) for r in ratios)}))"
+
+    t = re.sub(r"DIRECTION\(('[^']*'),\(([^)]*)\)\)", scale, t)
+    # Every circle's placement loses its reference direction.
+    circles = set(re.findall(r"CIRCLE\('[^']*',#(\d+),", t))
+    for c in circles:
+        t = re.sub(rf"^(#{c} = AXIS2_PLACEMENT_3D\('[^']*',#\d+,#\d+),#\d+\)",
+                   r"\1,$)", t, flags=re.M)
+    return t
+
+
+def moved_vertex(uncertainty):
+    """Cause 3: a vertex 5e-3 mm off its circle (moved radially), in a file declaring the
+    given length uncertainty."""
+    t = text("cylinder.step")
+    t = t.replace("#23 = CARTESIAN_POINT('',(10.,-2.449293598295E-15,30.));",
+                  "#23 = CARTESIAN_POINT('',(10.005,-2.449293598295E-15,30.));")
+    assert "10.005" in t
+    t = t.replace("UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07)",
+                  f"UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE({uncertainty})")
+    return t
+
+
+def latin1_name():
+    """Cause 4 (STEP): a product name in Windows-1252 / Latin-1 (not UTF-8)."""
+    t = text("box.step")
+    t = t.replace("#7 = PRODUCT('Open CASCADE STEP translator 7.6 1'",
+                  "#7 = PRODUCT('Caf\xe9 Sch\xf6n'")
+    assert "Caf" in t
+    return t.encode("latin-1")
+
+
+def utf8_iges_name():
+    """Cause 4 (IGES): Inventor writes `8HSólido1`: UTF-8 bytes in a Hollerith string, counted
+    in bytes. Two ASCII letters of the global section's file name become one 2-byte `ó`."""
+    t = (SAMPLES / "iges" / "box.brep.igs").read_bytes()
+    old = b"13HFilename.iges"
+    assert old in t
+    return t.replace(old, b"13HFile\xc3\xb3me.iges")
+
+
+def assembly(reversed_order):
+    """Cause 5: the box as a part placed twice in an assembly by NAUO / CDSR / RRWT /
+    ITEM_DEFINED_TRANSFORMATION: once moved by (100, 0, 0), once turned 90° about z and moved
+    by (0, 200, 0). ISO's order puts the component's representation first; SolidWorks writes
+    the assembly's first (`reversed_order`). The right answer is two boxes, where placed."""
+    t = text("box.step")
+    n = max_id(t)
+    a = n + 1
+    # The assembly's product, its shape representation with three placements (origin and
+    # the two targets), and two NAUOs of the box's product definition #5.
+    lines = [
+        f"#{a} = PRODUCT('assembly','assembly','',(#8));",
+        f"#{a + 1} = PRODUCT_DEFINITION_FORMATION('','',#{a});",
+        f"#{a + 2} = PRODUCT_DEFINITION('design','',#{a + 1},#9);",
+        f"#{a + 3} = PRODUCT_DEFINITION_SHAPE('','',#{a + 2});",
+        f"#{a + 4} = CARTESIAN_POINT('',(0.,0.,0.));",
+        f"#{a + 5} = DIRECTION('',(0.,0.,1.));",
+        f"#{a + 6} = DIRECTION('',(1.,0.,0.));",
+        f"#{a + 7} = AXIS2_PLACEMENT_3D('',#{a + 4},#{a + 5},#{a + 6});",
+        f"#{a + 8} = CARTESIAN_POINT('',(100.,0.,0.));",
+        f"#{a + 9} = AXIS2_PLACEMENT_3D('',#{a + 8},#{a + 5},#{a + 6});",
+        f"#{a + 10} = CARTESIAN_POINT('',(0.,200.,0.));",
+        f"#{a + 11} = DIRECTION('',(0.,1.,0.));",
+        f"#{a + 12} = AXIS2_PLACEMENT_3D('',#{a + 10},#{a + 5},#{a + 11});",
+        f"#{a + 13} = SHAPE_REPRESENTATION('assembly',(#{a + 7},#{a + 9},#{a + 12}),#345);",
+        f"#{a + 14} = SHAPE_DEFINITION_REPRESENTATION(#{a + 3},#{a + 13});",
+    ]
+    k = a + 15
+    for target in (a + 9, a + 12):
+        nauo, pds, idt, rr, cdsr = k, k + 1, k + 2, k + 3, k + 4
+        k += 5
+        if reversed_order:
+            rep1, rep2, item1, item2 = a + 13, 10, target, 11
+        else:
+            rep1, rep2, item1, item2 = 10, a + 13, 11, target
+        lines += [
+            f"#{nauo} = NEXT_ASSEMBLY_USAGE_OCCURRENCE('{nauo}','box','',#{a + 2},#5,$);",
+            f"#{pds} = PRODUCT_DEFINITION_SHAPE('','',#{nauo});",
+            f"#{idt} = ITEM_DEFINED_TRANSFORMATION('','',#{item1},#{item2});",
+            f"#{rr} = ( REPRESENTATION_RELATIONSHIP('','',#{rep1},#{rep2}) "
+            f"REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#{idt}) "
+            f"SHAPE_REPRESENTATION_RELATIONSHIP() );",
+            f"#{cdsr} = CONTEXT_DEPENDENT_SHAPE_REPRESENTATION(#{rr},#{pds});",
+        ]
+    return add_before_endsec(t, lines)
+
+
+def repeated_id():
+    """Cause 7: the length unit #346 defined a second time, in metres: which one a reference
+    means is unknown, so the file is refused."""
+    t = text("box.step")
+    return add_before_endsec(t, ["#346 = ( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT($,.METRE.) );"])
+
+
+def zero_direction():
+    """A DIRECTION of length zero gives no direction: refused, naming it."""
+    t = text("box.step")
+    t2 = t.replace("#13 = DIRECTION('',(0.,0.,1.));", "#13 = DIRECTION('',(0.,0.,0.));")
+    assert t2 != t
+    return t2
+
+
+def main():
+    OUT.mkdir(exist_ok=True)
+    write("unused_entities.step", unused_entities())
+    write("scaled_directions.step", scaled_directions())
+    write("gap_within_uncertainty.step", moved_vertex("0.01"))
+    write("gap_beyond_uncertainty.step", moved_vertex("1.E-07"))
+    write("latin1_name.step", latin1_name())
+    write("utf8_name.igs", utf8_iges_name())
+    write("assembly_iso_order.step", assembly(False))
+    write("assembly_reversed_order.step", assembly(True))
+    write("repeated_id.step", repeated_id())
+    write("zero_direction.step", zero_direction())
+
+
+if __name__ == "__main__":
+    main()
