@@ -204,12 +204,12 @@ class Part:
             sols.append(((q.X(), q.Y(), q.Z()), d.SupportTypeShape2(i), d.SupportOnShape2(i)))
         return d.Value(), sols
 
-    def face_contacts(self, p, reach, k=None):
-        """The nearest point of every face (of solid k, if not None) within `reach` of `p`."""
+    def face_contacts(self, p, reach, solid=None):
+        """The nearest point of every face (of that solid, if not None) within `reach` of `p`."""
         out = []
         v = vertex(p)
         for i in range(1, self.faces.Extent() + 1):
-            if k is not None and i not in self.solid_faces[k]:
+            if solid is not None and i not in self.solid_faces[solid]:
                 continue
             box = self.face_boxes[i - 1]
             if box.IsOut(gp_Pnt(*p)) and box_distance(box, p) > reach:

@@ -18,7 +18,7 @@
 //! warning).
 
 use super::placement::axis2_placement;
-use super::records::{as_ref, as_refs, as_string, params, Records};
+use super::records::{as_ref, as_refs, as_string, params, relationship, Records};
 use crate::ingest::transform::{mat_mul, rigid_inverse, Mat4, IDENTITY};
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
@@ -84,19 +84,6 @@ pub fn placed_solids(
         s.visit(root, IDENTITY, name, &nauos, 0, &mut out)?;
     }
     Ok(Some(out))
-}
-
-/// The `REPRESENTATION_RELATIONSHIP` part of an instance: a simple
-/// `SHAPE_REPRESENTATION_RELATIONSHIP` (or `REPRESENTATION_RELATIONSHIP`), or that part of a
-/// complex instance.
-pub fn relationship<'a>(
-    records: &Records<'a>,
-    id: u64,
-) -> Option<&'a truck_stepio::r#in::ruststep::ast::Record> {
-    match records.simple(id) {
-        Some(r) => r.name.ends_with("REPRESENTATION_RELATIONSHIP").then_some(r),
-        None => records.complex_part(id, "REPRESENTATION_RELATIONSHIP"),
-    }
 }
 
 /// The product structure, indexed.

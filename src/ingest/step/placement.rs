@@ -5,7 +5,7 @@
 //! representation in world coordinates.
 
 use super::p21::PointKind;
-use super::records::{as_ref, as_refs, params, Records};
+use super::records::{as_ref, as_refs, params, relationship, Records};
 use crate::ingest::transform::{mat_mul, rigid_inverse, Mat4, IDENTITY};
 use truck_stepio::r#in::ruststep::ast::EntityInstance;
 
@@ -131,7 +131,7 @@ pub type Link = (u64, u64, Mat4);
 pub fn representation_links(records: &Records) -> Result<Vec<Link>, (u64, String)> {
     let mut links = Vec::new();
     for id in records.ids_in_order() {
-        let Some(rel) = super::assembly::relationship(records, id) else {
+        let Some(rel) = relationship(records, id) else {
             continue;
         };
         let p = params(rel);

@@ -237,6 +237,16 @@ pub fn as_string(p: &Parameter) -> String {
     }
 }
 
+/// The `REPRESENTATION_RELATIONSHIP` part of an instance: a simple
+/// `SHAPE_REPRESENTATION_RELATIONSHIP` (or `REPRESENTATION_RELATIONSHIP`), or that part of a
+/// complex instance.
+pub fn relationship<'a>(records: &Records<'a>, id: u64) -> Option<&'a Record> {
+    match records.simple(id) {
+        Some(r) => r.name.ends_with("REPRESENTATION_RELATIONSHIP").then_some(r),
+        None => records.complex_part(id, "REPRESENTATION_RELATIONSHIP"),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
