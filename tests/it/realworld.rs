@@ -275,8 +275,9 @@ const VOLUME_DISAGREES: &[(&str, &str)] = &[
     ),
     (
         "stepswift_dm1-id-214.stp",
-        "103972 mm³ against 109059 (5 %): seven I-DEAS solids, where OCCT also puts 110 of \
-         matrace's centres outside; not yet explained",
+        "103972 mm³ against 109059 (5 %): seven I-DEAS solids; probably solids that overlap, \
+         where point-in-solid over every shell counts the overlap out (OCCT adds the solids' \
+         volumes); not yet checked",
     ),
 ];
 
