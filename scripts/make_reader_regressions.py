@@ -152,6 +152,18 @@ def assembly(reversed_order):
     return add_before_endsec(t, lines)
 
 
+def void_faces_into_the_void():
+    """Cause 6: Inventor writes a void as ORIENTED_CLOSED_SHELL(.F.) over a CLOSED_SHELL whose
+    faces already point into the void, so the .F. turns them into the material. Here the
+    spherical void of box_with_void (FreeCAD writes its face pointing out of the void) has its
+    face's sense turned. Read right, it is box_with_void: the void's centre is outside."""
+    t = text("box_with_void.step")
+    t2 = t.replace("#347 = ADVANCED_FACE('',(#348),#352,.T.);",
+                   "#347 = ADVANCED_FACE('',(#348),#352,.F.);")
+    assert t2 != t
+    return t2
+
+
 def repeated_id():
     """Cause 7: the length unit #346 defined a second time, in metres: which one a reference
     means is unknown, so the file is refused."""
@@ -177,6 +189,7 @@ def main():
     write("utf8_name.igs", utf8_iges_name())
     write("assembly_iso_order.step", assembly(False))
     write("assembly_reversed_order.step", assembly(True))
+    write("void_faces_into_the_void.step", void_faces_into_the_void())
     write("repeated_id.step", repeated_id())
     write("zero_direction.step", zero_direction())
 

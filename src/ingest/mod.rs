@@ -8,6 +8,7 @@
 
 mod domain;
 pub mod iges;
+pub mod orient;
 mod plausible;
 mod step;
 mod tolerance;

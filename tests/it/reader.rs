@@ -129,6 +129,41 @@ fn an_assembly_places_each_use_of_a_part_in_either_order_of_its_relationships() 
 }
 
 #[test]
+fn a_void_whose_faces_the_file_turns_into_the_material_is_turned_back() {
+    // Before, the void's inside was traced as material: junctions at its centre, balls
+    // outside the part at exactly distance r.
+    let m = read_with_warning("void_faces_into_the_void.step", "orientation", "#346", 1);
+    let good = matrace::read_model(&sample("box_with_void.step")).unwrap();
+    assert_eq!(m.faces.len(), good.faces.len());
+    for (a, b) in m.faces.iter().zip(&good.faces) {
+        let n = |f: &matrace::model::Face| {
+            matrace::geom::distance::face_normal(
+                f,
+                (
+                    0.5 * (f.domain.u.0 + f.domain.u.1),
+                    0.5 * (f.domain.v.0 + f.domain.v.1),
+                ),
+            )
+        };
+        let (na, nb) = (n(a).unwrap(), n(b).unwrap());
+        assert!(
+            na.dot(nb) > 0.999,
+            "face #{}: normal {na} against {nb}",
+            a.source_id
+        );
+    }
+    let b = matrace::geom::Boundary::new(&m);
+    assert!(
+        !b.contains_point(&m, glam::DVec3::new(30.0, 20.0, 15.0)),
+        "the void's centre"
+    );
+    assert!(
+        b.contains_point(&m, glam::DVec3::new(5.0, 5.0, 5.0)),
+        "the material"
+    );
+}
+
+#[test]
 fn a_repeated_id_and_a_direction_of_no_length_are_refused() {
     refused("repeated_id.step", "#346", "more than once");
     refused("zero_direction.step", "#13 DIRECTION", "no length");
@@ -145,7 +180,12 @@ fn the_regression_files_are_what_the_script_makes() {
         copy.join("scripts/make_reader_regressions.py"),
     )
     .unwrap();
-    for s in ["box.step", "cylinder.step", "iges/box.brep.igs"] {
+    for s in [
+        "box.step",
+        "cylinder.step",
+        "box_with_void.step",
+        "iges/box.brep.igs",
+    ] {
         std::fs::copy(sample(s), copy.join("samples").join(s)).unwrap();
     }
     let out = std::process::Command::new("python3")
@@ -169,5 +209,5 @@ fn the_regression_files_are_what_the_script_makes() {
         );
         n += 1;
     }
-    assert_eq!(n, 10);
+    assert_eq!(n, 11);
 }

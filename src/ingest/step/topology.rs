@@ -103,28 +103,22 @@ impl Walk<'_> {
         let is_brep = |id: u64| breps.contains(&id);
         let placed = super::assembly::placed_solids(recs, &is_brep)
             .map_err(|(id, reason)| self.src.err(id, reason))?;
-        if let Some(placed) = placed.filter(|p| !p.is_empty()) {
-            return self.assembly_jobs(&breps, &reps, placed);
-        }
-        let links = representation_links(recs).map_err(|(id, reason)| self.src.err(id, reason))?;
-        let fallback_unit = || -> Result<LengthUnit> {
-            let units = all_length_units(recs);
-            let mut ok: Vec<LengthUnit> = vec![];
-            for u in units {
-                let u = u.map_err(|e| model_err(self.src.path, e))?;
-                if !ok.contains(&u) {
-                    ok.push(u);
+        match placed {
+            Some(placed) if !placed.is_empty() => return self.assembly_jobs(&breps, &reps, placed),
+            Some(_) => {
+                if let Some(&first) = breps.first() {
+                    self.src.warn(
+                        "assembly",
+                        first,
+                        "an assembly whose product structure places no solid",
+                        "every solid read where its own representations place it",
+                    );
                 }
             }
-            match ok.len() {
-                0 => Ok(LengthUnit::mm()),
-                1 => Ok(ok.remove(0)),
-                _ => Err(model_err(
-                    self.src.path,
-                    "several length units and no representation context says which applies",
-                )),
-            }
-        };
+            None => {}
+        }
+        let links = representation_links(recs).map_err(|(id, reason)| self.src.err(id, reason))?;
+        let fallback_unit = || self.file_unit();
         let mut jobs = Vec::new();
         for brep in breps {
             let holders: Vec<&Representation> =
@@ -157,6 +151,26 @@ impl Walk<'_> {
         Ok(jobs)
     }
 
+    /// The length unit for a solid whose representation's context names none: the file's one
+    /// length unit (mm when it declares none); several are an error.
+    fn file_unit(&self) -> Result<LengthUnit> {
+        let mut ok: Vec<LengthUnit> = vec![];
+        for u in all_length_units(self.src.recs) {
+            let u = u.map_err(|e| model_err(self.src.path, e))?;
+            if !ok.contains(&u) {
+                ok.push(u);
+            }
+        }
+        match ok.len() {
+            0 => Ok(LengthUnit::mm()),
+            1 => Ok(ok.remove(0)),
+            _ => Err(model_err(
+                self.src.path,
+                "several length units and no representation context says which applies",
+            )),
+        }
+    }
+
     /// The jobs of an assembly: one per solid the product structure places; solids it does
     /// not reach are left out with a warning.
     fn assembly_jobs(
@@ -172,7 +186,7 @@ impl Walk<'_> {
             let unit = match context.and_then(|c| context_length_unit(recs, c)) {
                 Some(Ok(u)) => u,
                 Some(Err(e)) => return Err(self.src.err(context.unwrap_or(p.rep), e)),
-                None => LengthUnit::mm(),
+                None => self.file_unit()?,
             };
             jobs.push(SolidJob {
                 brep: p.brep,
@@ -198,22 +212,21 @@ impl Walk<'_> {
 
 /// Solids in different length units are refused: the model has one unit.
 fn same_unit(src: &Source, jobs: &[SolidJob]) -> Result<()> {
+    let Some(first) = jobs.first() else {
+        return Ok(());
+    };
+    match jobs
+        .iter()
+        .find(|j| (j.unit.mm - first.unit.mm).abs() > 1e-12 * first.unit.mm)
     {
-        if let Some(first) = jobs.first() {
-            if let Some(other) = jobs
-                .iter()
-                .find(|j| (j.unit.mm - first.unit.mm).abs() > 1e-12 * first.unit.mm)
-            {
-                return Err(model_err(
-                    src.path,
-                    format!(
-                        "solids in different length units ({} and {}) are not supported",
-                        first.unit.name, other.unit.name
-                    ),
-                ));
-            }
-        }
-        Ok(())
+        Some(other) => Err(model_err(
+            src.path,
+            format!(
+                "solids in different length units ({} and {}) are not supported",
+                first.unit.name, other.unit.name
+            ),
+        )),
+        None => Ok(()),
     }
 }
 
