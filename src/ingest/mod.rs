@@ -50,20 +50,37 @@ pub fn read_model(path: &Path) -> Result<Model> {
             reason: format!("is a directory, not {what} file"),
         });
     }
-    if meta.len() > MAX_FILE_BYTES {
+    // A FIFO would block, and a device (/dev/zero) reports no size and never ends.
+    if !meta.is_file() {
         return Err(Error::Model {
             path: path.into(),
-            reason: format!(
-                "file is {} MB, more than the {} MB limit",
-                meta.len() / (1 << 20),
-                MAX_FILE_BYTES / (1 << 20)
-            ),
+            reason: format!("is not a regular file (a device, FIFO or socket), not {what} file"),
         });
     }
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+    let too_big = || Error::Model {
         path: path.into(),
-        source,
-    })?;
+        reason: format!(
+            "file is more than the {} MB limit",
+            MAX_FILE_BYTES / (1 << 20)
+        ),
+    };
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(too_big());
+    }
+    // The limit applies while reading too: the file may grow between the two.
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    std::fs::File::open(path)
+        .and_then(|f| {
+            use std::io::Read;
+            f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes)
+        })
+        .map_err(|source| Error::Io {
+            path: path.into(),
+            source,
+        })?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(too_big());
+    }
     read_model_from_bytes(path, &bytes)
 }
 

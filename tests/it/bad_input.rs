@@ -242,6 +242,47 @@ fn a_directory() {
     rejects(&sub, "directory");
 }
 
+/// A FIFO named like a part would block a reader forever, and a device never ends: both are
+/// refused at once, before any byte is read.
+#[test]
+fn not_a_regular_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("x.step");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("run mkfifo");
+    assert!(made.success(), "mkfifo failed");
+    rejects(&fifo, "not a regular file");
+    let out = matrace(&["inspect", "/dev/zero"], dir.path());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("/dev/zero") && err.contains("not a regular file"),
+        "{err}"
+    );
+}
+
+/// A negative radius is refused naming its entity (truck would build a circle of radius 5
+/// run the other way from `CIRCLE(…, -5.)`).
+#[test]
+fn negative_radius() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(sample("cylinder.step")).unwrap();
+    let bad = text.replacen(
+        "CYLINDRICAL_SURFACE('',#32,10.)",
+        "CYLINDRICAL_SURFACE('',#32,-10.)",
+        1,
+    );
+    assert_ne!(bad, text);
+    let file = write(dir.path(), "negative_radius.step", bad.as_bytes());
+    rejects(&file, "#31 CYLINDRICAL_SURFACE: radius -10");
+    let bad = text.replacen("CIRCLE('',#26,10.)", "CIRCLE('',#26,-10.)", 1);
+    assert_ne!(bad, text);
+    let file = write(dir.path(), "negative_circle.step", bad.as_bytes());
+    rejects(&file, "#25 CIRCLE: radius -10");
+}
+
 /// The id and the text (from `NAME(` to the end of the record) of the first instance of
 /// entity `name_paren` (e.g. `"PLANE("`), as written by FreeCAD (`#12 = PLANE(...);`).
 fn first_instance_of<'a>(text: &'a str, name_paren: &str) -> (u64, &'a str) {

@@ -23,7 +23,52 @@ pub fn check_records(path: &Path, recs: &Records) -> Result<()> {
     if let Some((id, entity, reason)) = check_knots(recs) {
         return Err(entity_err(path, id, entity, reason));
     }
+    if let Some((id, entity, reason)) = check_radii(recs) {
+        return Err(entity_err(path, id, entity, reason));
+    }
     Ok(())
+}
+
+/// The radii and semi-axes of the analytic curves and surfaces, by entity: (name, parameter
+/// indices, label included, and whether zero is allowed).
+const RADII: [(&str, &[usize], bool); 6] = [
+    ("CIRCLE", &[2], false),
+    ("ELLIPSE", &[2, 3], false),
+    ("CYLINDRICAL_SURFACE", &[2], false),
+    ("SPHERICAL_SURFACE", &[2], false),
+    ("TOROIDAL_SURFACE", &[2, 3], false),
+    // A cone's radius is at its placement, which may be its apex.
+    ("CONICAL_SURFACE", &[2], true),
+];
+
+/// Finds a negative (or, where it makes no sense, zero) radius or semi-axis, or one that is
+/// not a finite number. truck would build the curve or surface with it: a circle of radius
+/// −5 is a circle of radius 5 run the other way, which is not what the file says. Returns
+/// `(id, entity, reason)` for the first.
+pub fn check_radii(records: &Records) -> Option<(u64, String, String)> {
+    for id in records.ids_in_order() {
+        let Some(rec) = records.simple(id) else {
+            continue;
+        };
+        let Some((name, at, zero_ok)) = RADII.iter().find(|(n, _, _)| rec.name == *n) else {
+            continue;
+        };
+        let p = params(rec);
+        for &k in *at {
+            let Some(r) = p.get(k).and_then(as_real) else {
+                continue;
+            };
+            let bad = !r.is_finite() || r < 0.0 || (r == 0.0 && !zero_ok);
+            if bad {
+                return Some((
+                    id,
+                    (*name).to_string(),
+                    format!("radius {r} (must be a positive number)"),
+                ));
+            }
+        }
+    }
+    None
 }
 
 /// Finds a knot vector that is not non-decreasing, a non-finite knot, or knot multiplicities
