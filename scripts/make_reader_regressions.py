@@ -164,6 +164,16 @@ def void_faces_into_the_void():
     return t2
 
 
+def flipped_face():
+    """Cause 7: one ADVANCED_FACE of the box with its sense flag turned (its loops, and every
+    other face, as before). Read as written, the box gets four "reflex" edges; the loops say
+    which way the face points, so it is turned back."""
+    t = text("box.step")
+    t2 = t.replace("#17 = ADVANCED_FACE('',(#18),#32,.F.);", "#17 = ADVANCED_FACE('',(#18),#32,.T.);")
+    assert t2 != t
+    return t2
+
+
 def repeated_id():
     """Cause 7: the length unit #346 defined a second time, in metres: which one a reference
     means is unknown, so the file is refused."""
@@ -190,6 +200,7 @@ def main():
     write("assembly_iso_order.step", assembly(False))
     write("assembly_reversed_order.step", assembly(True))
     write("void_faces_into_the_void.step", void_faces_into_the_void())
+    write("flipped_face.step", flipped_face())
     write("repeated_id.step", repeated_id())
     write("zero_direction.step", zero_direction())
 

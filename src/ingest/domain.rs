@@ -143,20 +143,28 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
     Ok(unwrap_loop(face, &samples, &raw, &singular))
 }
 
+/// Whether an oriented edge of a face's loop is a seam of that face, and how many samples the
+/// loop's UV polygon has on it (two on a line that is not a seam): sample `k` of `n` is at
+/// `t0 + (t1 − t0)·k/n` in the loop's direction.
+pub fn edge_samples(
+    model: &Model,
+    face_index: usize,
+    oe: &crate::model::OrientedEdge,
+) -> (bool, usize) {
+    let edge = &model.edges[oe.edge];
+    let seam = edge.faces.iter().filter(|&&f| f == face_index).count() >= 2;
+    let straight = matches!(edge.curve, crate::model::Curve3D::Line(_));
+    let n = if straight && !seam {
+        2
+    } else {
+        SAMPLES_PER_CURVED_EDGE
+    };
+    (seam, n)
+}
+
 /// The loop sampled in order; samples on a seam edge carry their direction of travel.
 fn sample_loop(model: &Model, face_index: usize, lp: &Loop) -> Vec<Sample> {
-    // Samples per edge: two on a line that is not a seam.
-    let count = |oe: &crate::model::OrientedEdge| {
-        let edge = &model.edges[oe.edge];
-        let seam = edge.faces.iter().filter(|&&f| f == face_index).count() >= 2;
-        let straight = matches!(edge.curve, crate::model::Curve3D::Line(_));
-        let n = if straight && !seam {
-            2
-        } else {
-            SAMPLES_PER_CURVED_EDGE
-        };
-        (seam, n)
-    };
+    let count = |oe: &crate::model::OrientedEdge| edge_samples(model, face_index, oe);
     let mut samples: Vec<Sample> = Vec::with_capacity(lp.edges.iter().map(|oe| count(oe).1).sum());
     for oe in &lp.edges {
         let edge = &model.edges[oe.edge];

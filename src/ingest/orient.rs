@@ -1,6 +1,16 @@
-//! Shell orientation from geometry: an outer shell's normals point away from what it
-//! encloses, a void's into the void, whatever the file's orientation flags say.
+//! Orientation from geometry: a face's sense agrees with its loops, an outer shell's normals
+//! point away from what it encloses, a void's into the void, whatever the file's flags say.
 //!
+//! **Faces** ([`orient_faces`]): a face's loops run with the face on their left seen from its
+//! normal (the surface's normal, turned where the face's sense is false). At the middle of
+//! each edge of its loops the face's UV polygon says which side is the face: a point just to
+//! the left must be inside the trim and one just to the right outside. A face whose edges
+//! mostly say the opposite has a sense that disagrees with its loops. When every one of its
+//! edges is used the other way by the face across it (the loops agree with the shell), the
+//! sense is what is wrong: it is turned, with a warning. (A face whose loops are what is
+//! wrong keeps its normal.)
+//!
+//! **Shells** ([`orient_shells`]):
 //! A closed surface's outward side is decided without any normal the file gives: at the
 //! point of the shell farthest along a direction `e`, the side away from what the shell
 //! encloses is `+e`. So at that point the outward normal of an outer shell has `n·e > 0`,
@@ -13,6 +23,7 @@
 use crate::geom::distance::face_normal;
 use crate::geom::surface_point;
 use crate::geom::trim::Trim;
+use crate::ingest::domain::edge_samples;
 use crate::model::{Model, Warnings};
 use glam::{DVec2, DVec3};
 
@@ -23,6 +34,118 @@ pub const ORIENT_GRID: usize = 7;
 /// (cosine): at a sharp edge or a sampled point beside the true extreme the normal is
 /// oblique, but still on the right side.
 pub const ORIENT_MIN_COS: f64 = 0.05;
+
+/// How many of a face's edges say its sense agrees with its loops (`right`) and disagrees
+/// (`wrong`); edges whose middle is ambiguous (a seam, a point on another loop) do not vote.
+pub fn face_votes(model: &Model, fi: usize) -> Votes {
+    let face = &model.faces[fi];
+    let d = &face.domain;
+    let size = (d.u.1 - d.u.0).abs().min((d.v.1 - d.v.0).abs());
+    if !(size.is_finite() && size > 0.0) {
+        return Votes::default();
+    }
+    let trim = Trim::new(face);
+    let mut votes = Votes::default();
+    for lp in &face.loops {
+        let counts: Vec<(bool, usize)> = lp
+            .edges
+            .iter()
+            .map(|oe| edge_samples(model, fi, oe))
+            .collect();
+        let total: usize = counts.iter().map(|c| c.1).sum();
+        if lp.edges.is_empty() || lp.uv.len() != total {
+            continue;
+        }
+        let mut start = 0;
+        for &(seam, n) in &counts {
+            let mid = start + n / 2;
+            start += n;
+            if seam {
+                continue;
+            }
+            let at = lp.uv[mid];
+            let tangent = lp.uv[(mid + 1) % total] - lp.uv[(mid + total - 1) % total];
+            let len = tangent.length();
+            if !(len.is_finite() && len > 0.0) {
+                continue;
+            }
+            // Left of the loop in UV, for a face whose normal is +Su×Sv.
+            let mut left = DVec2::new(-tangent.y, tangent.x) / len;
+            if !face.same_sense {
+                left = -left;
+            }
+            let step = (0.05 * len).min(0.01 * size);
+            let inside = trim.contains(face, at + step * left);
+            let outside = trim.contains(face, at - step * left);
+            match (inside, outside) {
+                (true, false) => votes.right += 1,
+                (false, true) => votes.wrong += 1,
+                _ => {}
+            }
+        }
+    }
+    votes
+}
+
+/// True when every edge of face `fi` that it shares with one other face is used the other
+/// way by that face (the loops agree with the shell), counting each face's turn by the file
+/// (`ORIENTED_FACE`, the shell's orientation).
+fn loops_agree_with_neighbours(model: &Model, fi: usize) -> bool {
+    // The direction a face's loops run in the shell: turned when its sign, apart from its
+    // sense, is negative.
+    let turned = |f: usize| {
+        let face = &model.faces[f];
+        let sense = if face.same_sense { 1.0 } else { -1.0 };
+        face.sign * sense < 0.0
+    };
+    let uses = |f: usize, e: usize| -> Vec<bool> {
+        model.faces[f]
+            .loops
+            .iter()
+            .flat_map(|l| &l.edges)
+            .filter(|oe| oe.edge == e)
+            .map(|oe| oe.forward != turned(f))
+            .collect()
+    };
+    for oe in model.faces[fi].loops.iter().flat_map(|l| &l.edges) {
+        let edge = &model.edges[oe.edge];
+        let [a, b] = edge.faces[..] else { continue };
+        if a == b {
+            continue;
+        }
+        let other = if a == fi { b } else { a };
+        let (mine, theirs) = (uses(fi, oe.edge), uses(other, oe.edge));
+        if mine.len() != 1 || theirs.len() != 1 || mine[0] == theirs[0] {
+            return false;
+        }
+    }
+    true
+}
+
+/// Turns the sense of every face whose loops say it is wrong while they agree with the
+/// shell (see the module docs), with a warning naming it. Returns the faces turned.
+pub fn orient_faces(model: &mut Model, warnings: &mut Warnings) -> Vec<usize> {
+    let mut turned = Vec::new();
+    for fi in 0..model.faces.len() {
+        let votes = face_votes(model, fi);
+        if votes.wrong >= 2
+            && votes.wrong >= 3 * votes.right
+            && loops_agree_with_neighbours(model, fi)
+        {
+            warnings.add(
+                "orientation",
+                format!("#{} face", model.faces[fi].source_id),
+                "face whose sense flag disagrees with its loops (and the shell)",
+                "its sense turned",
+            );
+            let f = &mut model.faces[fi];
+            f.sign = -f.sign;
+            f.same_sense = !f.same_sense;
+            turned.push(fi);
+        }
+    }
+    turned
+}
 
 /// What [`orient_shells`] found for one shell: how many directions said outward and inward.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -134,24 +134,7 @@ fn a_void_whose_faces_the_file_turns_into_the_material_is_turned_back() {
     // outside the part at exactly distance r.
     let m = read_with_warning("void_faces_into_the_void.step", "orientation", "#346", 1);
     let good = matrace::read_model(&sample("box_with_void.step")).unwrap();
-    assert_eq!(m.faces.len(), good.faces.len());
-    for (a, b) in m.faces.iter().zip(&good.faces) {
-        let n = |f: &matrace::model::Face| {
-            matrace::geom::distance::face_normal(
-                f,
-                (
-                    0.5 * (f.domain.u.0 + f.domain.u.1),
-                    0.5 * (f.domain.v.0 + f.domain.v.1),
-                ),
-            )
-        };
-        let (na, nb) = (n(a).unwrap(), n(b).unwrap());
-        assert!(
-            na.dot(nb) > 0.999,
-            "face #{}: normal {na} against {nb}",
-            a.source_id
-        );
-    }
+    same_normals("void_faces_into_the_void.step", &m, &good);
     let b = matrace::geom::Boundary::new(&m);
     assert!(
         !b.contains_point(&m, glam::DVec3::new(30.0, 20.0, 15.0)),
@@ -161,6 +144,42 @@ fn a_void_whose_faces_the_file_turns_into_the_material_is_turned_back() {
         b.contains_point(&m, glam::DVec3::new(5.0, 5.0, 5.0)),
         "the material"
     );
+}
+
+#[test]
+fn a_face_whose_sense_flag_disagrees_with_its_loops_is_turned() {
+    // Before, the box came out with four "reflex" edges and seams ending open, and
+    // `trace --verify` passed.
+    let m = read_with_warning("flipped_face.step", "orientation", "#17 face", 1);
+    let good = matrace::read_model(&sample("box.step")).unwrap();
+    same_normals("flipped_face.step", &m, &good);
+    let class = matrace::classify(&m, &Default::default());
+    assert!(
+        class
+            .edges
+            .iter()
+            .all(|e| e.kind == matrace::EdgeKind::Convex),
+        "every edge of a box is convex"
+    );
+}
+
+/// Every face of `m` has the outward normal of the same face of `good`, at its domain's
+/// centre.
+fn same_normals(name: &str, m: &matrace::Model, good: &matrace::Model) {
+    assert_eq!(m.faces.len(), good.faces.len());
+    for (a, b) in m.faces.iter().zip(&good.faces) {
+        let n = |f: &matrace::model::Face| {
+            let d = &f.domain;
+            matrace::geom::distance::face_normal(f, (0.5 * (d.u.0 + d.u.1), 0.5 * (d.v.0 + d.v.1)))
+                .unwrap()
+        };
+        let (na, nb) = (n(a), n(b));
+        assert!(
+            na.dot(nb) > 0.999,
+            "{name}: face #{}: normal {na} against {nb}",
+            a.source_id
+        );
+    }
 }
 
 #[test]
@@ -209,5 +228,5 @@ fn the_regression_files_are_what_the_script_makes() {
         );
         n += 1;
     }
-    assert_eq!(n, 11);
+    assert_eq!(n, 12);
 }

@@ -18,10 +18,11 @@ pub fn finish(src: &Source, model: &mut Model) -> Result<()> {
     check_everything_used(src, model)?;
     renumber_in_file_order(model, src.recs);
     compute_domains(src, model)?;
-    crate::ingest::orient::orient_shells(
-        model,
-        &mut src.warnings.lock().unwrap_or_else(|e| e.into_inner()),
-    );
+    {
+        let mut warnings = src.warnings.lock().unwrap_or_else(|e| e.into_inner());
+        crate::ingest::orient::orient_faces(model, &mut warnings);
+        crate::ingest::orient::orient_shells(model, &mut warnings);
+    }
     model.bbox = crate::geom::model_bounding_box(model);
     Ok(())
 }
