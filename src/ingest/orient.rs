@@ -21,14 +21,18 @@
 //! the geometry decides.)
 
 use crate::geom::distance::face_normal;
-use crate::geom::surface_point;
-use crate::geom::trim::Trim;
+use crate::geom::eval::curve_point;
+use crate::geom::trim::{contains, Trim};
+use crate::geom::{surface_kind, surface_point};
 use crate::ingest::domain::edge_samples;
 use crate::model::{Model, Warnings};
 use glam::{DVec2, DVec3};
 
 /// Grid points per direction of a face's domain where the shell's extremes are looked for.
-pub const ORIENT_GRID: usize = 7;
+pub const ORIENT_GRID: usize = 5;
+
+/// The boundary is looked at in every this-many of the loops' UV samples (4 per curved edge).
+pub const BOUNDARY_STRIDE: usize = 8;
 
 /// A direction votes only where its extreme point's normal leans this much along it
 /// (cosine): at a sharp edge or a sampled point beside the true extreme the normal is
@@ -38,13 +42,17 @@ pub const ORIENT_MIN_COS: f64 = 0.05;
 /// How many of a face's edges say its sense agrees with its loops (`right`) and disagrees
 /// (`wrong`); edges whose middle is ambiguous (a seam, a point on another loop) do not vote.
 pub fn face_votes(model: &Model, fi: usize) -> Votes {
+    edge_votes(model, fi, usize::MAX)
+}
+
+/// [`face_votes`] over at most `limit` edges.
+fn edge_votes(model: &Model, fi: usize, limit: usize) -> Votes {
     let face = &model.faces[fi];
     let d = &face.domain;
     let size = (d.u.1 - d.u.0).abs().min((d.v.1 - d.v.0).abs());
     if !(size.is_finite() && size > 0.0) {
         return Votes::default();
     }
-    let trim = Trim::new(face);
     let mut votes = Votes::default();
     for lp in &face.loops {
         let counts: Vec<(bool, usize)> = lp
@@ -75,16 +83,48 @@ pub fn face_votes(model: &Model, fi: usize) -> Votes {
                 left = -left;
             }
             let step = (0.05 * len).min(0.01 * size);
-            let inside = trim.contains(face, at + step * left);
-            let outside = trim.contains(face, at - step * left);
+            let inside = contains(face, at + step * left);
+            let outside = contains(face, at - step * left);
             match (inside, outside) {
                 (true, false) => votes.right += 1,
                 (false, true) => votes.wrong += 1,
                 _ => {}
             }
+            if votes.right + votes.wrong >= limit {
+                return votes;
+            }
         }
     }
     votes
+}
+
+/// The signed area in UV of all of a face's loops (the outer counter-clockwise and the holes
+/// clockwise give the face's area, positive, when its loops run with it on their left seen
+/// from +Su×Sv); `None` when a loop does not close in UV (it runs round a period) or the area
+/// is too small to tell.
+fn loops_area(face: &crate::model::Face) -> Option<f64> {
+    let mut area = 0.0;
+    let mut scale: f64 = 0.0;
+    for lp in &face.loops {
+        let uv = &lp.uv;
+        if lp.vertex.is_some() || uv.len() < 3 {
+            return None;
+        }
+        let mut longest: f64 = 0.0;
+        for w in uv.windows(2) {
+            longest = longest.max(w[0].distance(w[1]));
+            area += w[0].perp_dot(w[1]);
+        }
+        let (first, last) = (uv[0], uv[uv.len() - 1]);
+        if last.distance(first) > 2.0 * longest {
+            return None;
+        }
+        area += last.perp_dot(first);
+        scale = scale.max(longest);
+    }
+    let d = &face.domain;
+    let size = (d.u.1 - d.u.0).abs() * (d.v.1 - d.v.0).abs();
+    (area.is_finite() && area.abs() > 1e-9 * size && scale > 0.0).then_some(0.5 * area)
 }
 
 /// True when every edge of face `fi` that it shares with one other face is used the other
@@ -127,6 +167,14 @@ fn loops_agree_with_neighbours(model: &Model, fi: usize) -> bool {
 pub fn orient_faces(model: &mut Model, warnings: &mut Warnings) -> Vec<usize> {
     let mut turned = Vec::new();
     for fi in 0..model.faces.len() {
+        // Screened first, cheaply: the signed area of loops that close in UV, else one edge.
+        let sound = match loops_area(&model.faces[fi]) {
+            Some(area) => (area > 0.0) == model.faces[fi].same_sense,
+            None => edge_votes(model, fi, 1).wrong == 0,
+        };
+        if sound {
+            continue;
+        }
         let votes = face_votes(model, fi);
         if votes.wrong >= 2
             && votes.wrong >= 3 * votes.right
@@ -155,9 +203,13 @@ pub struct Votes {
 }
 
 /// The votes of the six directions on shell `s`'s orientation (see the module docs).
+///
+/// The extremes are looked for where they can be: on the faces' boundaries (the loops' UV
+/// samples, at their points on the edges), and inside the faces that can bulge beyond their
+/// edges (any but planes, cylinders, cones and extrusions: along a ruling a coordinate is
+/// linear, so a ruled face's extremes are on its boundary).
 pub fn shell_votes(model: &Model, s: usize) -> Votes {
     let shell = &model.shells[s];
-    // Per direction: the farthest point so far and the normal there.
     let dirs = [
         DVec3::X,
         DVec3::NEG_X,
@@ -166,9 +218,63 @@ pub fn shell_votes(model: &Model, s: usize) -> Votes {
         DVec3::Z,
         DVec3::NEG_Z,
     ];
-    let mut best: [Option<(f64, DVec3)>; 6] = [None; 6];
+    // Per direction: the farthest height so far, and the (face, uv) samples at it.
+    let mut best: [(f64, Vec<(usize, DVec2)>); 6] = Default::default();
+    for b in &mut best {
+        b.0 = f64::NEG_INFINITY;
+    }
+    let offer = |best: &mut [(f64, Vec<(usize, DVec2)>); 6], p: DVec3, fi: usize, uv: DVec2| {
+        for (k, e) in dirs.iter().enumerate() {
+            let h = p.dot(*e);
+            let tol = 1e-9 * (1.0 + p.abs().max_element());
+            if h > best[k].0 + tol {
+                best[k] = (h, vec![(fi, uv)]);
+            } else if h >= best[k].0 - tol {
+                best[k].1.push((fi, uv));
+            }
+        }
+    };
     for &fi in &shell.faces {
         let face = &model.faces[fi];
+        for lp in &face.loops {
+            if let Some(v) = lp.vertex {
+                if let Some(&uv) = lp.uv.first() {
+                    offer(&mut best, model.vertices[v].point, fi, uv);
+                }
+                continue;
+            }
+            let total: usize = lp
+                .edges
+                .iter()
+                .map(|oe| edge_samples(model, fi, oe).1)
+                .sum();
+            if lp.uv.len() != total {
+                continue;
+            }
+            let mut idx = 0;
+            for oe in &lp.edges {
+                let (_, n) = edge_samples(model, fi, oe);
+                let edge = &model.edges[oe.edge];
+                let (t0, t1) = if oe.forward {
+                    edge.range
+                } else {
+                    (edge.range.1, edge.range.0)
+                };
+                // Every BOUNDARY_STRIDE-th sample: the extremes need not be found exactly,
+                // only a point near them whose normal leans the same way.
+                for k in (0..n).step_by(BOUNDARY_STRIDE) {
+                    let t = t0 + (t1 - t0) * k as f64 / n as f64;
+                    offer(&mut best, curve_point(&edge.curve, t), fi, lp.uv[idx + k]);
+                }
+                idx += n;
+            }
+        }
+        if matches!(
+            surface_kind(&face.surface),
+            "plane" | "cylinder" | "cone" | "extrusion"
+        ) {
+            continue;
+        }
         let d = &face.domain;
         if !(d.u.0.is_finite() && d.u.1.is_finite() && d.v.0.is_finite() && d.v.1.is_finite()) {
             continue;
@@ -178,23 +284,12 @@ pub fn shell_votes(model: &Model, s: usize) -> Votes {
         for i in 0..n {
             for j in 0..n {
                 // Cell centres, so no sample lies on the domain's edge.
-                let u = d.u.0 + (d.u.1 - d.u.0) * (i as f64 + 0.5) / n as f64;
-                let v = d.v.0 + (d.v.1 - d.v.0) * (j as f64 + 0.5) / n as f64;
-                if !trim.contains(face, DVec2::new(u, v)) {
-                    continue;
-                }
-                let p = surface_point(&face.surface, u, v);
-                let Some(normal) = face_normal(face, (u, v)) else {
-                    continue;
-                };
-                if !p.is_finite() {
-                    continue;
-                }
-                for (k, e) in dirs.iter().enumerate() {
-                    let h = p.dot(*e);
-                    if best[k].is_none_or(|(b, _)| h > b) {
-                        best[k] = Some((h, normal));
-                    }
+                let uv = DVec2::new(
+                    d.u.0 + (d.u.1 - d.u.0) * (i as f64 + 0.5) / n as f64,
+                    d.v.0 + (d.v.1 - d.v.0) * (j as f64 + 0.5) / n as f64,
+                );
+                if trim.contains(face, uv) {
+                    offer(&mut best, surface_point(&face.surface, uv.x, uv.y), fi, uv);
                 }
             }
         }
@@ -202,8 +297,18 @@ pub fn shell_votes(model: &Model, s: usize) -> Votes {
     let void = shell.is_void;
     let mut votes = Votes::default();
     for (k, e) in dirs.iter().enumerate() {
-        let Some((_, n)) = best[k] else { continue };
-        let c = n.dot(*e);
+        // Of the faces at the extreme point, the one whose normal leans most along the
+        // direction (the others there are tangent to it, or are faces of the edge beside).
+        let mut at = best[k].1.clone();
+        // One sample per face: a face at the extreme is tangent there or leans one way.
+        at.sort_by_key(|s| s.0);
+        at.dedup_by_key(|s| s.0);
+        let lean = at
+            .iter()
+            .filter_map(|&(fi, uv)| face_normal(&model.faces[fi], (uv.x, uv.y)))
+            .map(|n| n.dot(*e))
+            .max_by(|a, b| a.abs().total_cmp(&b.abs()));
+        let Some(c) = lean else { continue };
         if c.abs() < ORIENT_MIN_COS {
             continue;
         }
