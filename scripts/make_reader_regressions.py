@@ -105,6 +105,16 @@ def utf8_iges_name():
     return t.replace(old, b"13HFile\xc3\xb3me.iges")
 
 
+def empty_iges_range():
+    """Cause 8: a 126 B-spline curve whose parameter range is written [0, 0]: the knots' own
+    range is meant. The first edge curve of box_nurbs (OCCT's IGES) gets V1 = 0."""
+    t = (SAMPLES / "iges" / "box_nurbs.brep.igs").read_bytes()
+    old = b"126,1,1,1,0,1,0,0.,0.,20.,20.,1.,1.,0.,0.,0.,0.,0.,20.,0.,20.,   0000013P0000011"
+    new = b"126,1,1,1,0,1,0,0.,0.,20.,20.,1.,1.,0.,0.,0.,0.,0.,20.,0.,0.,    0000013P0000011"
+    assert old in t and len(old) == len(new)
+    return t.replace(old, new)
+
+
 def assembly(reversed_order):
     """Cause 5: the box as a part placed twice in an assembly by NAUO / CDSR / RRWT /
     ITEM_DEFINED_TRANSFORMATION: once moved by (100, 0, 0), once turned 90° about z and moved
@@ -197,6 +207,7 @@ def main():
     write("gap_beyond_uncertainty.step", moved_vertex("1.E-07"))
     write("latin1_name.step", latin1_name())
     write("utf8_name.igs", utf8_iges_name())
+    write("empty_range.igs", empty_iges_range())
     write("assembly_iso_order.step", assembly(False))
     write("assembly_reversed_order.step", assembly(True))
     write("void_faces_into_the_void.step", void_faces_into_the_void())

@@ -183,6 +183,21 @@ fn same_normals(name: &str, m: &matrace::Model, good: &matrace::Model) {
 }
 
 #[test]
+fn an_iges_curve_with_an_empty_range_takes_its_knots_range() {
+    let m = read_with_warning("empty_range.igs", "range", "DE 13 (126)", 1);
+    let good = matrace::read_model(&sample("iges/box_nurbs.brep.igs")).unwrap();
+    assert_eq!(
+        (m.faces.len(), m.edges.len(), m.vertices.len()),
+        (good.faces.len(), good.edges.len(), good.vertices.len())
+    );
+    assert_box(
+        "empty_range.igs",
+        &m,
+        [good.bbox.0.to_array(), good.bbox.1.to_array()],
+    );
+}
+
+#[test]
 fn a_repeated_id_and_a_direction_of_no_length_are_refused() {
     refused("repeated_id.step", "#346", "more than once");
     refused("zero_direction.step", "#13 DIRECTION", "no length");
@@ -204,6 +219,7 @@ fn the_regression_files_are_what_the_script_makes() {
         "cylinder.step",
         "box_with_void.step",
         "iges/box.brep.igs",
+        "iges/box_nurbs.brep.igs",
     ] {
         std::fs::copy(sample(s), copy.join("samples").join(s)).unwrap();
     }
@@ -228,5 +244,5 @@ fn the_regression_files_are_what_the_script_makes() {
         );
         n += 1;
     }
-    assert_eq!(n, 12);
+    assert_eq!(n, 13);
 }

@@ -62,9 +62,22 @@ pub(crate) struct Ctx<'a> {
     pub path: &'a Path,
     /// Millimetres per model-space unit.
     pub mm: f64,
+    /// What the reader repaired or ignored so far.
+    pub warnings: std::sync::Mutex<crate::model::Warnings>,
 }
 
 impl Ctx<'_> {
+    /// Records a repair concerning entity `de`.
+    pub fn warn(&self, kind: &'static str, de: usize, problem: &str, action: &str) {
+        let t = self.file.get(de).map_or(0, |e| e.entity_type);
+        self.warnings.lock().unwrap_or_else(|e| e.into_inner()).add(
+            kind,
+            format!("DE {de} ({t})"),
+            problem,
+            action,
+        );
+    }
+
     /// An error about entity `de`: `DE 17 (entity 144, trimmed surface): reason`.
     pub fn err(&self, de: usize, reason: impl Into<String>) -> Error {
         let t = self.file.get(de).map_or(0, |e| e.entity_type);
@@ -221,6 +234,7 @@ pub fn with_ctx<T>(
         file: &parsed,
         path: Path::new("test.igs"),
         mm,
+        warnings: Default::default(),
     };
     f(&ctx)
 }

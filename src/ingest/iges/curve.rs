@@ -161,6 +161,18 @@ impl Ctx<'_> {
         if weights.iter().any(|w| *w <= 0.0) {
             return Err(self.err(de, "weights must be positive"));
         }
+        let mut v = [v[0], v[1]];
+        if v[0] == v[1] {
+            // An empty range ([0, 0] from some writers): the curve's own, between the
+            // degree-th knot from each end.
+            v = [knots[deg], knots[nk - 1 - deg]];
+            self.warn(
+                "range",
+                de,
+                "126 curve with an empty parameter range (V0 = V1)",
+                "the knots' range used",
+            );
+        }
         if v[0] >= v[1]
             || v[0].is_nan()
             || v[1].is_nan()

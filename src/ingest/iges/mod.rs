@@ -94,7 +94,12 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
 
 /// The model from a parsed file (see the module docs).
 fn build(path: &Path, file: &IgesFile, mm: f64, unit: String) -> Result<Model> {
-    let ctx = Ctx { file, path, mm };
+    let ctx = Ctx {
+        file,
+        path,
+        mm,
+        warnings: Default::default(),
+    };
     let mut model = Model {
         source: SourceInfo {
             path: path.display().to_string(),
@@ -155,5 +160,10 @@ fn build(path: &Path, file: &IgesFile, mm: f64, unit: String) -> Result<Model> {
         return Err(model_err(path, what));
     }
     finish::finish(&ctx, &mut model, from_soup)?;
+    model.source.warnings = ctx
+        .warnings
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+        .into_vec();
     Ok(model)
 }
