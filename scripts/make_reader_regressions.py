@@ -184,6 +184,20 @@ def flipped_face():
     return t2
 
 
+def surface_model(closed):
+    """Cause 8 (STEP): no solid, the box's shell stored in a SHELL_BASED_SURFACE_MODEL (as
+    some exporters write a closed body). Closed, it is read as the box, with a warning; made
+    open (one face left out), it is refused."""
+    t = text("box.step")
+    t = t.replace("#15 = MANIFOLD_SOLID_BREP('',#16);", "#15 = SHELL_BASED_SURFACE_MODEL('',(#16));")
+    t = t.replace("ADVANCED_BREP_SHAPE_REPRESENTATION", "MANIFOLD_SURFACE_SHAPE_REPRESENTATION")
+    if not closed:
+        t = t.replace("#16 = CLOSED_SHELL('',(#17,#137,#237,#284,#331,#338));",
+                      "#16 = OPEN_SHELL('',(#17,#137,#237,#284,#331));")
+    assert "SHELL_BASED_SURFACE_MODEL" in t and (closed or "OPEN_SHELL" in t)
+    return t
+
+
 def repeated_id():
     """Cause 7: the length unit #346 defined a second time, in metres: which one a reference
     means is unknown, so the file is refused."""
@@ -212,6 +226,8 @@ def main():
     write("assembly_reversed_order.step", assembly(True))
     write("void_faces_into_the_void.step", void_faces_into_the_void())
     write("flipped_face.step", flipped_face())
+    write("surface_model_closed.step", surface_model(True))
+    write("surface_model_open.step", surface_model(False))
     write("repeated_id.step", repeated_id())
     write("zero_direction.step", zero_direction())
 

@@ -198,6 +198,15 @@ fn an_iges_curve_with_an_empty_range_takes_its_knots_range() {
 }
 
 #[test]
+fn a_closed_shell_in_a_surface_model_is_read_as_a_solid_and_an_open_one_refused() {
+    let m = read_with_warning("surface_model_closed.step", "surface_model", "#16", 1);
+    let good = matrace::read_model(&sample("box.step")).unwrap();
+    same_normals("surface_model_closed.step", &m, &good);
+    assert_box("surface_model_closed.step", &m, sample_box("box.step"));
+    refused("surface_model_open.step", "EDGE_CURVE", "used by 1 face");
+}
+
+#[test]
 fn a_repeated_id_and_a_direction_of_no_length_are_refused() {
     refused("repeated_id.step", "#346", "more than once");
     refused("zero_direction.step", "#13 DIRECTION", "no length");
@@ -244,5 +253,5 @@ fn the_regression_files_are_what_the_script_makes() {
         );
         n += 1;
     }
-    assert_eq!(n, 13);
+    assert_eq!(n, 15);
 }

@@ -76,6 +76,9 @@ struct SolidJob {
     placement: Mat4,
     /// Where an assembly places it: the product path.
     path: Option<String>,
+    /// For a closed shell read from a `SHELL_BASED_SURFACE_MODEL` (`brep` is the model): the
+    /// shell.
+    shell: Option<u64>,
 }
 
 /// The walk's state: the model so far, and what each (entity, placement) became.
@@ -99,6 +102,9 @@ impl Walk<'_> {
                     .is_some_and(|r| r.name == "MANIFOLD_SOLID_BREP" || r.name == "BREP_WITH_VOIDS")
             })
             .collect();
+        if breps.is_empty() {
+            return self.surface_model_jobs();
+        }
         let reps = representations(recs);
         let is_brep = |id: u64| breps.contains(&id);
         let placed = super::assembly::placed_solids(recs, &is_brep)
@@ -129,6 +135,7 @@ impl Walk<'_> {
                     unit: fallback_unit()?,
                     placement: IDENTITY,
                     path: None,
+                    shell: None,
                 });
                 continue;
             }
@@ -144,6 +151,53 @@ impl Walk<'_> {
                     unit: unit.clone(),
                     placement,
                     path: None,
+                    shell: None,
+                });
+            }
+        }
+        same_unit(self.src, &jobs)?;
+        Ok(jobs)
+    }
+
+    /// With no solid in the file: the closed shells of its `SHELL_BASED_SURFACE_MODEL`s, each
+    /// read as a solid with a warning (in its representation's unit; not placed). A shell
+    /// that is not closed is refused when it is walked.
+    fn surface_model_jobs(&self) -> Result<Vec<SolidJob>> {
+        let recs = self.src.recs;
+        let reps = representations(recs);
+        let mut jobs = Vec::new();
+        for id in recs.ids_in_order() {
+            let Some(rec) = recs
+                .simple(id)
+                .filter(|r| r.name == "SHELL_BASED_SURFACE_MODEL")
+            else {
+                continue;
+            };
+            let shells = self
+                .src
+                .param(id, params(rec), 1, as_refs, "shell list unreadable")?;
+            let context = reps
+                .iter()
+                .find(|r| r.items.contains(&id))
+                .and_then(|r| r.context);
+            let unit = match context.and_then(|c| context_length_unit(recs, c)) {
+                Some(Ok(u)) => u,
+                Some(Err(e)) => return Err(self.src.err(context.unwrap_or(id), e)),
+                None => self.file_unit()?,
+            };
+            for shell in shells {
+                self.src.warn(
+                    "surface_model",
+                    shell,
+                    "no solid in the file: a shell of a SHELL_BASED_SURFACE_MODEL",
+                    "read as a solid (it must be closed)",
+                );
+                jobs.push(SolidJob {
+                    brep: id,
+                    unit: unit.clone(),
+                    placement: IDENTITY,
+                    path: None,
+                    shell: Some(shell),
                 });
             }
         }
@@ -193,6 +247,7 @@ impl Walk<'_> {
                 unit,
                 placement: p.placement,
                 path: Some(p.path.clone()),
+                shell: None,
             });
         }
         for &brep in breps {
@@ -238,9 +293,12 @@ impl Walk<'_> {
             .expect("brep id came from the records");
         let p = params(rec);
         let name = p.first().map(as_string).unwrap_or_default();
-        let outer = self
-            .src
-            .param(job.brep, p, 1, as_ref, "outer shell missing")?;
+        let outer = match job.shell {
+            Some(shell) => shell,
+            None => self
+                .src
+                .param(job.brep, p, 1, as_ref, "outer shell missing")?,
+        };
         let voids = if rec.name == "BREP_WITH_VOIDS" {
             self.src
                 .param(job.brep, p, 2, as_refs, "void shell list unreadable")?
@@ -264,8 +322,9 @@ impl Walk<'_> {
             instance: job.path.clone(),
             shells: vec![],
         });
+        let open_allowed = job.shell.is_some();
         for (k, shell) in std::iter::once(outer).chain(voids).enumerate() {
-            let idx = self.build_shell(shell, solid, k > 0, instance, &m)?;
+            let idx = self.build_shell(shell, solid, k > 0, open_allowed, instance, &m)?;
             self.model.solids[solid].shells.push(idx);
         }
         Ok(())
@@ -276,6 +335,7 @@ impl Walk<'_> {
         id: u64,
         solid: usize,
         is_void: bool,
+        open_allowed: bool,
         instance: usize,
         m: &Mat4,
     ) -> Result<usize> {
@@ -285,6 +345,7 @@ impl Walk<'_> {
             .ok_or_else(|| self.src.err(id, "expected a shell"))?;
         let (shell_id, orientation) = match rec.name.as_str() {
             "CLOSED_SHELL" => (id, true),
+            "OPEN_SHELL" if open_allowed => (id, true),
             "ORIENTED_CLOSED_SHELL" => {
                 let p = params(rec);
                 let inner = self.src.param(id, p, 2, as_ref, "shell element missing")?;
@@ -298,7 +359,7 @@ impl Walk<'_> {
         };
         let srec = recs
             .simple(shell_id)
-            .filter(|r| r.name == "CLOSED_SHELL")
+            .filter(|r| r.name == "CLOSED_SHELL" || (open_allowed && r.name == "OPEN_SHELL"))
             .ok_or_else(|| self.src.err(shell_id, "expected CLOSED_SHELL"))?;
         let faces = self
             .src
