@@ -472,6 +472,35 @@ fn absurd_or_inconsistent_bspline_degree() {
     );
 }
 
+/// A B-spline surface with a 201 × 201 control net is refused before anything projects onto it
+/// (a 1000 × 1000 one kept the reader busy for minutes).
+#[test]
+fn huge_control_net() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = box_text();
+    let n = 201;
+    let row = format!("({})", vec!["#23"; n].join(","));
+    let rows = vec![row; n].join(",");
+    let mults = format!("(2,{},2)", vec!["1"; n - 2].join(","));
+    let knots = format!(
+        "({})",
+        (0..n)
+            .map(|k| format!("{k}."))
+            .collect::<Vec<_>>()
+            .join(",")
+    );
+    let record = format!(
+        "#900000 = B_SPLINE_SURFACE_WITH_KNOTS('',1,1,({rows}),.UNSPECIFIED.,.F.,.F.,.F.,\
+         {mults},{mults},{knots},{knots},.UNSPECIFIED.);\n"
+    );
+    let at = text.rfind("ENDSEC;").unwrap();
+    let bad = format!("{}{record}{}", &text[..at], &text[at..]);
+    rejects(
+        &write(dir.path(), "huge_net.step", bad.as_bytes()),
+        "#900000 B_SPLINE_SURFACE_WITH_KNOTS: control net of 201 × 201 points",
+    );
+}
+
 /// Knot multiplicities chosen so that their sum wraps around `i64` to exactly the total the
 /// degree needs (i64::MAX + i64::MAX + 11 ≡ 9): truck would then expand a knot vector of 2⁶⁴
 /// entries. A negative multiplicity with the right sum is refused too.

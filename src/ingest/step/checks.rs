@@ -118,6 +118,11 @@ pub fn check_knots(records: &Records) -> Option<(u64, String, String)> {
     None
 }
 
+/// Most control points of one B-spline surface: projecting onto a net costs time in
+/// proportion to its size (a 1000 × 1000 net kept the reader busy for 329 s), and CAD
+/// exporters' faces stay far below this (the corpus's largest is a few hundred).
+pub const MAX_SURFACE_CONTROL_POINTS: usize = 40_000;
+
 /// Highest B-spline degree accepted (OpenCASCADE's limit is 25).
 pub const MAX_BSPLINE_DEGREE: i64 = 25;
 
@@ -145,6 +150,18 @@ pub fn check_bspline_degrees(records: &Records) -> Option<(u64, String, String)>
         let Some((name, dirs)) = bspline_directions(inst) else {
             continue;
         };
+        if let [(_, Some(nu), _), (_, Some(nv), _)] = dirs[..] {
+            if nu.saturating_mul(nv) > MAX_SURFACE_CONTROL_POINTS {
+                return Some((
+                    id,
+                    name.into(),
+                    format!(
+                        "control net of {nu} × {nv} points, more than the {MAX_SURFACE_CONTROL_POINTS} \
+                         supported (finding points on it would take minutes)"
+                    ),
+                ));
+            }
+        }
         for dir in dirs {
             if let Some(reason) = direction_error(dir) {
                 return Some((id, name.into(), reason));
