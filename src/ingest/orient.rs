@@ -4,8 +4,9 @@
 //! **Faces** ([`orient_faces`]): a face's loops run with the face on their left seen from its
 //! normal (the surface's normal, turned where the face's sense is false). At the middle of
 //! each edge of its loops the face's UV polygon says which side is the face: a point just to
-//! the left must be inside the trim and one just to the right outside. A face whose edges
-//! mostly say the opposite has a sense that disagrees with its loops. When every one of its
+//! the left must be inside the trim and one just to the right outside. (Faces are screened
+//! first by the signed area of their loops in UV, where every loop closes there.) A face whose
+//! edges mostly say the opposite has a sense that disagrees with its loops. When every one of its
 //! edges is used the other way by the face across it (the loops agree with the shell), the
 //! sense is what is wrong: it is turned, with a warning. (A face whose loops are what is
 //! wrong keeps its normal.)
@@ -15,8 +16,9 @@
 //! point of the shell farthest along a direction `e`, the side away from what the shell
 //! encloses is `+e`. So at that point the outward normal of an outer shell has `n·e > 0`,
 //! and a void's (pointing out of the material, into the void) `n·e < 0`. Each shell is
-//! tested along ±x, ±y and ±z, at the farthest of a grid of points inside its faces' trims;
-//! a shell that most directions say is inside out has every face's sign turned, with a
+//! tested along ±x, ±y and ±z, at the farthest of the points sampled on its edges and on a
+//! grid inside the faces that can bulge beyond their edges; a shell that most directions say
+//! is inside out has every face's sign turned, with a
 //! warning. (Files disagree on how `ORIENTED_CLOSED_SHELL(.F.)` in `BREP_WITH_VOIDS` is meant:
 //! the geometry decides.)
 
