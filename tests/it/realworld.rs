@@ -58,6 +58,21 @@ const CORPUS: &[(&str, &str, [f64; 3])] = &[
     ),
 ];
 
+/// The model's box extents against OCCT's exact ones: never larger (beyond OCCT's 6 printed
+/// decimals), short by at most 1e-4 of the diagonal.
+fn check_extent(file: &str, model: &matrace::Model, extent: &[f64; 3], bad: &mut Vec<String>) {
+    let diag = model.diagonal();
+    let (lo, hi) = model.bbox;
+    for (k, want) in extent.iter().enumerate() {
+        let e = hi[k] - lo[k];
+        if e > want + 1e-6 || e < want - 1e-4 * diag {
+            bad.push(format!(
+                "{file}: extent[{k}] = {e:.6} mm; OCCT's exact box {want}"
+            ));
+        }
+    }
+}
+
 #[test]
 fn every_realworld_solid_reads_with_all_its_entities_and_units() {
     let Some(dir) = realworld_dir() else {
@@ -104,15 +119,7 @@ fn every_realworld_solid_reads_with_all_its_entities_and_units() {
         // larger (beyond OCCT's 6 printed decimals), and short by at most the sampling's sag
         // (a circle sampled 128 times: 3e-4 of its radius; a torus's 32-step grid on FTC 11:
         // 9e-4 mm of 3 mm), within 1e-4 of the diagonal on every part here.
-        let diag = model.diagonal();
-        for (k, want) in extent.iter().enumerate() {
-            let e = r.model.bbox[1][k] - r.model.bbox[0][k];
-            if e > want + 1e-6 || e < want - 1e-4 * diag {
-                bad.push(format!(
-                    "{file}: extent[{k}] = {e:.6} mm; OCCT's exact box {want}"
-                ));
-            }
-        }
+        check_extent(file, &model, extent, &mut bad);
         // Every edge of a closed solid has two faces and a kind; no NaN angle.
         for (i, e) in class.edges.iter().enumerate() {
             if !(e.angle_range_deg.0.is_finite() && e.angle_range_deg.1.is_finite()) {
@@ -328,16 +335,7 @@ fn every_part_of_more_reads_as_opencascade_reads_it() {
                 model.faces.len()
             ));
         }
-        let diag = model.diagonal();
-        let (lo, hi) = model.bbox;
-        for (k, want) in extent.iter().enumerate() {
-            let e = hi[k] - lo[k];
-            if e > want + 1e-6 || e < want - 1e-4 * diag {
-                bad.push(format!(
-                    "{file}: extent[{k}] = {e:.6} mm; OCCT's exact box {want}"
-                ));
-            }
-        }
+        check_extent(file, &model, extent, &mut bad);
         let v = volume_estimate(&model, 40);
         let ok = (v - volume).abs() <= 0.015 * volume;
         match (ok, VOLUME_DISAGREES.iter().find(|(f, _)| f == file)) {

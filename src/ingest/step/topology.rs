@@ -124,7 +124,6 @@ impl Walk<'_> {
             None => {}
         }
         let links = representation_links(recs).map_err(|(id, reason)| self.src.err(id, reason))?;
-        let fallback_unit = || self.file_unit();
         let mut jobs = Vec::new();
         for brep in breps {
             let holders: Vec<&Representation> =
@@ -132,7 +131,7 @@ impl Walk<'_> {
             if holders.is_empty() {
                 jobs.push(SolidJob {
                     brep,
-                    unit: fallback_unit()?,
+                    unit: self.file_unit()?,
                     placement: IDENTITY,
                     path: None,
                     shell: None,
@@ -140,11 +139,7 @@ impl Walk<'_> {
                 continue;
             }
             let rep = holders[0];
-            let unit = match rep.context.and_then(|c| context_length_unit(recs, c)) {
-                Some(Ok(u)) => u,
-                Some(Err(e)) => return Err(self.src.err(rep.context.unwrap_or(rep.id), e)),
-                None => fallback_unit()?,
-            };
+            let unit = self.unit_of(rep.context, rep.id)?;
             for placement in placements(rep.id, &links) {
                 jobs.push(SolidJob {
                     brep,
@@ -180,11 +175,7 @@ impl Walk<'_> {
                 .iter()
                 .find(|r| r.items.contains(&id))
                 .and_then(|r| r.context);
-            let unit = match context.and_then(|c| context_length_unit(recs, c)) {
-                Some(Ok(u)) => u,
-                Some(Err(e)) => return Err(self.src.err(context.unwrap_or(id), e)),
-                None => self.file_unit()?,
-            };
+            let unit = self.unit_of(context, id)?;
             for shell in shells {
                 self.src.warn(
                     "surface_model",
@@ -203,6 +194,17 @@ impl Walk<'_> {
         }
         same_unit(self.src, &jobs)?;
         Ok(jobs)
+    }
+
+    /// The length unit of a representation `rep` (or a surface model) whose context is
+    /// `context`: the context's, else the file's ([`Self::file_unit`]); an unreadable unit
+    /// is an error naming the context.
+    fn unit_of(&self, context: Option<u64>, rep: u64) -> Result<LengthUnit> {
+        match context.and_then(|c| context_length_unit(self.src.recs, c)) {
+            Some(Ok(u)) => Ok(u),
+            Some(Err(e)) => Err(self.src.err(context.unwrap_or(rep), e)),
+            None => self.file_unit(),
+        }
     }
 
     /// The length unit for a solid whose representation's context names none: the file's one
@@ -233,15 +235,10 @@ impl Walk<'_> {
         reps: &[Representation],
         placed: Vec<super::assembly::Placed>,
     ) -> Result<Vec<SolidJob>> {
-        let recs = self.src.recs;
         let mut jobs = Vec::with_capacity(placed.len());
         for p in &placed {
             let context = reps.iter().find(|r| r.id == p.rep).and_then(|r| r.context);
-            let unit = match context.and_then(|c| context_length_unit(recs, c)) {
-                Some(Ok(u)) => u,
-                Some(Err(e)) => return Err(self.src.err(context.unwrap_or(p.rep), e)),
-                None => self.file_unit()?,
-            };
+            let unit = self.unit_of(context, p.rep)?;
             jobs.push(SolidJob {
                 brep: p.brep,
                 unit,
