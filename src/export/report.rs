@@ -185,6 +185,9 @@ pub struct ModelReport {
     /// `[[xmin, ymin, zmin], [xmax, ymax, zmax]]`, millimetres.
     pub bbox: [[f64; 3]; 2],
     pub diagonal: f64,
+    /// Each solid's volume in mm³ by the divergence theorem on its faces
+    /// ([`crate::geom::volume`]); `null` where a face's region cannot be integrated.
+    pub volumes: Vec<Option<f64>>,
     /// Counts by kind: `surfaces`, `edge_kinds`, `vertex_kinds`.
     pub counts: Counts,
     pub faces: Vec<FaceReport>,
@@ -369,6 +372,7 @@ impl Report {
                 shells: model.shells.len(),
                 bbox: [lo.to_array(), hi.to_array()],
                 diagonal: (hi - lo).length(),
+                volumes: crate::geom::solid_volumes(model),
                 counts,
                 faces,
                 edges,
@@ -412,6 +416,12 @@ pub fn render_table(r: &Report) -> String {
         m.bbox[1][2],
         m.diagonal
     );
+    let volumes: Vec<String> = m
+        .volumes
+        .iter()
+        .map(|v| v.map_or("unknown".to_string(), |v| format!("{v:.4}")))
+        .collect();
+    let _ = writeln!(s, "  volume {} mm³ (by solid)", volumes.join(", "));
     for w in &r.input.warnings {
         let _ = writeln!(
             s,

@@ -16,6 +16,7 @@ pub mod eval;
 pub mod project;
 mod surface;
 pub mod trim;
+pub mod volume;
 
 pub use bbox::{model_bounding_box, Aabb};
 pub use bvh::Bvh;
@@ -24,3 +25,4 @@ pub use distance::{nearest_on_edge, nearest_on_face, Boundary, FaceHit};
 pub use eval::{eval_curve, eval_surface, surface_point, CurveDerivs, SurfaceDerivs};
 pub use project::project_point;
 pub use surface::{closed_periods, parameter_range, surface_kind, surface_periods};
+pub use volume::solid_volumes;

@@ -36,17 +36,14 @@ const CLOSED_TOL_REL_SIZE: f64 = 1e-9;
 
 /// Periods of a surface's parametrisation in u and v.
 ///
-/// truck's periods for the analytic surfaces, plus what truck does not report: a B-spline or
-/// NURBS surface that closes on itself (`S(u₀, v) = S(u₁, v)` for all v, e.g. the NURBS
-/// version of a cylinder) is treated as periodic with period `u₁ − u₀` for unwrapping its
+/// truck's periods for the analytic surfaces, plus what truck does not report: a B-spline,
+/// NURBS or swept surface that closes on itself (`S(u₀, v) = S(u₁, v)` for all v, e.g. the NURBS
+/// version of a cylinder, or an extrusion of a closed B-spline profile) is treated as periodic with period `u₁ − u₀` for unwrapping its
 /// loops, although evaluation outside `[u₀, u₁]` is extrapolation (loops are kept inside).
 pub fn surface_periods(surface: &Surface) -> (Option<f64>, Option<f64>) {
     use truck_geometry::prelude::ParametricSurface;
     let truck = (surface.u_period(), surface.v_period());
-    if !matches!(
-        surface,
-        Surface::BSplineSurface(_) | Surface::NurbsSurface(_)
-    ) {
+    if matches!(surface, Surface::ElementarySurface(_)) {
         return truck;
     }
     let (ur, vr) = parameter_range(surface);
@@ -57,9 +54,13 @@ pub fn surface_periods(surface: &Surface) -> (Option<f64>, Option<f64>) {
         ) if a.is_finite() && b.is_finite() && b > a => Some((a, b)),
         _ => None,
     };
-    let (Some((u0, u1)), Some((v0, v1))) = (ends(ur), ends(vr)) else {
+    // A swept surface is unbounded along its sweep (an extrusion's v): its profile's closure
+    // is tested across [0, 1] there.
+    let (bu, bv) = (ends(ur), ends(vr));
+    if bu.is_none() && bv.is_none() {
         return truck;
-    };
+    }
+    let ((u0, u1), (v0, v1)) = (bu.unwrap_or((0.0, 1.0)), bv.unwrap_or((0.0, 1.0)));
     // Closed when the two border curves coincide at CLOSED_SAMPLES points, to
     // CLOSED_TOL_REL_SIZE of the patch's size.
     let at = |u: f64, v: f64| surface_point(surface, u, v);
@@ -85,8 +86,8 @@ pub fn surface_periods(surface: &Surface) -> (Option<f64>, Option<f64>) {
         (at(u, v0), at(u, v1))
     });
     (
-        truck.0.or(u_closed.then_some(u1 - u0)),
-        truck.1.or(v_closed.then_some(v1 - v0)),
+        truck.0.or((bu.is_some() && u_closed).then_some(u1 - u0)),
+        truck.1.or((bv.is_some() && v_closed).then_some(v1 - v0)),
     )
 }
 
@@ -124,17 +125,19 @@ pub fn parameter_range(
     }
 }
 
-/// Directions in which a B-spline/NURBS surface is closed although truck does not call it periodic
-/// (a cylinder or sphere converted to NURBS): `S(u₀, v) = S(u₁, v)` at a few `v` (and likewise in
-/// `v`), to 1e-9 (`CLOSED_TOL_REL_SIZE`) of the surface's size ([`surface_periods`]). Projections
-/// clamp at such a seam; the face continues across it.
+/// Directions in which a B-spline/NURBS or swept surface is closed although truck does not call
+/// it periodic (a cylinder or sphere converted to NURBS, an extrusion of a closed B-spline
+/// profile): `S(u₀, v) = S(u₁, v)` at a few `v` (and likewise in `v`), to 1e-9
+/// (`CLOSED_TOL_REL_SIZE`) of the surface's size ([`surface_periods`]). Projections clamp at such
+/// a seam; the face continues across it.
 pub fn closed_periods(surface: &Surface) -> (bool, bool) {
-    if !matches!(
-        surface,
-        Surface::BSplineSurface(_) | Surface::NurbsSurface(_)
-    ) {
+    use truck_geometry::prelude::ParametricSurface;
+    if matches!(surface, Surface::ElementarySurface(_)) {
         return (false, false);
     }
     let (u, v) = surface_periods(surface);
-    (u.is_some(), v.is_some())
+    (
+        surface.u_period().is_none() && u.is_some(),
+        surface.v_period().is_none() && v.is_some(),
+    )
 }

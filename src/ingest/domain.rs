@@ -12,6 +12,7 @@
 //! seam is at `u₀` or `u₀ + P`. That also resolves poles, where `u` is undefined and a loop
 //! jumps across the period.
 
+use crate::geom::trim::edge_samples;
 use crate::geom::{eval_curve, eval_surface, SurfaceDerivs};
 use crate::model::{Face, Loop, Model, UvDomain};
 use glam::{DVec2, DVec3};
@@ -23,11 +24,6 @@ pub const EMPTY_DOMAIN: UvDomain = UvDomain {
     u_period: None,
     v_period: None,
 };
-
-/// Samples per curved edge when building a loop's UV polygon. Loops are used for
-/// inside/outside tests and domains, not for exact geometry; 32 keeps the chordal deviation of
-/// a full circle below 0.5 % of its radius.
-pub const SAMPLES_PER_CURVED_EDGE: usize = 32;
 
 /// Projects points of a loop onto one face's surface: what the closed forms need of the
 /// surface is computed once per loop.
@@ -141,25 +137,6 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
     }
     let raw: Vec<(f64, f64)> = raw.into_iter().flatten().collect();
     Ok(unwrap_loop(face, &samples, &raw, &singular))
-}
-
-/// Whether an oriented edge of a face's loop is a seam of that face, and how many samples the
-/// loop's UV polygon has on it (two on a line that is not a seam): sample `k` of `n` is at
-/// `t0 + (t1 − t0)·k/n` in the loop's direction.
-pub fn edge_samples(
-    model: &Model,
-    face_index: usize,
-    oe: &crate::model::OrientedEdge,
-) -> (bool, usize) {
-    let edge = &model.edges[oe.edge];
-    let seam = edge.faces.iter().filter(|&&f| f == face_index).count() >= 2;
-    let straight = matches!(edge.curve, crate::model::Curve3D::Line(_));
-    let n = if straight && !seam {
-        2
-    } else {
-        SAMPLES_PER_CURVED_EDGE
-    };
-    (seam, n)
 }
 
 /// The loop sampled in order; samples on a seam edge carry their direction of travel.
@@ -342,17 +319,16 @@ fn seam_placement(
 }
 
 /// Moves a face's loops, all by the same whole number of periods, into the surface's
-/// parameter range. Only needed for B-spline/NURBS surfaces that close on themselves (see
+/// parameter range. Only needed for B-spline/NURBS and swept surfaces that close on themselves (see
 /// [`crate::geom::surface_periods`]): there the parametrisation is not really periodic, so a
 /// loop unwrapped into the neighbouring period copy would be evaluated by extrapolation.
 pub fn align_loops(face: &mut Face) {
-    if !matches!(
-        face.surface,
-        crate::model::Surface::BSplineSurface(_) | crate::model::Surface::NurbsSurface(_)
-    ) {
+    let (cu, cv) = crate::geom::closed_periods(&face.surface);
+    if !(cu || cv) {
         return;
     }
     let (up, vp) = crate::geom::surface_periods(&face.surface);
+    let (up, vp) = (up.filter(|_| cu), vp.filter(|_| cv));
     let ((u0, _), (v0, _)) = face_parameter_range(face);
     let edge_points = || {
         face.loops

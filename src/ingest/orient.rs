@@ -24,9 +24,9 @@
 
 use crate::geom::distance::face_normal;
 use crate::geom::eval::curve_point;
+use crate::geom::trim::edge_samples;
 use crate::geom::trim::{contains, Trim};
 use crate::geom::{surface_kind, surface_point};
-use crate::ingest::domain::edge_samples;
 use crate::model::{Model, Warnings};
 use glam::{DVec2, DVec3};
 

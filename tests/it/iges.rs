@@ -86,6 +86,14 @@ fn iges_samples_classify_like_step() {
             if off > 1e-6 * d {
                 bad.push(format!("{name}.{route}: bounding box off by {off:e} mm"));
             }
+            // The same solid: the same volume (a loop placed on the wrong copy of a closed
+            // profile's seam cut 1 % off the soup's elliptic cylinder).
+            let vol =
+                |m: &Model| -> Option<f64> { matrace::geom::solid_volumes(m).into_iter().sum() };
+            match (vol(&m), vol(&step)) {
+                (Some(a), Some(b)) if (a - b).abs() <= 1e-6 * b.abs() => {}
+                (a, b) => bad.push(format!("{name}.{route}: volume {a:?} mm³, STEP {b:?}")),
+            }
         }
     }
     assert!(bad.is_empty(), "{}", bad.join("\n"));

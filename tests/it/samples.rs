@@ -93,6 +93,14 @@ fn check(entry: &Value) -> Vec<String> {
     if got.iter().zip(&want).any(|(a, b)| (a - b).abs() > tol) {
         bad.push(format!("{file}: bbox {got:?}, manifest {want:?}"));
     }
+    // Volume by the divergence theorem over the loops' fourth-order paths: within 1e-4 (the
+    // worst sample, a NURBS cylinder, is at 2.4e-5).
+    let want = entry["volume"].as_f64().expect("volume");
+    let got: Option<f64> = r.model.volumes.iter().copied().sum();
+    match got {
+        Some(v) if (v - want).abs() <= 1e-4 * want => {}
+        _ => bad.push(format!("{file}: volume {got:?} mm³, manifest {want}")),
+    }
     bad
 }
 

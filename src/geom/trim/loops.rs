@@ -382,12 +382,12 @@ impl Trim {
 }
 
 /// True for a loop that bounds a region (not a vertex loop, at least a segment).
-fn is_edge_loop(l: &Loop) -> bool {
+pub(crate) fn is_edge_loop(l: &Loop) -> bool {
     l.vertex.is_none() && l.uv.len() >= 2
 }
 
 /// Whether a loop's polygon wraps around the u and v periods (mirrors `domain::wraps`).
-fn wrapping(poly: &[DVec2], periods: (Option<f64>, Option<f64>)) -> (bool, bool) {
+pub(crate) fn wrapping(poly: &[DVec2], periods: (Option<f64>, Option<f64>)) -> (bool, bool) {
     if poly.len() < 2 {
         return (false, false);
     }
@@ -410,7 +410,7 @@ fn in_domain(face: &Face, uv: DVec2) -> bool {
 
 /// `x` moved by a multiple of `period` to the copy nearest `reference`.
 #[inline]
-fn wrap_near(x: f64, reference: f64, period: Option<f64>) -> f64 {
+pub(crate) fn wrap_near(x: f64, reference: f64, period: Option<f64>) -> f64 {
     match period {
         Some(p) => x + ((reference - x) / p).round() * p,
         None => x,

@@ -19,10 +19,13 @@ mod covered;
 mod grid;
 mod loops;
 mod path;
+mod samples;
 
 pub use covered::covered_domain;
 pub(crate) use grid::TrimGrid;
 pub use loops::{
     contains, Trim, DOMAIN_TOL_REL_WIDTH, MAX_COLUMNS, SEAM_TOL_REL_PERIOD, SEGMENTS_PER_COLUMN,
 };
+pub(crate) use loops::{is_edge_loop, wrap_near, wrapping};
 pub use path::{path_crosses_loops, LoopChunks};
+pub use samples::{edge_samples, SAMPLES_PER_CURVED_EDGE};
