@@ -115,6 +115,98 @@ def empty_iges_range():
     return t.replace(old, new)
 
 
+class Iges:
+    """A fixed-format IGES file as its sections, with each entity's Directory Entry fields and
+    parameter text, so that entities can be retyped and their parameters rewritten; `bytes()`
+    lays the Parameter Data out again and updates every entry's pointer and line count."""
+
+    def __init__(self, data):
+        lines = data.decode("ascii").splitlines()
+        self.start = [l for l in lines if l[72:73] == "S"]
+        self.glob = [l for l in lines if l[72:73] == "G"]
+        d = [l for l in lines if l[72:73] == "D"]
+        p = [l for l in lines if l[72:73] == "P"]
+        self.entries = []  # [fields of line 1 (9), fields of line 2 (9)]
+        for k in range(0, len(d), 2):
+            f1 = [d[k][8 * i:8 * i + 8] for i in range(9)]
+            f2 = [d[k + 1][8 * i:8 * i + 8] for i in range(9)]
+            self.entries.append([f1, f2])
+        self.params = {}
+        for l in p:
+            de = int(l[64:72])
+            self.params[de] = self.params.get(de, "") + l[:64].rstrip()
+
+    def entity_type(self, de):
+        return int(self.entries[(de - 1) // 2][0][0])
+
+    def retype(self, de, entity_type, form, params):
+        f1, f2 = self.entries[(de - 1) // 2]
+        f1[0] = f2[0] = "%8d" % entity_type
+        f2[4] = "%8d" % form
+        self.params[de] = params
+
+    def bytes(self):
+        out, plines = [], []
+        for k, (f1, f2) in enumerate(self.entries):
+            de = 2 * k + 1
+            text = self.params[de]
+            first = len(plines) + 1
+            while text:
+                cut = len(text) if len(text) <= 64 else text.rfind(",", 0, 64) + 1
+                plines.append("%-64s %7d" % (text[:cut], de))
+                text = text[cut:]
+            f1[1] = "%8d" % first
+            f2[3] = "%8d" % (len(plines) + 1 - first)
+        for name, sec in (("S", self.start), ("G", self.glob)):
+            out += [l[:72] + name + "%7d" % (i + 1) for i, l in enumerate(sec)]
+        d = []
+        for f1, f2 in self.entries:
+            d += ["".join(f1), "".join(f2)]
+        out += ["%-72sD%7d" % (l, i + 1) for i, l in enumerate(d)]
+        out += ["%sP%7d" % (l, i + 1) for i, l in enumerate(plines)]
+        out.append("S%7dG%7dD%7dP%7d%40sT%7d" % (len(self.start), len(self.glob), len(d),
+                                                len(plines), "", 1))
+        return ("\n".join(out) + "\n").encode("ascii")
+
+
+def loose_faces_iges():
+    """Cause 8 (IGES): B-rep faces (510) that no shell (514) or solid (186) lists: OCCT's box
+    with its 186 and 514 made null entities (type 0). The faces are sewn into a closed shell by
+    their edges' geometry, as a soup is."""
+    g = Iges((SAMPLES / "iges" / "box.brep.igs").read_bytes())
+    n = 0
+    for k in range(len(g.entries)):
+        de = 2 * k + 1
+        if g.entity_type(de) in (186, 514):
+            g.retype(de, 0, 0, "0;")
+            n += 1
+    assert n == 2
+    return g.bytes()
+
+
+def bounded_surfaces_iges():
+    """Cause 8 (IGES): bounded surfaces (143) with boundaries (141) and no shell: FreeCAD's
+    soup of the plate with holes, each trimmed surface (144) rewritten as a 143 and each curve
+    on a surface (142) as a 141 listing its model-space curve."""
+    g = Iges((SAMPLES / "iges" / "plate_with_holes.soup.igs").read_bytes())
+    n = 0
+    for k in range(len(g.entries)):
+        de = 2 * k + 1
+        t = g.entity_type(de)
+        p = g.params[de].rstrip(";").split(",")
+        if t == 144:
+            # 144: PTS, N1, N2, PTO, PTI… → 143: TYPE 0, SPTR, N, BDPT…
+            pts, n2, pto, pti = p[1], int(p[3]), p[4], p[5:5 + int(p[3])]
+            g.retype(de, 143, 0, ",".join(["143", "0", pts, str(1 + n2), pto] + pti) + ";")
+            n += 1
+        elif t == 142:
+            # 142: CRTN, SPTR, BPTR, CPTR, PREF → 141: TYPE 0, PREF, SPTR, N 1, CRVPT, SENS 1, K 0
+            sptr, cptr = p[2], p[4]
+            g.retype(de, 141, 0, ",".join(["141", "0", "0", sptr, "1", cptr, "1", "0"]) + ";")
+    assert n > 0
+    return g.bytes()
+
+
 def assembly(reversed_order):
     """Cause 5: the box as a part placed twice in an assembly by NAUO / CDSR / RRWT /
     ITEM_DEFINED_TRANSFORMATION: once moved by (100, 0, 0), once turned 90° about z and moved
@@ -160,6 +252,27 @@ def assembly(reversed_order):
             f"#{cdsr} = CONTEXT_DEPENDENT_SHAPE_REPRESENTATION(#{rr},#{pds});",
         ]
     return add_before_endsec(t, lines)
+
+
+def mapped_item():
+    """Cause 5: the part's shape given as a MAPPED_ITEM of the brep's representation (a
+    REPRESENTATION_MAP with the representation's own placement as origin) with a target moved
+    by (50, 0, 0) and turned 90° about z: the box must come out there, not where its
+    representation has it."""
+    t = text("box.step")
+    old = "#3 = SHAPE_DEFINITION_REPRESENTATION(#4,#10);"
+    assert old in t
+    a = max_id(t) + 1
+    t = t.replace(old, f"#3 = SHAPE_DEFINITION_REPRESENTATION(#4,#{a + 6});")
+    return add_before_endsec(t, [
+        f"#{a} = CARTESIAN_POINT('',(50.,0.,0.));",
+        f"#{a + 1} = DIRECTION('',(0.,0.,1.));",
+        f"#{a + 2} = DIRECTION('',(0.,1.,0.));",
+        f"#{a + 3} = AXIS2_PLACEMENT_3D('',#{a},#{a + 1},#{a + 2});",
+        f"#{a + 4} = REPRESENTATION_MAP(#11,#10);",
+        f"#{a + 5} = MAPPED_ITEM('',#{a + 4},#{a + 3});",
+        f"#{a + 6} = SHAPE_REPRESENTATION('',(#{a + 5}),#345);",
+    ])
 
 
 def void_faces_into_the_void():
@@ -222,8 +335,11 @@ def main():
     write("latin1_name.step", latin1_name())
     write("utf8_name.igs", utf8_iges_name())
     write("empty_range.igs", empty_iges_range())
+    write("loose_faces.igs", loose_faces_iges())
+    write("bounded_surfaces.igs", bounded_surfaces_iges())
     write("assembly_iso_order.step", assembly(False))
     write("assembly_reversed_order.step", assembly(True))
+    write("mapped_item.step", mapped_item())
     write("void_faces_into_the_void.step", void_faces_into_the_void())
     write("flipped_face.step", flipped_face())
     write("surface_model_closed.step", surface_model(True))

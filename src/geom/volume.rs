@@ -36,11 +36,11 @@ use rayon::prelude::*;
 
 /// Gauss–Legendre nodes and weights on `[0, 1]`, five points.
 const GAUSS: [(f64, f64); 5] = [
-    (0.046_910_077_030_668_0, 0.118_463_442_528_094_5),
+    (0.046_910_077_030_668, 0.118_463_442_528_094_5),
     (0.230_765_344_947_158_5, 0.239_314_335_249_683_2),
     (0.5, 0.284_444_444_444_444_4),
     (0.769_234_655_052_841_5, 0.239_314_335_249_683_2),
-    (0.953_089_922_969_332_0, 0.118_463_442_528_094_5),
+    (0.953_089_922_969_332, 0.118_463_442_528_094_5),
 ];
 
 /// Pieces of a curved surface's covered range in one direction (a period for an angle).
@@ -133,14 +133,13 @@ pub fn face_flux(model: &Model, face_index: usize, origin: DVec3) -> Option<f64>
         let mut integral = orient * sum;
         // Loops winding once around the period with the face beyond them: the face reaches
         // the far end of the covered range, the whole strip from y₀ to there.
-        match orient * winding {
-            w if w == 0.0 || w == -1.0 => {}
-            w if w == 1.0 => {
-                let p = px?;
-                let x0 = xr.0;
-                integral += g.strip(x0, x0 + p, yr.0, yr.1);
-            }
-            _ => return None,
+        let w = orient * winding;
+        if w == 1.0 {
+            let p = px?;
+            let x0 = xr.0;
+            integral += g.strip(x0, x0 + p, yr.0, yr.1);
+        } else if w != 0.0 && w != -1.0 {
+            return None;
         }
         integral
     };
@@ -513,7 +512,10 @@ mod tests {
     }
 
     fn total(m: &Model) -> f64 {
-        solid_volumes(m).into_iter().map(|v| v.expect("volume")).sum()
+        solid_volumes(m)
+            .into_iter()
+            .map(|v| v.expect("volume"))
+            .sum()
     }
 
     /// Planes, a void, a whole sphere and torus (seams and poles only), a cylinder's band,

@@ -207,6 +207,45 @@ fn a_closed_shell_in_a_surface_model_is_read_as_a_solid_and_an_open_one_refused(
 }
 
 #[test]
+fn a_part_placed_by_a_mapped_item_comes_out_where_the_item_puts_it() {
+    // The box's representation mapped in with its target at (50, 0, 0), turned 90° about z.
+    let name = "mapped_item.step";
+    let m = matrace::read_model(&reader_file(name)).unwrap();
+    assert!(m.source.warnings.is_empty(), "{:?}", m.source.warnings);
+    assert_eq!(m.solids.len(), 1);
+    assert_box(name, &m, [[10.0, 0.0, 0.0], [50.0, 60.0, 20.0]]);
+}
+
+#[test]
+fn iges_faces_and_bounded_surfaces_without_a_shell_are_sewn() {
+    for (name, sample_name, entity, faces) in [
+        ("loose_faces.igs", "iges/box.brep.igs", "DE 5 (510)", 6),
+        (
+            "bounded_surfaces.igs",
+            "iges/plate_with_holes.soup.igs",
+            "DE 3 (143)",
+            9,
+        ),
+    ] {
+        let m = read_with_warning(name, "sewn", entity, faces);
+        let good = matrace::read_model(&sample(sample_name)).unwrap();
+        assert_eq!(
+            (
+                m.solids.len(),
+                m.faces.len(),
+                m.edges.len(),
+                m.vertices.len()
+            ),
+            (1, faces, good.edges.len(), good.vertices.len()),
+            "{name}"
+        );
+        assert_box(name, &m, [good.bbox.0.to_array(), good.bbox.1.to_array()]);
+        let v = |m: &matrace::Model| matrace::geom::solid_volumes(m)[0].unwrap();
+        assert!((v(&m) - v(&good)).abs() < 1e-6 * v(&good), "{name}");
+    }
+}
+
+#[test]
 fn a_repeated_id_and_a_direction_of_no_length_are_refused() {
     refused("repeated_id.step", "#346", "more than once");
     refused("zero_direction.step", "#13 DIRECTION", "no length");
@@ -229,6 +268,7 @@ fn the_regression_files_are_what_the_script_makes() {
         "box_with_void.step",
         "iges/box.brep.igs",
         "iges/box_nurbs.brep.igs",
+        "iges/plate_with_holes.soup.igs",
     ] {
         std::fs::copy(sample(s), copy.join("samples").join(s)).unwrap();
     }
@@ -253,5 +293,5 @@ fn the_regression_files_are_what_the_script_makes() {
         );
         n += 1;
     }
-    assert_eq!(n, 15);
+    assert_eq!(n, 18);
 }

@@ -133,6 +133,18 @@ fn build(path: &Path, file: &IgesFile, mm: f64, unit: String) -> Result<Model> {
         .filter(|e| e.entity_type == 514)
         .map(|e| e.de)
         .collect();
+    let faces: Vec<usize> = file
+        .entries
+        .iter()
+        .filter(|e| e.entity_type == 510)
+        .map(|e| e.de)
+        .collect();
+    let bounded: Vec<usize> = file
+        .entries
+        .iter()
+        .filter(|e| e.entity_type == 143)
+        .map(|e| e.de)
+        .collect();
     let from_soup = solids.is_empty() && shells.is_empty();
     if !solids.is_empty() {
         for de in solids {
@@ -145,19 +157,38 @@ fn build(path: &Path, file: &IgesFile, mm: f64, unit: String) -> Result<Model> {
         }
     } else if !soup.is_empty() {
         sew::build_soup(&ctx, &mut model, &soup)?;
+    } else if !faces.is_empty() || !bounded.is_empty() {
+        // Faces that no shell lists: sewn by geometry as a soup is.
+        let loose: Vec<usize> = faces.iter().chain(&bounded).copied().collect();
+        for &de in &loose {
+            ctx.warn(
+                "sewn",
+                de,
+                "face (510) or bounded surface (143) that no shell (514) lists",
+                "sewn with the others into closed shells by its edges' geometry, as trimmed \
+                 surfaces (144) are",
+            );
+        }
+        sew::build_loose_faces(&ctx, &mut model, &loose)?;
     } else {
-        let faces = file
-            .entries
-            .iter()
-            .filter(|e| matches!(e.entity_type, 143 | 510))
-            .count();
-        let what = if faces > 0 {
-            format!("no solid (186), shell (514) or trimmed surface (144); {faces} face(s) (143 / 510) not part of a shell")
-        } else {
-            "no solid (186), shell (514) or trimmed surface (144): nothing to build a closed shell from"
-                .to_string()
-        };
-        return Err(model_err(path, what));
+        return Err(model_err(
+            path,
+            "no solid (186), shell (514), trimmed surface (144), face (510) or bounded surface \
+             (143): nothing to build a closed shell from",
+        ));
+    }
+    if !from_soup {
+        // Faces the solids and shells read do not use.
+        let used: std::collections::HashSet<u64> =
+            model.faces.iter().map(|f| f.source_id).collect();
+        for &de in faces.iter().filter(|&&de| !used.contains(&(de as u64))) {
+            ctx.warn(
+                "unused",
+                de,
+                "face (510) that no solid or shell read uses",
+                "ignored",
+            );
+        }
     }
     finish::finish(&ctx, &mut model, from_soup)?;
     model.source.warnings = ctx

@@ -22,10 +22,10 @@
 //! by about 1e-9 of the coordinates: far inside these.
 
 use super::ctx::{model_err, Ctx};
-use super::segment::{nearest_param, Segment};
+use super::segment::{edge_range, nearest_param, Segment};
 use crate::error::Result;
 use crate::ingest::domain::EMPTY_DOMAIN;
-use crate::ingest::transform::mat_mul;
+use crate::ingest::transform::{apply, mat_mul, IDENTITY};
 use crate::model::*;
 use glam::DVec3;
 use std::collections::HashMap;
@@ -68,6 +68,25 @@ pub fn build_soup(ctx: &Ctx, model: &mut Model, soup: &[usize]) -> Result<()> {
     for &de in soup {
         faces.push(read_face(ctx, de)?);
     }
+    sew(ctx, model, faces)
+}
+
+/// Sews faces that no shell lists (510 B-rep faces, 143 bounded surfaces) into closed shells
+/// as a soup is sewn: each loop's edges (a 510's) or boundary curves (a 143's) become its
+/// pieces, and the pieces are matched by geometry, whether or not the faces share edge lists.
+pub fn build_loose_faces(ctx: &Ctx, model: &mut Model, loose: &[usize]) -> Result<()> {
+    let mut faces = Vec::with_capacity(loose.len());
+    for &de in loose {
+        faces.push(match ctx.typed(de, de, &[510, 143])?.entity_type {
+            510 => read_brep_face(ctx, de)?,
+            _ => read_bounded_surface(ctx, de)?,
+        });
+    }
+    sew(ctx, model, faces)
+}
+
+/// Sews `faces` (see the module docs).
+fn sew(ctx: &Ctx, model: &mut Model, mut faces: Vec<SoupFace>) -> Result<()> {
     let tol = merge_tolerance(ctx, &faces)?;
     for f in &mut faces {
         for l in &mut f.loops {
@@ -287,6 +306,106 @@ fn shells_from_components(model: &mut Model, first_face: usize) {
         }
         model.shells[shell].faces.sort_unstable();
     }
+}
+
+/// A 510 face as a soup face: its surface, and per 508 loop the model-space curves of its
+/// edges (504) cut to the edge's vertices (502); degenerate edges given as a vertex are
+/// dropped, as chaining drops zero-length pieces.
+fn read_brep_face(ctx: &Ctx, de: usize) -> Result<SoupFace> {
+    let e = ctx.typed(de, de, &[510])?;
+    let surf = ctx.ptr(e, 0, "surface")?;
+    let n = ctx.count(e, 1, "number of loops")?;
+    if n == 0 {
+        return Err(ctx.err(de, "face has no loops"));
+    }
+    let surface = ctx.surface(surf, de, &IDENTITY)?;
+    let mut loops = Vec::with_capacity(n);
+    for k in 0..n {
+        let l = ctx.ptr(e, 3 + k, "loop")?;
+        let le = ctx.typed(l, de, &[508])?;
+        let m = ctx.count(le, 0, "number of edges")?;
+        let mut pieces = Vec::with_capacity(m);
+        let mut at = 1;
+        for _ in 0..m {
+            let kind = ctx.int(le, at, "edge or vertex type")?;
+            let list = ctx.ptr(le, at + 1, "edge list")?;
+            let index = ctx.index(le, at + 2, "index in the list")?;
+            let pcurves = ctx.count(le, at + 4, "number of parameter-space curves")?;
+            at += 5 + 2 * pcurves;
+            if kind == 0 {
+                pieces.push((edge_piece(ctx, list, index, l)?, true));
+            }
+        }
+        if !pieces.is_empty() {
+            loops.push(SoupLoop { de: l, pieces });
+        }
+    }
+    Ok(SoupFace { de, surface, loops })
+}
+
+/// Edge `index` of the 504 edge list `list`: its curve between its two vertices.
+fn edge_piece(ctx: &Ctx, list: usize, index: usize, from: usize) -> Result<Segment> {
+    let e = ctx.typed(list, from, &[504])?;
+    let n = ctx.count(e, 0, "number of edges")?;
+    if index < 1 || index > n {
+        return Err(ctx.err(
+            from,
+            format!("edge {index} of the edge list DE {list}, which has {n}"),
+        ));
+    }
+    let k = 1 + 5 * (index - 1);
+    let curve = ctx.ptr(e, k, "model-space curve")?;
+    let point = |kl: usize, ki: usize| -> Result<DVec3> {
+        let vl = ctx.ptr(e, kl, "vertex list")?;
+        let vi = ctx.index(e, ki, "vertex index")?;
+        let v = ctx.typed(vl, list, &[502])?;
+        let nv = ctx.count(v, 0, "number of vertices")?;
+        if vi < 1 || vi > nv {
+            return Err(ctx.err(
+                list,
+                format!("vertex {vi} of the vertex list DE {vl}, which has {nv}"),
+            ));
+        }
+        let r = ctx.reals(v, 1 + 3 * (vi - 1), 3, "vertex coordinates")?;
+        Ok(apply(
+            &ctx.place(&IDENTITY, v)?,
+            DVec3::new(r[0], r[1], r[2]),
+        ))
+    };
+    let (pa, pb) = (point(k + 1, k + 2)?, point(k + 3, k + 4)?);
+    let seg = ctx.curve(curve, list, &ctx.transform_chain(e)?)?;
+    let (range, _) = edge_range(&seg, pa, pb).map_err(|r| ctx.err(curve, r))?;
+    Ok(Segment { range, ..seg })
+}
+
+/// A 143 bounded surface as a soup face: its surface, and per 141 boundary the model-space
+/// curves it lists.
+fn read_bounded_surface(ctx: &Ctx, de: usize) -> Result<SoupFace> {
+    let e = ctx.typed(de, de, &[143])?;
+    let surf = ctx.ptr(e, 1, "surface")?;
+    let n = ctx.count(e, 2, "number of boundaries")?;
+    let outer_t = ctx.transform_chain(e)?;
+    let surface = ctx.surface(surf, de, &outer_t)?;
+    let mut loops = Vec::with_capacity(n);
+    for k in 0..n {
+        let b = ctx.ptr(e, 3 + k, "boundary")?;
+        let be = ctx.typed(b, de, &[141])?;
+        let m = ctx.count(be, 3, "number of curves")?;
+        let t = mat_mul(&outer_t, &ctx.transform_chain(be)?);
+        let mut pieces = Vec::new();
+        let mut at = 4;
+        for _ in 0..m {
+            let c = ctx.ptr(be, at, "model-space curve")?;
+            let pcurves = ctx.count(be, at + 2, "number of parameter-space curves")?;
+            at += 3 + pcurves;
+            pieces.extend(ctx.segments(c, b, &t)?.into_iter().map(|s| (s, true)));
+        }
+        loops.push(SoupLoop { de: b, pieces });
+    }
+    if loops.is_empty() {
+        return Err(ctx.err(de, "bounded surface has no boundary"));
+    }
+    Ok(SoupFace { de, surface, loops })
 }
 
 fn read_face(ctx: &Ctx, de: usize) -> Result<SoupFace> {

@@ -17,7 +17,7 @@
 //! twice comes out twice. Solids the product structure does not reach are not read (with a
 //! warning).
 
-use super::placement::axis2_placement;
+use super::placement::{axis2_placement, mapped_item};
 use super::records::{as_ref, as_refs, as_string, params, relationship, Records};
 use crate::ingest::transform::{mat_mul, rigid_inverse, Mat4, IDENTITY};
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
@@ -215,26 +215,8 @@ impl<'a> Structure<'a> {
         for item in items {
             if (self.is_brep)(item) {
                 out.push((item, rep, acc));
-            } else if let Some(m) = recs.simple(item).filter(|r| r.name == "MAPPED_ITEM") {
-                let p = params(m);
-                let (Some(map), Some(target)) =
-                    (p.get(1).and_then(as_ref), p.get(2).and_then(as_ref))
-                else {
-                    return Err((item, "mapping source or target missing".into()));
-                };
-                let mp = recs
-                    .simple(map)
-                    .filter(|r| r.name == "REPRESENTATION_MAP")
-                    .map(params)
-                    .ok_or((map, "expected REPRESENTATION_MAP".to_string()))?;
-                let (Some(origin), Some(mapped)) =
-                    (mp.first().and_then(as_ref), mp.get(1).and_then(as_ref))
-                else {
-                    return Err((map, "mapping origin or representation missing".into()));
-                };
-                let o = axis2_placement(recs, origin).map_err(|e| (map, e))?;
-                let t = axis2_placement(recs, target).map_err(|e| (item, e))?;
-                let m = mat_mul(&acc, &mat_mul(&t, &rigid_inverse(&o)));
+            } else if let Some((mapped, t)) = mapped_item(recs, item)? {
+                let m = mat_mul(&acc, &t);
                 self.solids_in(mapped, m, depth + 1, out)?;
                 for &v in self.views.get(&mapped).into_iter().flatten() {
                     self.solids_in(v, m, depth + 1, out)?;

@@ -117,6 +117,31 @@ pub fn representations(records: &Records) -> Vec<Representation> {
     out
 }
 
+/// When `item` is a `MAPPED_ITEM(name, REPRESENTATION_MAP(origin, mapped), target)`: the
+/// representation it maps in and the transform from that representation's coordinates to its
+/// own, `P(target) · P(origin)⁻¹`.
+pub fn mapped_item(records: &Records, item: u64) -> Result<Option<(u64, Mat4)>, (u64, String)> {
+    let Some(m) = records.simple(item).filter(|r| r.name == "MAPPED_ITEM") else {
+        return Ok(None);
+    };
+    let p = params(m);
+    let (Some(map), Some(target)) = (p.get(1).and_then(as_ref), p.get(2).and_then(as_ref)) else {
+        return Err((item, "mapping source or target missing".into()));
+    };
+    let mp = records
+        .simple(map)
+        .filter(|r| r.name == "REPRESENTATION_MAP")
+        .map(params)
+        .ok_or((map, "expected REPRESENTATION_MAP".to_string()))?;
+    let (Some(origin), Some(mapped)) = (mp.first().and_then(as_ref), mp.get(1).and_then(as_ref))
+    else {
+        return Err((map, "mapping origin or representation missing".into()));
+    };
+    let o = axis2_placement(records, origin).map_err(|e| (map, e))?;
+    let t = axis2_placement(records, target).map_err(|e| (item, e))?;
+    Ok(Some((mapped, mat_mul(&t, &rigid_inverse(&o)))))
+}
+
 /// `(child representation, parent representation, child→parent transform)`.
 pub type Link = (u64, u64, Mat4);
 
@@ -128,8 +153,17 @@ pub type Link = (u64, u64, Mat4);
 /// `REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION` places `rep_1` (the component) in
 /// `rep_2` (the assembly) by an `ITEM_DEFINED_TRANSFORMATION(name, desc, item_1, item_2)`:
 /// a point `x` of `rep_1` is `P(item_2) · P(item_1)⁻¹ · x` in `rep_2`.
+/// A `MAPPED_ITEM(name, REPRESENTATION_MAP(origin, mapped), target)` among the items of a
+/// representation `R` places `mapped` in `R` the same way: `P(target) · P(origin)⁻¹`.
 pub fn representation_links(records: &Records) -> Result<Vec<Link>, (u64, String)> {
     let mut links = Vec::new();
+    for rep in representations(records) {
+        for &item in &rep.items {
+            if let Some((mapped, t)) = mapped_item(records, item)? {
+                links.push((mapped, rep.id, t));
+            }
+        }
+    }
     for id in records.ids_in_order() {
         let Some(rel) = relationship(records, id) else {
             continue;
