@@ -184,6 +184,20 @@ def loose_faces_iges():
     return g.bytes()
 
 
+def shells_without_solid_iges():
+    """Cause 8 (IGES): a surface model: OCCT's box with a void, its 186 made a null entity, so
+    that two closed shells (514) remain and nothing says the inner one is a void."""
+    g = Iges((SAMPLES / "iges" / "box_with_void.brep.igs").read_bytes())
+    n = 0
+    for k in range(len(g.entries)):
+        de = 2 * k + 1
+        if g.entity_type(de) == 186:
+            g.retype(de, 0, 0, "0;")
+            n += 1
+    assert n == 1
+    return g.bytes()
+
+
 def bounded_surfaces_iges():
     """Cause 8 (IGES): bounded surfaces (143) with boundaries (141) and no shell: FreeCAD's
     soup of the plate with holes, each trimmed surface (144) rewritten as a 143 and each curve
@@ -252,6 +266,18 @@ def assembly(reversed_order):
             f"#{cdsr} = CONTEXT_DEPENDENT_SHAPE_REPRESENTATION(#{rr},#{pds});",
         ]
     return add_before_endsec(t, lines)
+
+
+def assembly_unplaced_component():
+    """Cause 5: the ISO-order assembly with the second use's CONTEXT_DEPENDENT_SHAPE_
+    REPRESENTATION left out: nothing places that component, so it is taken in the assembly's
+    coordinates (as OCCT takes it), with a warning naming its NAUO."""
+    t = assembly(False)
+    lines = t.split("\n")
+    cdsr = [k for k, l in enumerate(lines) if "CONTEXT_DEPENDENT_SHAPE_REPRESENTATION" in l]
+    assert len(cdsr) == 2
+    del lines[cdsr[1]]
+    return "\n".join(lines)
 
 
 def mapped_item():
@@ -337,9 +363,11 @@ def main():
     write("empty_range.igs", empty_iges_range())
     write("loose_faces.igs", loose_faces_iges())
     write("bounded_surfaces.igs", bounded_surfaces_iges())
+    write("shells_without_solid.igs", shells_without_solid_iges())
     write("assembly_iso_order.step", assembly(False))
     write("assembly_reversed_order.step", assembly(True))
     write("mapped_item.step", mapped_item())
+    write("assembly_unplaced_component.step", assembly_unplaced_component())
     write("void_faces_into_the_void.step", void_faces_into_the_void())
     write("flipped_face.step", flipped_face())
     write("surface_model_closed.step", surface_model(True))

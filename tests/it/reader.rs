@@ -207,6 +207,15 @@ fn a_closed_shell_in_a_surface_model_is_read_as_a_solid_and_an_open_one_refused(
 }
 
 #[test]
+fn a_component_that_nothing_places_is_read_in_its_assemblys_coordinates_with_a_warning() {
+    // The use at (100, 0, 0) is placed; the other's CDSR is missing: at the origin.
+    let name = "assembly_unplaced_component.step";
+    let m = read_with_warning(name, "assembly", "#371", 1);
+    assert_eq!(m.solids.len(), 2, "{name}");
+    assert_box(name, &m, [[0.0, 0.0, 0.0], [160.0, 40.0, 20.0]]);
+}
+
+#[test]
 fn a_part_placed_by_a_mapped_item_comes_out_where_the_item_puts_it() {
     // The box's representation mapped in with its target at (50, 0, 0), turned 90° about z.
     let name = "mapped_item.step";
@@ -246,6 +255,25 @@ fn iges_faces_and_bounded_surfaces_without_a_shell_are_sewn() {
 }
 
 #[test]
+fn iges_shells_without_a_solid_are_solids_and_the_inner_one_a_void() {
+    let name = "shells_without_solid.igs";
+    let m = read_with_warning(name, "surface_model", "(514)", 2);
+    let good = matrace::read_model(&sample("iges/box_with_void.brep.igs")).unwrap();
+    assert_eq!((m.solids.len(), m.shells.len()), (1, 2), "{name}");
+    assert_eq!(
+        m.shells.iter().filter(|s| s.is_void).count(),
+        1,
+        "{name}: the inner shell is a void"
+    );
+    let v = |m: &matrace::Model| matrace::geom::solid_volumes(m)[0].unwrap();
+    assert!(
+        (v(&m) - v(&good)).abs() < 1e-6 * v(&good),
+        "{name}: {}",
+        v(&m)
+    );
+}
+
+#[test]
 fn a_repeated_id_and_a_direction_of_no_length_are_refused() {
     refused("repeated_id.step", "#346", "more than once");
     refused("zero_direction.step", "#13 DIRECTION", "no length");
@@ -269,6 +297,7 @@ fn the_regression_files_are_what_the_script_makes() {
         "iges/box.brep.igs",
         "iges/box_nurbs.brep.igs",
         "iges/plate_with_holes.soup.igs",
+        "iges/box_with_void.brep.igs",
     ] {
         std::fs::copy(sample(s), copy.join("samples").join(s)).unwrap();
     }
@@ -293,5 +322,5 @@ fn the_regression_files_are_what_the_script_makes() {
         );
         n += 1;
     }
-    assert_eq!(n, 18);
+    assert_eq!(n, 20);
 }

@@ -145,14 +145,23 @@ fn build(path: &Path, file: &IgesFile, mm: f64, unit: String) -> Result<Model> {
         .filter(|e| e.entity_type == 143)
         .map(|e| e.de)
         .collect();
-    let from_soup = solids.is_empty() && shells.is_empty();
+    // Shells found without a solid (186) to say which is a void: nested by geometry.
+    let nest_shells = solids.is_empty();
+    let from_shells = !solids.is_empty() || !shells.is_empty();
     if !solids.is_empty() {
         for de in solids {
             brep::build_solid(&ctx, &mut model, de)?;
         }
     } else if !shells.is_empty() {
-        // Shells without a 186: each closed shell is a solid.
+        // Shells without a 186 (a surface model): each closed shell is a solid, or a void of
+        // the one it lies in.
         for de in shells {
+            ctx.warn(
+                "surface_model",
+                de,
+                "shell (514) that no solid (186) lists",
+                "read as a solid if closed (a void of the shell it lies in)",
+            );
             brep::build_shell_solid(&ctx, &mut model, de)?;
         }
     } else if !soup.is_empty() {
@@ -177,7 +186,7 @@ fn build(path: &Path, file: &IgesFile, mm: f64, unit: String) -> Result<Model> {
              (143): nothing to build a closed shell from",
         ));
     }
-    if !from_soup {
+    if from_shells {
         // Faces the solids and shells read do not use.
         let used: std::collections::HashSet<u64> =
             model.faces.iter().map(|f| f.source_id).collect();
@@ -190,7 +199,7 @@ fn build(path: &Path, file: &IgesFile, mm: f64, unit: String) -> Result<Model> {
             );
         }
     }
-    finish::finish(&ctx, &mut model, from_soup)?;
+    finish::finish(&ctx, &mut model, nest_shells)?;
     model.source.warnings = ctx
         .warnings
         .into_inner()

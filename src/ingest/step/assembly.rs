@@ -40,6 +40,9 @@ pub struct Placed {
     /// The products from the root down, `/`-separated, each with the NAUO's id where it is a
     /// component: `box_sides/gusset (#10519)`.
     pub path: String,
+    /// A NAUO on the path that no `CONTEXT_DEPENDENT_SHAPE_REPRESENTATION` places: its
+    /// component was taken in the assembly's coordinates (as OpenCASCADE takes it).
+    pub unplaced: Option<u64>,
 }
 
 /// The product structure's solids, or `None` when the file is not an assembly (no NAUO).
@@ -81,7 +84,7 @@ pub fn placed_solids(
     let mut out = Vec::new();
     for root in roots {
         let name = s.product_name(root);
-        s.visit(root, IDENTITY, name, &nauos, 0, &mut out)?;
+        s.visit(root, IDENTITY, name, None, &nauos, 0, &mut out)?;
     }
     Ok(Some(out))
 }
@@ -226,14 +229,12 @@ impl<'a> Structure<'a> {
         Ok(())
     }
 
-    /// The transform from the component's coordinates to the assembly's for one NAUO.
-    fn component_transform(&self, nauo: u64, child: u64) -> Result<Mat4, (u64, String)> {
+    /// The transform from the component's coordinates to the assembly's for one NAUO; `None`
+    /// when no `CONTEXT_DEPENDENT_SHAPE_REPRESENTATION` places it.
+    fn component_transform(&self, nauo: u64, child: u64) -> Result<Option<Mat4>, (u64, String)> {
         let recs = self.records;
         let Some(&rr) = self.placing.get(&nauo) else {
-            return Err((
-                nauo,
-                "no CONTEXT_DEPENDENT_SHAPE_REPRESENTATION places this component".into(),
-            ));
+            return Ok(None);
         };
         let rel = relationship(recs, rr)
             .ok_or((rr, "expected a REPRESENTATION_RELATIONSHIP".to_string()))?;
@@ -244,7 +245,7 @@ impl<'a> Structure<'a> {
         let Some(with) = recs.complex_part(rr, "REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION")
         else {
             // Same coordinates.
-            return Ok(IDENTITY);
+            return Ok(Some(IDENTITY));
         };
         let t = params(with)
             .first()
@@ -266,10 +267,10 @@ impl<'a> Structure<'a> {
         let child_reps = self.reps_of(child);
         if child_reps.contains(&r1) && !child_reps.contains(&r2) {
             // ISO's order: rep_1 (and item_1) the component's.
-            Ok(mat_mul(&p2, &rigid_inverse(&p1)))
+            Ok(Some(mat_mul(&p2, &rigid_inverse(&p1))))
         } else if child_reps.contains(&r2) && !child_reps.contains(&r1) {
             // The assembly first (SolidWorks).
-            Ok(mat_mul(&p1, &rigid_inverse(&p2)))
+            Ok(Some(mat_mul(&p1, &rigid_inverse(&p2))))
         } else {
             Err((
                 rr,
@@ -281,11 +282,15 @@ impl<'a> Structure<'a> {
         }
     }
 
+    /// Places the solids of `pd`'s shape by `acc`, then visits its components. `unplaced`
+    /// is the first NAUO on the path that nothing places.
+    #[allow(clippy::too_many_arguments)]
     fn visit(
         &self,
         pd: u64,
         acc: Mat4,
         path: String,
+        unplaced: Option<u64>,
         nauos: &[(u64, u64, u64)],
         depth: usize,
         out: &mut Vec<Placed>,
@@ -309,6 +314,7 @@ impl<'a> Structure<'a> {
                     rep,
                     placement: mat_mul(&acc, &m),
                     path: path.clone(),
+                    unplaced,
                 });
             }
         }
@@ -324,7 +330,9 @@ impl<'a> Structure<'a> {
             }
             let t = self.component_transform(nauo, child)?;
             let name = format!("{path}/{} (#{nauo})", self.product_name(child));
-            self.visit(child, mat_mul(&acc, &t), name, nauos, depth + 1, out)?;
+            let unplaced = unplaced.or(t.is_none().then_some(nauo));
+            let acc = mat_mul(&acc, &t.unwrap_or(IDENTITY));
+            self.visit(child, acc, name, unplaced, nauos, depth + 1, out)?;
         }
         Ok(())
     }

@@ -247,6 +247,17 @@ impl Walk<'_> {
                 shell: None,
             });
         }
+        let mut unplaced: Vec<u64> = placed.iter().filter_map(|p| p.unplaced).collect();
+        unplaced.sort_unstable();
+        unplaced.dedup();
+        for nauo in unplaced {
+            self.src.warn(
+                "assembly",
+                nauo,
+                "component that no CONTEXT_DEPENDENT_SHAPE_REPRESENTATION places",
+                "placed in its assembly's coordinates (no transformation)",
+            );
+        }
         for &brep in breps {
             if !placed.iter().any(|p| p.brep == brep) {
                 self.src.warn(
