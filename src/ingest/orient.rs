@@ -24,8 +24,8 @@
 
 use crate::geom::distance::face_normal;
 use crate::geom::eval::curve_point;
+use crate::geom::trim::contains;
 use crate::geom::trim::edge_samples;
-use crate::geom::trim::{contains, Trim};
 use crate::geom::{surface_kind, surface_point};
 use crate::model::{Model, Warnings};
 use glam::{DVec2, DVec3};
@@ -226,13 +226,16 @@ pub fn shell_votes(model: &Model, s: usize) -> Votes {
         b.0 = f64::NEG_INFINITY;
     }
     let offer = |best: &mut [(f64, Vec<(usize, DVec2)>); 6], p: DVec3, fi: usize, uv: DVec2| {
-        for (k, e) in dirs.iter().enumerate() {
-            let h = p.dot(*e);
-            let tol = 1e-9 * (1.0 + p.abs().max_element());
-            if h > best[k].0 + tol {
-                best[k] = (h, vec![(fi, uv)]);
-            } else if h >= best[k].0 - tol {
-                best[k].1.push((fi, uv));
+        let tol = 1e-9 * (1.0 + p.abs().max_element());
+        // The heights along ±x, ±y, ±z.
+        let hs = [p.x, -p.x, p.y, -p.y, p.z, -p.z];
+        for (b, h) in best.iter_mut().zip(hs) {
+            if h > b.0 + tol {
+                b.0 = h;
+                b.1.clear();
+                b.1.push((fi, uv));
+            } else if h >= b.0 - tol {
+                b.1.push((fi, uv));
             }
         }
     };
@@ -271,6 +274,11 @@ pub fn shell_votes(model: &Model, s: usize) -> Votes {
                 idx += n;
             }
         }
+    }
+    // Inside the faces that can bulge, after every boundary: a grid point is tested against
+    // the face's trim only when it would reach an extreme so far (most do not).
+    for &fi in &shell.faces {
+        let face = &model.faces[fi];
         if matches!(
             surface_kind(&face.surface),
             "plane" | "cylinder" | "cone" | "extrusion"
@@ -281,7 +289,6 @@ pub fn shell_votes(model: &Model, s: usize) -> Votes {
         if !(d.u.0.is_finite() && d.u.1.is_finite() && d.v.0.is_finite() && d.v.1.is_finite()) {
             continue;
         }
-        let trim = Trim::new(face);
         let n = ORIENT_GRID;
         for i in 0..n {
             for j in 0..n {
@@ -290,8 +297,13 @@ pub fn shell_votes(model: &Model, s: usize) -> Votes {
                     d.u.0 + (d.u.1 - d.u.0) * (i as f64 + 0.5) / n as f64,
                     d.v.0 + (d.v.1 - d.v.0) * (j as f64 + 0.5) / n as f64,
                 );
-                if trim.contains(face, uv) {
-                    offer(&mut best, surface_point(&face.surface, uv.x, uv.y), fi, uv);
+                let p = surface_point(&face.surface, uv.x, uv.y);
+                let reaches = dirs
+                    .iter()
+                    .enumerate()
+                    .any(|(k, e)| p.dot(*e) >= best[k].0 - 1e-9 * (1.0 + p.abs().max_element()));
+                if reaches && contains(face, uv) {
+                    offer(&mut best, p, fi, uv);
                 }
             }
         }

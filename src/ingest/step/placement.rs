@@ -155,17 +155,15 @@ pub type Link = (u64, u64, Mat4);
 /// a point `x` of `rep_1` is `P(item_2) · P(item_1)⁻¹ · x` in `rep_2`.
 /// A `MAPPED_ITEM(name, REPRESENTATION_MAP(origin, mapped), target)` among the items of a
 /// representation `R` places `mapped` in `R` the same way: `P(target) · P(origin)⁻¹`.
-pub fn representation_links(records: &Records) -> Result<Vec<Link>, (u64, String)> {
+pub fn representation_links(
+    records: &Records,
+    reps: &[Representation],
+) -> Result<Vec<Link>, (u64, String)> {
     let mut links = Vec::new();
-    for rep in representations(records) {
-        for &item in &rep.items {
-            if let Some((mapped, t)) = mapped_item(records, item)? {
-                links.push((mapped, rep.id, t));
-            }
-        }
-    }
+    let mut mapped_items = false;
     for id in records.ids_in_order() {
         let Some(rel) = relationship(records, id) else {
+            mapped_items |= records.simple(id).is_some_and(|r| r.name == "MAPPED_ITEM");
             continue;
         };
         let p = params(rel);
@@ -196,6 +194,15 @@ pub fn representation_links(records: &Records) -> Result<Vec<Link>, (u64, String
             None => {
                 links.push((r1, r2, IDENTITY));
                 links.push((r2, r1, IDENTITY));
+            }
+        }
+    }
+    if mapped_items {
+        for rep in reps {
+            for &item in &rep.items {
+                if let Some((mapped, t)) = mapped_item(records, item)? {
+                    links.push((mapped, rep.id, t));
+                }
             }
         }
     }

@@ -123,7 +123,8 @@ impl Walk<'_> {
             }
             None => {}
         }
-        let links = representation_links(recs).map_err(|(id, reason)| self.src.err(id, reason))?;
+        let links =
+            representation_links(recs, &reps).map_err(|(id, reason)| self.src.err(id, reason))?;
         let mut jobs = Vec::new();
         for brep in breps {
             let holders: Vec<&Representation> =
