@@ -21,6 +21,7 @@ use super::placement::{axis2_placement, mapped_item};
 use super::records::{as_ref, as_refs, as_string, params, relationship, Records};
 use crate::ingest::transform::{mat_mul, rigid_inverse, Mat4, IDENTITY};
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
+use truck_stepio::r#in::ruststep::ast::Record;
 
 /// Deepest assembly nesting followed (a deeper path is a cycle or absurd).
 pub const MAX_ASSEMBLY_DEPTH: usize = 32;
@@ -45,23 +46,21 @@ pub struct Placed {
     pub unplaced: Option<u64>,
 }
 
-/// The product structure's solids, or `None` when the file is not an assembly (no NAUO).
-/// `Err((id, reason))` names the entity that makes the structure unreadable.
+/// `(id, relating (the assembly), related (the component))` of a
+/// `NEXT_ASSEMBLY_USAGE_OCCURRENCE` record.
+pub fn nauo(id: u64, r: &Record) -> Option<(u64, u64, u64)> {
+    let p = params(r);
+    Some((id, p.get(3).and_then(as_ref)?, p.get(4).and_then(as_ref)?))
+}
+
+/// The product structure's solids, or `None` when the file is not an assembly (no NAUO:
+/// `nauos` are the file's, by [`nauo`], in file order). `Err((id, reason))` names the entity
+/// that makes the structure unreadable.
 pub fn placed_solids(
     records: &Records,
     is_brep: &dyn Fn(u64) -> bool,
+    nauos: Vec<(u64, u64, u64)>,
 ) -> Result<Option<Vec<Placed>>, (u64, String)> {
-    let nauos: Vec<(u64, u64, u64)> = records
-        .ids_in_order()
-        .filter_map(|id| {
-            let r = records.simple(id)?;
-            if r.name != "NEXT_ASSEMBLY_USAGE_OCCURRENCE" {
-                return None;
-            }
-            let p = params(r);
-            Some((id, p.get(3).and_then(as_ref)?, p.get(4).and_then(as_ref)?))
-        })
-        .collect();
     if nauos.is_empty() {
         return Ok(None);
     }

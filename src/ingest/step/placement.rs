@@ -154,16 +154,16 @@ pub type Link = (u64, u64, Mat4);
 /// `rep_2` (the assembly) by an `ITEM_DEFINED_TRANSFORMATION(name, desc, item_1, item_2)`:
 /// a point `x` of `rep_1` is `P(item_2) · P(item_1)⁻¹ · x` in `rep_2`.
 /// A `MAPPED_ITEM(name, REPRESENTATION_MAP(origin, mapped), target)` among the items of a
-/// representation `R` places `mapped` in `R` the same way: `P(target) · P(origin)⁻¹`.
+/// representation `R` places `mapped` in `R` the same way: `P(target) · P(origin)⁻¹` (looked
+/// for only when `mapped_items`: the file has some).
 pub fn representation_links(
     records: &Records,
     reps: &[Representation],
+    mapped_items: bool,
 ) -> Result<Vec<Link>, (u64, String)> {
     let mut links = Vec::new();
-    let mut mapped_items = false;
     for id in records.ids_in_order() {
         let Some(rel) = relationship(records, id) else {
-            mapped_items |= records.simple(id).is_some_and(|r| r.name == "MAPPED_ITEM");
             continue;
         };
         let p = params(rel);

@@ -95,19 +95,25 @@ impl Walk<'_> {
     /// Finds every solid, its representation's length unit, and its placements.
     fn solid_jobs(&self) -> Result<Vec<SolidJob>> {
         let recs = self.src.recs;
-        let breps: Vec<u64> = recs
-            .ids_in_order()
-            .filter(|id| {
-                recs.simple(*id)
-                    .is_some_and(|r| r.name == "MANIFOLD_SOLID_BREP" || r.name == "BREP_WITH_VOIDS")
-            })
-            .collect();
+        // One pass over the records for the solids, the assembly's occurrences and whether
+        // anything is mapped in.
+        let (mut breps, mut nauos, mut mapped_items) = (Vec::new(), Vec::new(), false);
+        for id in recs.ids_in_order() {
+            let Some(r) = recs.simple(id) else { continue };
+            match r.name.as_str() {
+                "MANIFOLD_SOLID_BREP" | "BREP_WITH_VOIDS" => breps.push(id),
+                "NEXT_ASSEMBLY_USAGE_OCCURRENCE" => nauos.extend(super::assembly::nauo(id, r)),
+                "MAPPED_ITEM" => mapped_items = true,
+                _ => {}
+            }
+        }
         if breps.is_empty() {
             return self.surface_model_jobs();
         }
         let reps = representations(recs);
-        let is_brep = |id: u64| breps.contains(&id);
-        let placed = super::assembly::placed_solids(recs, &is_brep)
+        let brep_set: rustc_hash::FxHashSet<u64> = breps.iter().copied().collect();
+        let is_brep = |id: u64| brep_set.contains(&id);
+        let placed = super::assembly::placed_solids(recs, &is_brep, nauos)
             .map_err(|(id, reason)| self.src.err(id, reason))?;
         match placed {
             Some(placed) if !placed.is_empty() => return self.assembly_jobs(&breps, &reps, placed),
@@ -123,8 +129,8 @@ impl Walk<'_> {
             }
             None => {}
         }
-        let links =
-            representation_links(recs, &reps).map_err(|(id, reason)| self.src.err(id, reason))?;
+        let links = representation_links(recs, &reps, mapped_items)
+            .map_err(|(id, reason)| self.src.err(id, reason))?;
         let mut jobs = Vec::new();
         for brep in breps {
             let holders: Vec<&Representation> =
