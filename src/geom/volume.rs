@@ -14,13 +14,17 @@
 //! curved kinds, at sixteenths of the covered range, so the surface part of the integral is
 //! exact to rounding for planes and polynomial patches and to about 1e-10 for the others.
 //!
-//! The boundary is the loops' UV polygons ([`Loop::uv`](crate::model::Loop::uv)): their
-//! vertices are exact points of the trimming curves, and between them the polygon is a chord,
-//! which for a circle sampled 32 times cuts 0.64 % of the area it bounds in a plane (about
-//! 0.2 % of a plate's volume per circular hole of the plate's own area). That is the figure's
-//! accuracy: it is a check that the faces enclose what the file says (a flipped face, a
-//! missing or misplaced part changes it by the part's whole size), not a mass-property tool.
-//!
+//! The boundary is the loops' UV samples ([`Loop::uv`](crate::model::Loop::uv)), exact points
+//! of the trimming curves, even in each edge's parameter ([`edge_samples`]). Between two of
+//! them the path is the cubic through four consecutive samples of the same curved edge, which
+//! follows the curve to fourth order in the spacing: a circle sampled 32 times bounds its area
+//! to 1e-5 (the chord polygon cut 0.64 % off it, about 0.2 % of a plate's volume per hole of
+//! the plate's own area). A line's two samples, and a jump in the samples (at a pole), are
+//! joined straight; where one end is at a pole (`Su` or `Sv` vanishing) the path turns the
+//! corner along the pole's line, as the region does in UV (the chord cut 0.16 % off a
+//! hemispherical shell). The samples agree with their scripts' exact volumes to 2.4e-5, the
+//! third-party parts with OCCT's to 0.1 %.
+
 //! Loops follow the STEP convention (the face on their left seen against `Su × Sv` when the
 //! face's `same_sense` holds), as the trim test reads them. A loop that wraps around a
 //! period (the rim of a cylinder's band, a cone cap's circle) is closed to the copy of its
