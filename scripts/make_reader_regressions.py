@@ -87,6 +87,16 @@ def moved_vertex(uncertainty):
     return t
 
 
+def edges_off_their_face():
+    """Cause 3 (curve to surface): the box's top plane moved up by 0.015 mm, so its four edges
+    lie 0.015 mm (up to 7e-4 of the coordinates' size) off the face's surface: within what
+    the reader accepts (1e-3 of it), and reported with the largest gap."""
+    t = text("box.step")
+    old = "#128 = CARTESIAN_POINT('',(0.,0.,20.));"
+    assert old in t
+    return t.replace(old, "#128 = CARTESIAN_POINT('',(0.,0.,20.015));")
+
+
 def latin1_name():
     """Cause 4 (STEP): a product name in Windows-1252 / Latin-1 (not UTF-8)."""
     t = text("box.step")
@@ -358,6 +368,7 @@ def main():
     write("scaled_directions.step", scaled_directions())
     write("gap_within_uncertainty.step", moved_vertex("0.01"))
     write("gap_beyond_uncertainty.step", moved_vertex("1.E-07"))
+    write("edges_off_their_face.step", edges_off_their_face())
     write("latin1_name.step", latin1_name())
     write("utf8_name.igs", utf8_iges_name())
     write("empty_range.igs", empty_iges_range())

@@ -43,22 +43,23 @@ impl<'a> Projector<'a> {
         }
     }
 
-    /// The foot of `p`, and whether the parametrisation is singular there (a pole); `None`
-    /// unless the foot point is within [`ON_SURFACE_REL_COORD`] (relative to the coordinates'
-    /// size `1 + |p|∞`) of `p`.
-    fn project(&self, p: DVec3, hint: Option<(f64, f64)>) -> Option<((f64, f64), bool)> {
+    /// The foot of `p`, whether the parametrisation is singular there (a pole), and its
+    /// distance from `p`; `None` unless the foot point is within [`ON_SURFACE_REL_COORD`]
+    /// (relative to the coordinates' size `1 + |p|∞`) of `p`.
+    fn project(&self, p: DVec3, hint: Option<(f64, f64)>) -> Option<((f64, f64), bool, f64)> {
         let (face, periodic) = (self.face, self.periodic);
         let tolerance = ON_SURFACE_REL_COORD * (1.0 + p.abs().max_element());
         // Planes, cylinders, cones and spheres in closed form, in truck's parameters, with
         // the distance and the pole test in closed form too.
         if let Some(foot) = self.closed.foot(p) {
             if foot.distance <= tolerance {
-                return Some((foot.uv, foot.pole));
+                return Some((foot.uv, foot.pole, foot.distance));
             }
         }
         let on = |uv: (f64, f64)| {
             let d = eval_surface(&face.surface, uv.0, uv.1);
-            (d.p.distance(p) <= tolerance).then(|| (uv, is_singular(&d)))
+            let gap = d.p.distance(p);
+            (gap <= tolerance).then(|| (uv, is_singular(&d), gap))
         };
         let along = |h: (f64, f64)| {
             crate::geom::project::project_point_along(&face.surface, p, h, periodic).and_then(on)
@@ -114,6 +115,23 @@ struct Sample {
 
 /// The UV polygon of one loop of `face` (see the module docs). A vertex loop gives one point.
 pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>, String> {
+    loop_uv_and_gap(model, face_index, lp).map(|(uv, _)| uv)
+}
+
+/// The largest distance of a loop's points from its face's surface: in mm, and relative to
+/// the coordinates' size `1 + |p|∞` there.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SurfaceGap {
+    pub mm: f64,
+    pub rel: f64,
+}
+
+/// [`loop_uv`], and how far the loop's sampled points are from the face's surface.
+pub fn loop_uv_and_gap(
+    model: &Model,
+    face_index: usize,
+    lp: &Loop,
+) -> Result<(Vec<DVec2>, SurfaceGap), String> {
     let face = &model.faces[face_index];
     // Angles: truck's canonical range is what the unwrapping below expects. A B-spline that
     // closes on itself has no angle: every answer is in its knot range, which `align_loops`
@@ -124,19 +142,20 @@ pub fn loop_uv(model: &Model, face_index: usize, lp: &Loop) -> Result<Vec<DVec2>
     };
     if let Some(v) = lp.vertex {
         let p = model.vertices[v].point;
-        let (uv, _) = Projector::new(face, false)
+        let (uv, _, mm) = Projector::new(face, false)
             .project(p, None)
             .ok_or("vertex loop's vertex is not on the face's surface")?;
-        return Ok(vec![DVec2::new(uv.0, uv.1)]);
+        let rel = mm / (1.0 + p.abs().max_element());
+        return Ok((vec![DVec2::new(uv.0, uv.1)], SurfaceGap { mm, rel }));
     }
     let samples = sample_loop(model, face_index, lp);
-    let (raw, singular) = project_samples(face, periodic, &samples);
+    let (raw, singular, gap) = project_samples(face, periodic, &samples);
     if raw.iter().any(|x| x.is_none()) {
         let k = raw.iter().position(|x| x.is_none()).unwrap_or(0);
         return Err(not_on_surface(face, samples[k].p));
     }
     let raw: Vec<(f64, f64)> = raw.into_iter().flatten().collect();
-    Ok(unwrap_loop(face, &samples, &raw, &singular))
+    Ok((unwrap_loop(face, &samples, &raw, &singular), gap))
 }
 
 /// The loop sampled in order; samples on a seam edge carry their direction of travel.
@@ -168,14 +187,18 @@ fn sample_loop(model: &Model, face_index: usize, lp: &Loop) -> Vec<Sample> {
     samples
 }
 
-/// Each sample's foot on the face's surface (`None` where it is not on it), and whether the
-/// parametrisation is singular there.
+/// Each sample's foot on the face's surface (`None` where it is not on it), whether the
+/// parametrisation is singular there, and the largest distance of a sample from its foot.
+type Projected = (Vec<Option<(f64, f64)>>, Vec<bool>, SurfaceGap);
+
+/// Each sample's foot on the face's surface (see [`Projected`]).
 fn project_samples(
     face: &Face,
     periodic: bool,
     samples: &[Sample],
-) -> (Vec<Option<(f64, f64)>>, Vec<bool>) {
+) -> Projected {
     let projector = Projector::new(face, periodic);
+    let mut gap = SurfaceGap::default();
     let mut raw: Vec<Option<(f64, f64)>> = Vec::with_capacity(samples.len());
     let mut singular: Vec<bool> = Vec::with_capacity(samples.len());
     let mut hint: Option<(f64, f64)> = None;
@@ -192,8 +215,14 @@ fn project_samples(
                 .then(|| projector.project(s.p, hint))
                 .flatten()
         });
-        let pole = found.is_some_and(|(_, pole)| pole);
-        let uv = found.map(|(uv, _)| uv);
+        let pole = found.is_some_and(|(_, pole, _)| pole);
+        let uv = found.map(|(uv, _, _)| uv);
+        if let Some((_, _, mm)) = found {
+            let rel = mm / (1.0 + s.p.abs().max_element());
+            if rel > gap.rel {
+                gap = SurfaceGap { mm, rel };
+            }
+        }
         if let (Some(uv), false) = (uv, pole) {
             before = hint;
             hint = Some(uv);
@@ -203,7 +232,7 @@ fn project_samples(
         raw.push(uv);
         singular.push(pole);
     }
-    (raw, singular)
+    (raw, singular, gap)
 }
 
 /// The message for a loop point `p` that is not on the face's surface.

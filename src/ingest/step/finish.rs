@@ -7,7 +7,8 @@
 use super::records::Records;
 use super::source::Source;
 use crate::error::Result;
-use crate::ingest::domain::{align_loops, face_domain, loop_uv};
+use crate::ingest::domain::{align_loops, face_domain, loop_uv_and_gap};
+use crate::ingest::tolerance::VERTEX_ON_CURVE_REL_COORD;
 use crate::model::*;
 use rayon::prelude::*;
 use rustc_hash::{FxHashMap as HashMap, FxHashSet};
@@ -116,15 +117,26 @@ fn compute_domains(src: &Source, model: &mut Model) -> Result<()> {
             m.faces[fi]
                 .loops
                 .iter()
-                .map(|l| loop_uv(m, fi, l).map_err(|reason| (l.source_id, reason)))
+                .map(|l| loop_uv_and_gap(m, fi, l).map_err(|reason| (l.source_id, reason)))
                 .collect()
         })
         .collect();
     for (fi, uv) in uvs.into_iter().enumerate() {
         let uv = uv.map_err(|(id, reason)| src.err(id, reason))?;
         let m = &mut *model;
-        for (l, uv) in m.faces[fi].loops.iter_mut().zip(uv) {
+        for (l, (uv, gap)) in m.faces[fi].loops.iter_mut().zip(uv) {
             l.uv = uv;
+            // Edges off their face's surface by more than rounding, and less than the
+            // projection accepts (`ON_SURFACE_REL_COORD`): read, and said.
+            if gap.rel > VERTEX_ON_CURVE_REL_COORD {
+                src.warn_gap(
+                    "gap",
+                    l.source_id,
+                    "loop's edges off its face's surface by more than 1e-4 of the coordinates' size",
+                    "accepted (up to 1e-3 of the coordinates' size)",
+                    Some(gap.mm),
+                );
+            }
         }
         align_loops(&mut m.faces[fi]);
         let (domain, outer) = face_domain(m, &m.faces[fi]);
@@ -137,7 +149,8 @@ fn compute_domains(src: &Source, model: &mut Model) -> Result<()> {
 }
 
 /// One face's loops in UV, or the failing loop's id and the reason.
-type LoopsUv = std::result::Result<Vec<Vec<glam::DVec2>>, (u64, String)>;
+type LoopsUv =
+    std::result::Result<Vec<(Vec<glam::DVec2>, crate::ingest::domain::SurfaceGap)>, (u64, String)>;
 
 fn order_keys(ids: impl Iterator<Item = u64>, recs: &Records) -> Vec<(usize, usize)> {
     let mut seen: HashMap<u64, usize> = HashMap::default();
