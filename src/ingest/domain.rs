@@ -192,11 +192,7 @@ fn sample_loop(model: &Model, face_index: usize, lp: &Loop) -> Vec<Sample> {
 type Projected = (Vec<Option<(f64, f64)>>, Vec<bool>, SurfaceGap);
 
 /// Each sample's foot on the face's surface (see [`Projected`]).
-fn project_samples(
-    face: &Face,
-    periodic: bool,
-    samples: &[Sample],
-) -> Projected {
+fn project_samples(face: &Face, periodic: bool, samples: &[Sample]) -> Projected {
     let projector = Projector::new(face, periodic);
     let mut gap = SurfaceGap::default();
     let mut raw: Vec<Option<(f64, f64)>> = Vec::with_capacity(samples.len());
