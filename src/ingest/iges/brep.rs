@@ -11,6 +11,7 @@
 //! loops and the enclosed volume.
 
 use super::ctx::Ctx;
+use super::format::DirEntry;
 use super::segment::{edge_range, Segment};
 use crate::error::Result;
 use crate::ingest::domain::EMPTY_DOMAIN;
@@ -138,29 +139,21 @@ fn build_loop(
     face: usize,
 ) -> Result<Loop> {
     let e = ctx.typed(de, from, &[508])?;
-    let n = ctx.count(e, 0, "number of edges")?;
-    let mut k = 1;
-    let mut edges = Vec::with_capacity(n);
+    let mut edges = Vec::new();
     let mut lone_vertex = None;
-    for _ in 0..n {
-        let kind = ctx.int(e, k, "edge or vertex type")?;
-        let list = ctx.ptr(e, k + 1, "edge list")?;
-        let index = ctx.index(e, k + 2, "index in the list")?;
-        let along = ctx.int(e, k + 3, "orientation flag")? != 0;
-        let pcurves = ctx.count(e, k + 4, "number of parameter-space curves")?;
-        k += 5 + 2 * pcurves;
-        match kind {
+    for entry in loop_entries(ctx, e)? {
+        match entry.kind {
             0 => {
-                let (edge, reversed) = edge(ctx, model, maps, list, index, de)?;
+                let (edge, reversed) = edge(ctx, model, maps, entry.list, entry.index, de)?;
                 model.edges[edge].faces.push(face);
                 edges.push(OrientedEdge {
                     edge,
-                    forward: along != reversed,
+                    forward: entry.along != reversed,
                 });
             }
             1 => {
                 // A degenerate edge, given as its vertex: nothing to trace along it.
-                lone_vertex = Some(vertex(ctx, model, maps, list, index, de)?);
+                lone_vertex = Some(vertex(ctx, model, maps, entry.list, entry.index, de)?);
             }
             t => return Err(ctx.err(de, format!("edge type {t} (0 = edge, 1 = vertex)"))),
         }
@@ -205,17 +198,7 @@ fn vertex(
     if let Some(&v) = maps.vertices.get(&(list, index)) {
         return Ok(v);
     }
-    let e = ctx.typed(list, from, &[502])?;
-    let n = ctx.count(e, 0, "number of vertices")?;
-    if index < 1 || index > n {
-        return Err(ctx.err(
-            from,
-            format!("vertex {index} of the vertex list DE {list}, which has {n}"),
-        ));
-    }
-    let r = ctx.reals(e, 1 + 3 * (index - 1), 3, "vertex coordinates")?;
-    let m = ctx.place(&IDENTITY, e)?;
-    let point = apply(&m, DVec3::new(r[0], r[1], r[2]));
+    let point = vertex_point(ctx, list, index, from)?;
     let v = model.vertices.len();
     model.vertices.push(Vertex {
         source_id: list as u64,
@@ -236,22 +219,9 @@ fn edge(
     if let Some(&x) = maps.edges.get(&(list, index)) {
         return Ok(x);
     }
-    let e = ctx.typed(list, from, &[504])?;
-    let n = ctx.count(e, 0, "number of edges")?;
-    if index < 1 || index > n {
-        return Err(ctx.err(
-            from,
-            format!("edge {index} of the edge list DE {list}, which has {n}"),
-        ));
-    }
-    let k = 1 + 5 * (index - 1);
-    let curve = ctx.ptr(e, k, "model-space curve")?;
-    let svp = ctx.ptr(e, k + 1, "start vertex list")?;
-    let sv = ctx.index(e, k + 2, "start vertex index")?;
-    let tvp = ctx.ptr(e, k + 3, "end vertex list")?;
-    let tv = ctx.index(e, k + 4, "end vertex index")?;
-    let a = vertex(ctx, model, maps, svp, sv, list)?;
-    let b = vertex(ctx, model, maps, tvp, tv, list)?;
+    let (e, EdgeEntry { curve, start, end }) = edge_entry(ctx, list, index, from)?;
+    let a = vertex(ctx, model, maps, start.0, start.1, list)?;
+    let b = vertex(ctx, model, maps, end.0, end.1, list)?;
     let seg = ctx.curve(curve, list, &ctx.transform_chain(e)?)?;
     let (pa, pb) = (model.vertices[a].point, model.vertices[b].point);
     let (range, reversed) = edge_range(&seg, pa, pb).map_err(|r| ctx.err(curve, r))?;
@@ -267,4 +237,90 @@ fn edge(
     });
     maps.edges.insert((list, index), (idx, reversed));
     Ok((idx, reversed))
+}
+
+/// One entry of a 508 loop: `kind` 0 for an edge, 1 for a vertex; the edge (or vertex) list
+/// and the index in it; whether the loop runs along the model-space curve. Parameter-space
+/// curves are skipped.
+pub(super) struct LoopEntry {
+    pub kind: i64,
+    pub list: usize,
+    pub index: usize,
+    pub along: bool,
+}
+
+/// The entries of the 508 loop `e`, in order.
+pub(super) fn loop_entries(ctx: &Ctx, e: &DirEntry) -> Result<Vec<LoopEntry>> {
+    let n = ctx.count(e, 0, "number of edges")?;
+    let mut k = 1;
+    let mut out = Vec::with_capacity(n);
+    for _ in 0..n {
+        let kind = ctx.int(e, k, "edge or vertex type")?;
+        let list = ctx.ptr(e, k + 1, "edge list")?;
+        let index = ctx.index(e, k + 2, "index in the list")?;
+        let along = ctx.int(e, k + 3, "orientation flag")? != 0;
+        let pcurves = ctx.count(e, k + 4, "number of parameter-space curves")?;
+        k += 5 + 2 * pcurves;
+        out.push(LoopEntry {
+            kind,
+            list,
+            index,
+            along,
+        });
+    }
+    Ok(out)
+}
+
+/// Edge `index` of a 504 edge list: its model-space curve's DE, and its start and end
+/// vertices as (502 list, index).
+pub(super) struct EdgeEntry {
+    pub curve: usize,
+    pub start: (usize, usize),
+    pub end: (usize, usize),
+}
+
+/// Entry `index` of the 504 edge list `list` (referred to from `from`), with the list's own
+/// directory entry.
+pub(super) fn edge_entry<'a>(
+    ctx: &'a Ctx,
+    list: usize,
+    index: usize,
+    from: usize,
+) -> Result<(&'a DirEntry, EdgeEntry)> {
+    let e = ctx.typed(list, from, &[504])?;
+    let n = ctx.count(e, 0, "number of edges")?;
+    if index < 1 || index > n {
+        return Err(ctx.err(
+            from,
+            format!("edge {index} of the edge list DE {list}, which has {n}"),
+        ));
+    }
+    let k = 1 + 5 * (index - 1);
+    let entry = EdgeEntry {
+        curve: ctx.ptr(e, k, "model-space curve")?,
+        start: (
+            ctx.ptr(e, k + 1, "start vertex list")?,
+            ctx.index(e, k + 2, "start vertex index")?,
+        ),
+        end: (
+            ctx.ptr(e, k + 3, "end vertex list")?,
+            ctx.index(e, k + 4, "end vertex index")?,
+        ),
+    };
+    Ok((e, entry))
+}
+
+/// Vertex `index` of the 502 vertex list `list` (referred to from `from`), placed.
+pub(super) fn vertex_point(ctx: &Ctx, list: usize, index: usize, from: usize) -> Result<DVec3> {
+    let e = ctx.typed(list, from, &[502])?;
+    let n = ctx.count(e, 0, "number of vertices")?;
+    if index < 1 || index > n {
+        return Err(ctx.err(
+            from,
+            format!("vertex {index} of the vertex list DE {list}, which has {n}"),
+        ));
+    }
+    let r = ctx.reals(e, 1 + 3 * (index - 1), 3, "vertex coordinates")?;
+    let m = ctx.place(&IDENTITY, e)?;
+    Ok(apply(&m, DVec3::new(r[0], r[1], r[2])))
 }

@@ -115,36 +115,15 @@ fn build(path: &Path, file: &IgesFile, mm: f64, unit: String) -> Result<Model> {
         vertices: vec![],
         bbox: (DVec3::ZERO, DVec3::ZERO),
     };
-    let solids: Vec<usize> = file
-        .entries
-        .iter()
-        .filter(|e| e.entity_type == 186)
-        .map(|e| e.de)
-        .collect();
-    let soup: Vec<usize> = file
-        .entries
-        .iter()
-        .filter(|e| e.entity_type == 144)
-        .map(|e| e.de)
-        .collect();
-    let shells: Vec<usize> = file
-        .entries
-        .iter()
-        .filter(|e| e.entity_type == 514)
-        .map(|e| e.de)
-        .collect();
-    let faces: Vec<usize> = file
-        .entries
-        .iter()
-        .filter(|e| e.entity_type == 510)
-        .map(|e| e.de)
-        .collect();
-    let bounded: Vec<usize> = file
-        .entries
-        .iter()
-        .filter(|e| e.entity_type == 143)
-        .map(|e| e.de)
-        .collect();
+    let of_type = |t: i64| -> Vec<usize> {
+        file.entries
+            .iter()
+            .filter(|e| e.entity_type == t)
+            .map(|e| e.de)
+            .collect()
+    };
+    let (solids, soup, shells) = (of_type(186), of_type(144), of_type(514));
+    let (faces, bounded) = (of_type(510), of_type(143));
     // Shells found without a solid (186) to say which is a void: nested by geometry.
     let nest_shells = solids.is_empty();
     let from_shells = !solids.is_empty() || !shells.is_empty();

@@ -21,11 +21,12 @@
 //! `tol`. The soups written by FreeCAD carry 10 significant digits, so coincident ends differ
 //! by about 1e-9 of the coordinates: far inside these.
 
+use super::brep::{edge_entry, loop_entries, vertex_point, EdgeEntry};
 use super::ctx::{model_err, Ctx};
 use super::segment::{edge_range, nearest_param, Segment};
 use crate::error::Result;
 use crate::ingest::domain::EMPTY_DOMAIN;
-use crate::ingest::transform::{apply, mat_mul, IDENTITY};
+use crate::ingest::transform::{mat_mul, IDENTITY};
 use crate::model::*;
 use glam::DVec3;
 use std::collections::HashMap;
@@ -323,18 +324,9 @@ fn read_brep_face(ctx: &Ctx, de: usize) -> Result<SoupFace> {
     for k in 0..n {
         let l = ctx.ptr(e, 3 + k, "loop")?;
         let le = ctx.typed(l, de, &[508])?;
-        let m = ctx.count(le, 0, "number of edges")?;
-        let mut pieces = Vec::with_capacity(m);
-        let mut at = 1;
-        for _ in 0..m {
-            let kind = ctx.int(le, at, "edge or vertex type")?;
-            let list = ctx.ptr(le, at + 1, "edge list")?;
-            let index = ctx.index(le, at + 2, "index in the list")?;
-            let pcurves = ctx.count(le, at + 4, "number of parameter-space curves")?;
-            at += 5 + 2 * pcurves;
-            if kind == 0 {
-                pieces.push((edge_piece(ctx, list, index, l)?, true));
-            }
+        let mut pieces = Vec::new();
+        for entry in loop_entries(ctx, le)?.into_iter().filter(|x| x.kind == 0) {
+            pieces.push((edge_piece(ctx, entry.list, entry.index, l)?, true));
         }
         if !pieces.is_empty() {
             loops.push(SoupLoop { de: l, pieces });
@@ -345,34 +337,9 @@ fn read_brep_face(ctx: &Ctx, de: usize) -> Result<SoupFace> {
 
 /// Edge `index` of the 504 edge list `list`: its curve between its two vertices.
 fn edge_piece(ctx: &Ctx, list: usize, index: usize, from: usize) -> Result<Segment> {
-    let e = ctx.typed(list, from, &[504])?;
-    let n = ctx.count(e, 0, "number of edges")?;
-    if index < 1 || index > n {
-        return Err(ctx.err(
-            from,
-            format!("edge {index} of the edge list DE {list}, which has {n}"),
-        ));
-    }
-    let k = 1 + 5 * (index - 1);
-    let curve = ctx.ptr(e, k, "model-space curve")?;
-    let point = |kl: usize, ki: usize| -> Result<DVec3> {
-        let vl = ctx.ptr(e, kl, "vertex list")?;
-        let vi = ctx.index(e, ki, "vertex index")?;
-        let v = ctx.typed(vl, list, &[502])?;
-        let nv = ctx.count(v, 0, "number of vertices")?;
-        if vi < 1 || vi > nv {
-            return Err(ctx.err(
-                list,
-                format!("vertex {vi} of the vertex list DE {vl}, which has {nv}"),
-            ));
-        }
-        let r = ctx.reals(v, 1 + 3 * (vi - 1), 3, "vertex coordinates")?;
-        Ok(apply(
-            &ctx.place(&IDENTITY, v)?,
-            DVec3::new(r[0], r[1], r[2]),
-        ))
-    };
-    let (pa, pb) = (point(k + 1, k + 2)?, point(k + 3, k + 4)?);
+    let (e, EdgeEntry { curve, start, end }) = edge_entry(ctx, list, index, from)?;
+    let pa = vertex_point(ctx, start.0, start.1, list)?;
+    let pb = vertex_point(ctx, end.0, end.1, list)?;
     let seg = ctx.curve(curve, list, &ctx.transform_chain(e)?)?;
     let (range, _) = edge_range(&seg, pa, pb).map_err(|r| ctx.err(curve, r))?;
     Ok(Segment { range, ..seg })
