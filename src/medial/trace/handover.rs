@@ -107,10 +107,57 @@ impl Tracer<'_> {
                 xc = sol.x;
             }
         }
+        // Off an edge's arc: likewise, the crossing is where the normal is exactly the
+        // face's at that end of the arc (the fan's ends move with the parameter along a
+        // curved edge: a few rounds).
+        if let (Element::Edge(e), Some((true, false))) = (triplet[i], exit) {
+            if let Some(x_arc) = self.at_arc_end(&sys, e, i, &xc) {
+                xc = x_arc;
+            }
+        }
         match self.hand_over_at(triplet, i, &xc, t, exit) {
             Ok((to, xnew)) => Ok((to, xc, xnew)),
             Err(e) => Err((e, xc)),
         }
+    }
+
+    /// The seam point near `xc` of the system `sys` whose touch point `i`, on reflex edge
+    /// `e`, has the normal of the face at the nearer end of the edge's arc; `None` when the
+    /// corrector fails or lands farther than [`SAME_PLACE_REL_ACCURACY`] × the accuracy away.
+    fn at_arc_end(
+        &self,
+        sys: &MedialSystem,
+        e: usize,
+        i: usize,
+        xc: &DVector<f64>,
+    ) -> Option<DVector<f64>> {
+        let acc = self.opts.accuracy;
+        let mut row = DVector::zeros(10);
+        row[5 + 2 * i] = 1.0;
+        let mut y = xc.clone();
+        for _ in 0..4 {
+            let s = slot(&y, i);
+            let n = Element::Edge(e).eval(self.model, s)?.n;
+            let fan = self.edge_fan(e, s[0])?;
+            let k = usize::from(n.angle_between(fan[1]) < n.angle_between(fan[0]));
+            let end = crate::medial::equations::edge_angle(self.model, e, s[0], fan[k])?;
+            // The same branch of the angle as the touch point's.
+            let tau = std::f64::consts::TAU;
+            let end = end + tau * ((s[1] - end) / tau).round();
+            if (end - s[1]).abs() <= 1e-12 {
+                break;
+            }
+            let sol = solve(
+                |z| sys.eval_with_row(self.model, z, &row, end),
+                y.clone(),
+                &self.solve_opts(),
+            );
+            if sol.status != SolveStatus::Converged {
+                return None;
+            }
+            y = sol.x;
+        }
+        (v3(&y).distance(v3(xc)) <= SAME_PLACE_REL_ACCURACY * acc).then_some(y)
     }
 
     /// [`Self::hand_over`] at the crossing point `xc`. For a touch point on an edge, `exit`
@@ -133,7 +180,37 @@ impl Tracer<'_> {
             Element::Edge(e) => self.next_from_edge(e, slot(&xc, i)[0], exit, &ev)?,
             Element::Vertex(v) => self.next_from_vertex(v, &ev)?,
         };
-        self.polish_hand_over(triplet, i, &xc, t, to, params, ev.p)
+        let handed = self.polish_hand_over(triplet, i, &xc, t, to, params, ev.p);
+        // From a reflex edge into the next one at a vertex where they meet at a slight
+        // angle that turns away from the ball, the same ball's nearest point on the next
+        // edge lies behind the vertex: the touch point stays on the vertex while the normal
+        // turns (see `next_from_vertex` for where it leaves).
+        if let (Err(HandOverError::Stop(_)), Element::Edge(e), Element::Edge(g)) =
+            (&handed, seg, to)
+        {
+            if let Some(v) = self.shared_vertex(e, g, ev.p) {
+                let to = Element::Vertex(v);
+                let params = vertex_angles(ev.n);
+                if self.on_segment(to, params) {
+                    if let Ok(ok) = self.polish_hand_over(triplet, i, &xc, t, to, params, ev.p) {
+                        return Ok(ok);
+                    }
+                }
+            }
+        }
+        handed
+    }
+
+    /// The vertex edges `e` and `g` share nearest to `p`.
+    fn shared_vertex(&self, e: usize, g: usize, p: DVec3) -> Option<usize> {
+        let (a, b) = (&self.model.edges[e].vertices, &self.model.edges[g].vertices);
+        a.iter()
+            .filter(|v| b.contains(v))
+            .min_by(|&&v, &&w| {
+                let d = |v: usize| self.model.vertices[v].point.distance(p);
+                d(v).total_cmp(&d(w))
+            })
+            .copied()
     }
 
     /// Where a touch point at `ev` that left face `f` goes on: the reflex edge it reached,
@@ -295,6 +372,25 @@ impl Tracer<'_> {
             .into_iter()
             .min_by(|a, b| ev.n.dot(a.1).total_cmp(&ev.n.dot(b.1)))
             .ok_or(OpenReason::VertexWithoutEdges { vertex: v })?;
+        // Along a smooth edge (faces meeting tangentially to the angle tolerance: a faceted
+        // profile's walls), the touch point leaves the vertex onto the face whose normal
+        // the ball's is.
+        if self.class.edges[e].kind == EdgeKind::Smooth {
+            let p = self.model.vertices[v].point;
+            let normal = |f: usize| {
+                let uv = project_point(&self.model.faces[f].surface, p, None)?;
+                let n = Element::Face(f).eval(self.model, [uv.0, uv.1])?.n;
+                Some((f, uv, n.angle_between(ev.n)))
+            };
+            let faces = &self.model.edges[e].faces;
+            if let Some((f, uv, _)) = faces
+                .iter()
+                .filter_map(|&f| normal(f))
+                .min_by(|a, b| a.2.total_cmp(&b.2))
+            {
+                return Ok((Element::Face(f), [uv.0, uv.1]));
+            }
+        }
         if !self.is_reflex(e) {
             return Err(HandOverError::Stop(OpenReason::ReachedEdge {
                 element: Element::Vertex(v),

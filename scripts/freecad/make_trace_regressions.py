@@ -1,0 +1,186 @@
+#!/usr/bin/python3
+"""Regression parts for the tracer (issue 19): small machined features that lie close
+together, each provoking a seam event the tracer must locate and go on from: a fillet
+meeting a hole, a thin rib on a plate, a boss near an edge, a slot ending in a round, a
+chamfered pocket, a counterbore whose depth equals a channel's half-width, several small
+features touching.
+
+Run with Debian's python (not freecadcmd, not the pyenv python):
+
+    /usr/bin/python3 scripts/freecad/make_trace_regressions.py [OUTDIR]   (default samples/trace)
+
+Each part is built with FreeCAD's Part module, checked (valid, one closed solid, its exact
+volume against OCCT's to 1e-9), written as AP214 STEP, and described in OUTDIR/manifest.json
+with what is known about its medial axis: `open_ends` 0 (a seam may end only at a convex
+vertex, a junction, a curvature limit, by closing, or at a degenerate piece) and the
+volume. Deterministic up to the STEP header's timestamp.
+"""
+
+import json
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import samplelib as L  # noqa: E402  (sets up FreeCAD's sys.path)
+from samplelib import Part, V  # noqa: E402
+
+PI = math.pi
+PARTS = []
+
+
+def part(name, description, volume, mat_note):
+    def deco(fn):
+        PARTS.append(dict(name=name, description=description, volume=volume,
+                          mat_note=mat_note, build=fn))
+        return fn
+    return deco
+
+
+def cyl(r, h, x, y, z=0.0):
+    return Part.makeCylinder(r, h, V(x, y, z))
+
+
+@part("fillet_meets_hole",
+      "Plate 40x30x8 with its four vertical edges filleted r=4 and a through hole r=3 "
+      "whose rim passes 1 mm from one fillet.",
+      40 * 30 * 8 - 4 * (16 - 4 * PI) * 8 - PI * 9 * 8,
+      "The fillets' axes and the hole's are degenerate pieces; the seams from the "
+      "plate's corners pass the fillets and meet the hole's sheet near the fillet.")
+def fillet_meets_hole():
+    b = Part.makeBox(40, 30, 8)
+    b = b.makeFillet(4, [e for e in b.Edges if abs(e.tangentAt(0).z) > 0.99])
+    return b.cut(cyl(3, 8, 8, 8))
+
+
+@part("thin_rib_on_plate",
+      "Plate 50x30x4 with a rib 1.5 mm thick and 10 mm high standing across its middle.",
+      50 * 30 * 4 + 1.5 * 30 * 10,
+      "The rib is thinner than the plate: its mid-plane sheet meets the plate's at "
+      "junctions along the rib's foot, where the reflex edges' seams run.")
+def thin_rib_on_plate():
+    return Part.makeBox(50, 30, 4).fuse(Part.makeBox(1.5, 30, 10, V(24.25, 0, 4))).removeSplitter()
+
+
+@part("boss_near_edge",
+      "Plate 40x30x6 with a cylindrical boss r=5, 8 mm high, its side 1 mm from the "
+      "plate's long edge.",
+      40 * 30 * 6 + PI * 25 * 8,
+      "The boss's reflex rim passes 1 mm from the plate's side: junctions of the rim's "
+      "seams with the side face lie close together.")
+def boss_near_edge():
+    return Part.makeBox(40, 30, 6).fuse(cyl(5, 8, 20, 6, 6)).removeSplitter()
+
+
+@part("slot_ends_in_round",
+      "Block 50x30x10 with a slot 6 mm wide and 5 mm deep from one end, ending in a "
+      "half-round r=3.",
+      50 * 30 * 10 - (30 * 6 + PI * 9 / 2) * 5,
+      "The slot's round end is a half cylinder: its axis is a degenerate piece; the "
+      "seams of the slot's floor edges run into the round and meet it there.")
+def slot_ends_in_round():
+    b = Part.makeBox(50, 30, 10)
+    slot = Part.makeBox(30, 6, 5, V(0, 12, 5)).fuse(cyl(3, 5, 30, 15, 5))
+    return b.cut(slot).removeSplitter()
+
+
+@part("chamfered_pocket",
+      "Block 40x30x12 with a rectangular pocket 20x12x6 deep whose rim is chamfered "
+      "1.5 mm.",
+      None,
+      "Chamfer faces meet the pocket walls and the top at shallow angles: seams leave "
+      "the chamfer's corners between faces meeting at 135 degrees.")
+def chamfered_pocket():
+    b = Part.makeBox(40, 30, 12)
+    b = b.cut(Part.makeBox(20, 12, 6, V(10, 9, 6)))
+    rim = [e for e in b.Edges
+           if abs(e.BoundBox.ZMin - 12) < 1e-9 and abs(e.BoundBox.ZMax - 12) < 1e-9
+           and 10 - 1e-9 <= e.BoundBox.XMin and e.BoundBox.XMax <= 30 + 1e-9
+           and 9 - 1e-9 <= e.BoundBox.YMin and e.BoundBox.YMax <= 21 + 1e-9]
+    return b.makeChamfer(1.5, rim)
+
+
+@part("counterbore_channel",
+      "Block 40x30x16 with a channel 8 mm wide and 6 mm deep along x on its underside "
+      "and a counterbore from the top (r=6, 4 deep, equal to the channel's half-width) "
+      "over a hole r=3 through into the channel.",
+      None,
+      "The counterbore's floor lies as far from the top as the channel is half wide: "
+      "balls of equal radius meet the floor, the channel walls and the hole together.")
+def counterbore_channel():
+    b = Part.makeBox(40, 30, 16)
+    b = b.cut(Part.makeBox(40, 8, 6, V(0, 11, 0)))
+    b = b.cut(cyl(6, 4, 20, 15, 12)).cut(cyl(3, 16, 20, 15, 0))
+    return b.removeSplitter()
+
+
+@part("touching_features",
+      "Plate 40x24x6 with three holes r=2 in a row 5 mm apart (1 mm walls between them), "
+      "a boss r=3 whose side touches a pocket's wall, and a pocket 8x8x3.",
+      None,
+      "Several small features close together: the junctions between neighbouring holes "
+      "lie 1 mm apart and must stay distinct.")
+def touching_features():
+    b = Part.makeBox(40, 24, 6)
+    for x in (8, 13, 18):
+        b = b.cut(cyl(2, 6, x, 8))
+    b = b.cut(Part.makeBox(8, 8, 3, V(26, 12, 3)))
+    b = b.fuse(cyl(3, 4, 23, 16, 6))
+    return b.removeSplitter()
+
+
+@part("faceted_boss",
+      "Plate 40x30x4 with a boss 4 mm high whose footprint is a 16x10 rectangle with its "
+      "long sides each broken at their middle by 0.6 degrees, one outwards and one "
+      "inwards (the walls meet there tangentially to 1 degree, a typical faceted profile).",
+      None,
+      "The reflex edges at the boss's foot meet at the break points at 0.6 degrees: the "
+      "seams along them carry a touch point past each break, onto the next edge or, where "
+      "the edges turn away from the ball, onto the vertex while the normal turns.")
+def faceted_boss():
+    bow = 8 * math.tan(math.radians(0.3))
+    pts = [(12, 10, 4), (20, 10 - bow, 4), (28, 10, 4), (28, 20, 4), (20, 20 - bow, 4),
+           (12, 20, 4)]
+    foot = Part.Face(Part.makePolygon([V(*q) for q in pts] + [V(*pts[0])]))
+    return Part.makeBox(40, 30, 4).fuse(foot.extrude(V(0, 0, 4))).removeSplitter()
+
+
+def main():
+    args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
+    out = os.path.abspath(args.outdir)
+    os.makedirs(out, exist_ok=True)
+    L.setup_step_writer()
+    only = set(args.only.split(",")) if getattr(args, "only", None) else None
+    manifest = []
+    for p in PARTS:
+        if only and p["name"] not in only:
+            continue
+        shape = p["build"]()
+        L.check_solid(p["name"], shape, 1)
+        solid = shape.Solids[0]
+        if p["volume"] is not None:
+            L.check_volume(p["name"], solid, p["volume"], rel=1e-9)
+        path = os.path.join(out, p["name"] + ".step")
+        tmp = os.path.join(out, "." + p["name"] + ".partial.step")
+        solid.exportStep(tmp)
+        os.replace(tmp, path)
+        manifest.append({
+            "file": p["name"] + ".step",
+            "made_by": "scripts/freecad/make_trace_regressions.py",
+            "description": p["description"],
+            "faces": len(solid.Faces), "edges": len(solid.Edges),
+            "vertices": len(solid.Vertexes),
+            "volume": round(solid.Volume, 9),
+            "volume_exact": p["volume"] is not None,
+            "mat": {"open_ends": 0, "note": p["mat_note"]},
+        })
+        print(f"{p['name'] + '.step':28s} faces {len(solid.Faces):3d} "
+              f"edges {len(solid.Edges):3d} volume {solid.Volume:.6f}", flush=True)
+    with open(os.path.join(out, "manifest.json"), "w") as f:
+        json.dump({"made_by": "scripts/freecad/make_trace_regressions.py",
+                   "parts": manifest}, f, indent=1)
+        f.write("\n")
+
+
+if __name__ == "__main__":
+    L.run_main(main)
