@@ -322,6 +322,18 @@ fn batch(args: BatchArgs) -> anyhow::Result<ExitCode> {
         summary.seconds,
         path.display()
     ));
+    if c.open_ends > 0 {
+        let why: Vec<String> = c
+            .open_ends_by_reason
+            .iter()
+            .map(|(why, n)| format!("{why} {n}"))
+            .collect();
+        emit(&format!(
+            "{} open seam ends: {}\n",
+            c.open_ends,
+            why.join(", ")
+        ));
+    }
     Ok(if summary.all_ok() {
         ExitCode::SUCCESS
     } else {

@@ -6,9 +6,7 @@ use super::error::BatchError;
 use super::inputs::Input;
 use super::options::BatchOptions;
 use super::resume::completed_report;
-use super::summary::{
-    record_from_report, Counts, PartRecord, PartStatus, Summary, SummaryOptions, SCHEMA,
-};
+use super::summary::{record_from_report, Counts, PartRecord, Summary, SummaryOptions, SCHEMA};
 use crate::error::Error;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -74,15 +72,7 @@ pub fn run_batch(
             })
             .collect()
     });
-    let mut counts = Counts::default();
-    for p in &parts {
-        match p.status {
-            PartStatus::Ok => counts.ok += 1,
-            PartStatus::Failed => counts.failed += 1,
-            PartStatus::Timeout => counts.timeout += 1,
-        }
-        counts.resumed += usize::from(p.resumed);
-    }
+    let counts = Counts::of(&parts);
     Ok(Summary {
         schema: SCHEMA,
         shard: opts.shard.map(|s| s.to_string()),

@@ -6,6 +6,7 @@ use super::options::{BatchOptions, PartOptions};
 use super::shard::Shard;
 use crate::error::{Error, Result};
 use serde::Serialize;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The schema name written into `summary.json`.
@@ -50,6 +51,10 @@ pub struct PartRecord {
     pub faces: Option<usize>,
     pub seams: Option<usize>,
     pub junctions: Option<usize>,
+    /// Open seam ends (`stats.open_ends` of the report), and how many for each reason
+    /// (`stats.open_ends_by_reason`; empty without a report).
+    pub open_ends: Option<usize>,
+    pub open_ends_by_reason: BTreeMap<String, usize>,
     /// The trace's own time (`stats.seconds` of its report) when it has one, else the
     /// wall-clock time of the failed attempt.
     pub seconds: f64,
@@ -68,6 +73,30 @@ pub struct Counts {
     /// Parts skipped by `--resume` (counted in `ok`, or in `failed` when their report shows a
     /// verification above the accuracy).
     pub resumed: usize,
+    /// Open seam ends over every part with a report, and by reason: where the tracer still
+    /// gives up over a library.
+    pub open_ends: usize,
+    pub open_ends_by_reason: BTreeMap<String, usize>,
+}
+
+impl Counts {
+    /// The counts of `parts`.
+    pub fn of(parts: &[PartRecord]) -> Counts {
+        let mut counts = Counts::default();
+        for p in parts {
+            match p.status {
+                PartStatus::Ok => counts.ok += 1,
+                PartStatus::Failed => counts.failed += 1,
+                PartStatus::Timeout => counts.timeout += 1,
+            }
+            counts.resumed += usize::from(p.resumed);
+            counts.open_ends += p.open_ends.unwrap_or(0);
+            for (why, n) in &p.open_ends_by_reason {
+                *counts.open_ends_by_reason.entry(why.clone()).or_default() += n;
+            }
+        }
+        counts
+    }
 }
 
 /// The options a batch ran with, as written into the summary.
@@ -162,6 +191,13 @@ pub(super) fn record_from_report(
         faces: report["model"]["faces"].as_array().map(|f| f.len()),
         seams: count(&stats["seams"]),
         junctions: count(&stats["junctions"]),
+        open_ends: count(&stats["open_ends"]),
+        open_ends_by_reason: stats["open_ends_by_reason"]
+            .as_object()
+            .into_iter()
+            .flatten()
+            .filter_map(|(why, n)| Some((why.clone(), n.as_u64()? as usize)))
+            .collect(),
         seconds: stats["seconds"].as_f64().unwrap_or(0.0),
         worst_error,
         outputs: opts
@@ -192,6 +228,8 @@ pub(super) fn failed_record(
         faces: None,
         seams: None,
         junctions: None,
+        open_ends: None,
+        open_ends_by_reason: BTreeMap::new(),
         seconds,
         worst_error: None,
         outputs: vec![],
@@ -215,11 +253,12 @@ pub fn write_summary(summary: &Summary, out_dir: &Path, shard: Option<Shard>) ->
     Ok(json_path)
 }
 
-/// The CSV table: `part,status,error,faces,seams,junctions,seconds,worst_error,resumed,output`
+/// The CSV table:
+/// `part,status,error,faces,seams,junctions,seconds,worst_error,resumed,output,open_ends`
 /// (RFC 4180 quoting; empty cells for unknown numbers).
 pub fn summary_csv(summary: &Summary) -> String {
     let mut s = String::from(
-        "part,status,error,faces,seams,junctions,seconds,worst_error,resumed,output\n",
+        "part,status,error,faces,seams,junctions,seconds,worst_error,resumed,output,open_ends\n",
     );
     let num = |n: Option<usize>| n.map(|n| n.to_string()).unwrap_or_default();
     for p in &summary.parts {
@@ -234,6 +273,7 @@ pub fn summary_csv(summary: &Summary) -> String {
             p.worst_error.map(|w| format!("{w:e}")).unwrap_or_default(),
             p.resumed.to_string(),
             csv_cell(&p.output),
+            num(p.open_ends),
         ];
         s.push_str(&cells.join(","));
         s.push('\n');
@@ -252,6 +292,67 @@ fn csv_cell(text: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn record(status: PartStatus, open: Option<(usize, &[(&str, usize)])>) -> PartRecord {
+        PartRecord {
+            part: "p.step".into(),
+            output: "p".into(),
+            status,
+            resumed: false,
+            error: None,
+            faces: None,
+            seams: None,
+            junctions: None,
+            open_ends: open.map(|(n, _)| n),
+            open_ends_by_reason: open
+                .map(|(_, by)| by.iter().map(|(k, n)| (k.to_string(), *n)).collect())
+                .unwrap_or_default(),
+            seconds: 0.0,
+            worst_error: None,
+            outputs: vec![],
+        }
+    }
+
+    #[test]
+    fn counts_add_open_ends_by_reason_over_parts() {
+        let parts = [
+            record(PartStatus::Ok, Some((0, &[]))),
+            record(
+                PartStatus::Failed,
+                Some((3, &[("no_junction", 2), ("reached_edge", 1)])),
+            ),
+            record(PartStatus::Failed, Some((2, &[("no_junction", 2)]))),
+            record(PartStatus::Timeout, None),
+        ];
+        let c = Counts::of(&parts);
+        assert_eq!((c.ok, c.failed, c.timeout), (1, 2, 1));
+        assert_eq!(c.open_ends, 5);
+        let by: Vec<(&str, usize)> = c
+            .open_ends_by_reason
+            .iter()
+            .map(|(k, n)| (k.as_str(), *n))
+            .collect();
+        assert_eq!(by, [("no_junction", 4), ("reached_edge", 1)]);
+        let csv = summary_csv(&Summary {
+            schema: SCHEMA,
+            shard: None,
+            inputs: 4,
+            jobs: 1,
+            timeout_seconds: None,
+            memory_limit_bytes: None,
+            options: SummaryOptions {
+                part: PartOptions::default(),
+                resume: false,
+            },
+            counts: c,
+            seconds: 0.0,
+            parts: parts.to_vec(),
+        });
+        let rows: Vec<&str> = csv.lines().collect();
+        assert!(rows[0].ends_with(",output,open_ends"), "{}", rows[0]);
+        assert!(rows[2].ends_with(",p,3"), "{}", rows[2]);
+        assert!(rows[4].ends_with(",p,"), "{}", rows[4]);
+    }
 
     #[test]
     fn csv_cells_are_quoted() {

@@ -118,6 +118,11 @@ fn batch_records_two_failures_and_resume_redoes_only_them() {
             let report = read_json(&o.join(format!("{stem}.mat.json")));
             assert_eq!(p["seams"], report["stats"]["seams"]);
             assert_eq!(p["junctions"], report["stats"]["junctions"]);
+            assert_eq!(p["open_ends"], report["stats"]["open_ends"]);
+            assert_eq!(
+                p["open_ends_by_reason"],
+                report["stats"]["open_ends_by_reason"]
+            );
             assert_eq!(
                 p["faces"].as_u64().unwrap() as usize,
                 report["model"]["faces"].as_array().unwrap().len()
@@ -129,6 +134,8 @@ fn batch_records_two_failures_and_resume_redoes_only_them() {
         (l["faces"].as_u64(), l["seams"].as_u64()),
         (Some(8), Some(17))
     );
+    let open: u64 = parts.iter().filter_map(|p| p["open_ends"].as_u64()).sum();
+    assert_eq!(summary["counts"]["open_ends"], open);
     let csv = std::fs::read_to_string(o.join("summary.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 6, "{csv}");
