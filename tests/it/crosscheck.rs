@@ -87,6 +87,17 @@ const DM1: &str = "seven I-DEAS solids: 12 balls are up to 9e-3 mm bigger than t
     distance to the boundary, three solids' Euler characteristics differ, faces reached by no \
     ball and open seam ends (issues 19, 20)";
 
+/// Every seam closed, every ball passes, but the graph's Euler characteristic differs from
+/// the solid's: a piece of the medial axis not in the graph (issue 20).
+const EULER_OFF: &str = "no seam ends open and every ball passes both checkers, but the \
+    medial axis's Euler characteristic differs from the solid's: sheets that end at \
+    curvature limits or degenerate pieces not in the graph (issue 20)";
+
+/// Walls meeting at 0.6° across a smooth edge.
+const FACETED: &str = "the boss's walls meet at 0.6 degrees across edges classified smooth \
+    (within the 1 degree tolerance): the seam between two such walls has touch points closer \
+    than √(8·r·accuracy) (`separated`), and the sheets there do not close";
+
 /// Parts known not to pass: every failing check with its count, and why.
 type Expected = (&'static str, &'static [(&'static str, usize)], &'static str);
 const EXPECTED_FAILURES: &[Expected] = &[
@@ -96,14 +107,14 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:distance", 1),
             ("occt:junction_seams", 1),
             ("occt:mesh_contacts", 11),
-            ("occt:seam_ends", 8),
+            ("occt:seam_ends", 7),
             ("occt:separated", 20),
             ("verify:distance", 326),
             ("verify:junction_seams", 1),
-            ("verify:seam_ends", 8),
+            ("verify:seam_ends", 7),
             ("verify:separated", 20),
-            ("verify:sheets_closed", 15),
-            ("verify:touch_on_boundary", 1139),
+            ("verify:sheets_closed", 16),
+            ("verify:touch_on_boundary", 1163),
         ],
         SCREW,
     ),
@@ -173,19 +184,19 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "prusa_extruder-motor-plate.stp",
         &[
             ("occt:distance", 9),
-            ("occt:faces_touched", 5),
+            ("occt:faces_touched", 4),
             ("occt:inside", 3),
             ("occt:junction_seams", 4),
             ("occt:mesh_contacts", 1),
-            ("occt:seam_ends", 40),
-            ("occt:separated", 88),
+            ("occt:seam_ends", 35),
+            ("occt:separated", 89),
             ("occt:touch_at_radius", 1),
             ("occt:touch_on_boundary", 12),
             ("verify:distance", 5),
-            ("verify:faces_touched", 5),
+            ("verify:faces_touched", 4),
             ("verify:junction_seams", 4),
-            ("verify:seam_ends", 40),
-            ("verify:separated", 88),
+            ("verify:seam_ends", 35),
+            ("verify:separated", 89),
             ("verify:sheets_closed", 62),
             ("verify:touch_at_radius", 1),
             ("verify:touch_on_boundary", 3),
@@ -209,11 +220,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:faces_touched", 1),
             ("occt:junction_seams", 2),
             ("occt:mesh_contacts", 1),
-            ("occt:seam_ends", 15),
+            ("occt:seam_ends", 11),
             ("occt:separated", 21),
             ("verify:faces_touched", 1),
             ("verify:junction_seams", 2),
-            ("verify:seam_ends", 15),
+            ("verify:seam_ends", 11),
             ("verify:separated", 21),
             ("verify:sheets_closed", 43),
         ],
@@ -223,9 +234,9 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "prusa_y-rod-holder.stp",
         &[
             ("occt:seam_ends", 20),
-            ("occt:separated", 24),
+            ("occt:separated", 20),
             ("verify:seam_ends", 20),
-            ("verify:separated", 24),
+            ("verify:separated", 20),
             ("verify:sheets_closed", 79),
         ],
         OPEN_AND_SHALLOW,
@@ -301,9 +312,9 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "stepswift_nist_ftc_09_asme1_rd.stp",
         &[
-            ("occt:seam_ends", 6),
+            ("occt:seam_ends", 5),
             ("occt:separated", 14),
-            ("verify:seam_ends", 6),
+            ("verify:seam_ends", 5),
             ("verify:separated", 14),
             ("verify:sheets_closed", 6),
         ],
@@ -321,14 +332,14 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "trimesh_featuretype.STEP",
         &[
-            ("occt:junction_seams", 2),
+            ("occt:junction_seams", 1),
             ("occt:mesh_contacts", 3),
-            ("occt:seam_ends", 22),
+            ("occt:seam_ends", 17),
             ("occt:separated", 2),
-            ("verify:junction_seams", 2),
-            ("verify:seam_ends", 22),
+            ("verify:junction_seams", 1),
+            ("verify:seam_ends", 17),
             ("verify:separated", 2),
-            ("verify:sheets_closed", 28),
+            ("verify:sheets_closed", 27),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -340,13 +351,13 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "voron0_Hotend_Mount_Dragon.step",
         &[
-            ("occt:junction_seams", 10),
-            ("occt:seam_ends", 29),
-            ("occt:separated", 198),
-            ("verify:junction_seams", 10),
-            ("verify:seam_ends", 29),
-            ("verify:separated", 198),
-            ("verify:sheets_closed", 186),
+            ("occt:junction_seams", 11),
+            ("occt:seam_ends", 12),
+            ("occt:separated", 193),
+            ("verify:junction_seams", 11),
+            ("verify:seam_ends", 12),
+            ("verify:separated", 193),
+            ("verify:sheets_closed", 187),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -354,13 +365,13 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "voron0_Hotend_Mount_Revo_Voron.step",
         &[
             ("occt:distance", 2),
-            ("occt:junction_seams", 8),
-            ("occt:seam_ends", 18),
-            ("occt:separated", 199),
+            ("occt:junction_seams", 7),
+            ("occt:seam_ends", 7),
+            ("occt:separated", 211),
             ("verify:distance", 2),
-            ("verify:junction_seams", 8),
-            ("verify:seam_ends", 18),
-            ("verify:separated", 196),
+            ("verify:junction_seams", 7),
+            ("verify:seam_ends", 7),
+            ("verify:separated", 208),
             ("verify:sheets_closed", 147),
         ],
         OPEN_AND_SHALLOW,
@@ -368,15 +379,15 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "voron0_Manta_M4P_Din_Mount_2pc.step",
         &[
-            ("occt:junction_seams", 9),
+            ("occt:junction_seams", 8),
             ("occt:mesh_contacts", 1),
-            ("occt:seam_ends", 94),
-            ("occt:separated", 202),
+            ("occt:seam_ends", 71),
+            ("occt:separated", 204),
             ("occt:touch_on_boundary", 2),
-            ("verify:junction_seams", 9),
-            ("verify:seam_ends", 94),
-            ("verify:separated", 202),
-            ("verify:sheets_closed", 184),
+            ("verify:junction_seams", 8),
+            ("verify:seam_ends", 71),
+            ("verify:separated", 204),
+            ("verify:sheets_closed", 185),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -391,11 +402,44 @@ const EXPECTED_FAILURES: &[Expected] = &[
         ],
         OPEN_AND_DEGENERATE,
     ),
+    // The tracer's regression parts (scripts/freecad/make_trace_regressions.py): no seam
+    // ends open on any of them; what is left is issue 20's.
+    (
+        "boss_near_edge.step",
+        &[("occt:faces_touched", 1), ("verify:faces_touched", 1)],
+        DEGENERATE_ONLY,
+    ),
+    ("chamfered_pocket.step", &[("verify:euler", 1)], EULER_OFF),
+    (
+        "counterbore_channel.step",
+        &[
+            ("occt:faces_touched", 1),
+            ("verify:euler", 1),
+            ("verify:faces_touched", 1),
+        ],
+        EULER_OFF,
+    ),
+    (
+        "faceted_boss.step",
+        &[
+            ("occt:separated", 17),
+            ("verify:separated", 17),
+            ("verify:sheets_closed", 9),
+        ],
+        FACETED,
+    ),
+    ("slot_ends_in_round.step", &[("verify:euler", 1)], EULER_OFF),
+    (
+        "touching_features.step",
+        &[("occt:faces_touched", 1), ("verify:faces_touched", 1)],
+        DEGENERATE_ONLY,
+    ),
 ];
 
-/// Every STEP file of the samples and, where present, of the corpus and its `more/`.
+/// Every STEP file of the samples and the tracer's regression parts (`samples/trace`) and,
+/// where present, of the corpus and its `more/`.
 fn parts() -> Vec<PathBuf> {
-    let mut dirs = vec![root().join("samples")];
+    let mut dirs = vec![root().join("samples"), root().join("samples/trace")];
     if let Some(d) = realworld_dir() {
         dirs.push(d.join("more"));
         dirs.push(d);

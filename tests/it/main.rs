@@ -17,4 +17,5 @@ mod samples;
 mod step_out;
 mod svg;
 mod tools;
+mod trace_regressions;
 mod verify;

@@ -74,6 +74,60 @@ fn regenerated_samples_have_the_same_topology() {
 }
 
 #[test]
+fn regenerated_trace_regression_parts_match_their_manifest() {
+    if !require(
+        "regenerate::regenerated_trace_regression_parts_match_their_manifest",
+        &[Tool::FreeCad],
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new("/usr/bin/python3")
+        .arg(root().join("scripts/freecad/make_trace_regressions.py"))
+        .arg(dir.path())
+        .env("PYTHONDONTWRITEBYTECODE", "1")
+        .current_dir(root())
+        .output()
+        .expect("run make_trace_regressions.py");
+    assert!(
+        out.status.success(),
+        "make_trace_regressions.py failed:\n{}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let read = |p: std::path::PathBuf| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+    };
+    let committed = read(root().join("samples/trace/manifest.json"));
+    let fresh = read(dir.path().join("manifest.json"));
+    assert_eq!(
+        committed, fresh,
+        "the regenerated manifest differs from samples/trace/manifest.json"
+    );
+    for p in committed["parts"].as_array().unwrap() {
+        let name = p["file"].as_str().unwrap();
+        let a = matrace::read_model(&root().join("samples/trace").join(name)).unwrap();
+        let b = matrace::read_model(&dir.path().join(name)).unwrap();
+        let sig = |m: &matrace::Model| {
+            (
+                m.faces.len(),
+                m.edges.len(),
+                m.vertices.len(),
+                m.faces
+                    .iter()
+                    .map(|f| matrace::geom::surface_kind(&f.surface))
+                    .collect::<Vec<_>>(),
+            )
+        };
+        assert_eq!(
+            sig(&a),
+            sig(&b),
+            "{name}: topology differs after regeneration"
+        );
+    }
+}
+
+#[test]
 fn nurbs_variants_classify_like_the_originals() {
     for (orig, nurbs) in [
         ("box.step", "box_nurbs.step"),

@@ -1,0 +1,93 @@
+//! The tracer's regression parts (`samples/trace/`, made by
+//! `scripts/freecad/make_trace_regressions.py`): small machined features close together, each
+//! provoking a seam event the tracer must locate and go on from. Every part in the folder is
+//! in its manifest and the other way round; each traces with no seam end open (what the
+//! manifest says of its medial axis) and the volume the manifest gives. The balls and the
+//! graph are checked by `crosscheck.rs`, which lists what is still missing on these parts.
+
+use crate::common::{matrace, root};
+use serde_json::Value;
+use std::collections::BTreeSet;
+
+fn manifest() -> Value {
+    let text = std::fs::read_to_string(root().join("samples/trace/manifest.json"))
+        .expect("samples/trace/manifest.json");
+    serde_json::from_str(&text).expect("manifest is JSON")
+}
+
+#[test]
+fn every_regression_part_traces_with_no_seam_end_open() {
+    let m = manifest();
+    let parts = m["parts"].as_array().expect("parts");
+    let listed: BTreeSet<String> = parts
+        .iter()
+        .map(|p| p["file"].as_str().unwrap().to_string())
+        .collect();
+    let present: BTreeSet<String> = std::fs::read_dir(root().join("samples/trace"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".step"))
+        .collect();
+    assert_eq!(
+        listed, present,
+        "the manifest lists exactly the files there"
+    );
+    assert!(listed.len() >= 8, "{listed:?}");
+    let dir = tempfile::tempdir().unwrap();
+    let mut problems = vec![];
+    for p in parts {
+        let file = p["file"].as_str().unwrap();
+        let path = root().join("samples/trace").join(file);
+        let out = matrace(
+            &[
+                "trace",
+                path.to_str().unwrap(),
+                "-o",
+                dir.path().to_str().unwrap(),
+                "--no-svg",
+                "--no-mesh",
+            ],
+            &root(),
+        );
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{file}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let stem = file.trim_end_matches(".step");
+        let text = std::fs::read_to_string(dir.path().join(format!("{stem}.mat.json"))).unwrap();
+        let report: Value = serde_json::from_str(&text).unwrap();
+        let stats = &report["stats"];
+        let want = p["mat"]["open_ends"].as_u64().expect("mat.open_ends");
+        if stats["open_ends"].as_u64() != Some(want) {
+            problems.push(format!(
+                "{file}: {} open seam ends ({}), the manifest says {want}",
+                stats["open_ends"], stats["open_ends_by_reason"]
+            ));
+        }
+        let short = report["mat"]["seams"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|s| s["points"].as_array().map_or(0, |p| p.len()) < 2)
+            .count();
+        if short > 0 {
+            problems.push(format!("{file}: {short} seams of fewer than two points"));
+        }
+        let volume: f64 = report["model"]["volumes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .sum();
+        let exact = p["volume"].as_f64().unwrap();
+        // The volume is exact on planes and to a few 1e-6 on curved faces (`geom::volume`).
+        if ((volume - exact) / exact).abs() > 1e-5 {
+            problems.push(format!(
+                "{file}: volume {volume}, the manifest says {exact}"
+            ));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
