@@ -145,6 +145,23 @@ def faceted_boss():
     return Part.makeBox(40, 30, 4).fuse(foot.extrude(V(0, 0, 4))).removeSplitter()
 
 
+@part("split_hole",
+      "Block 40x20x10 with a through hole r=4 at its middle whose wall is two half "
+      "cylinders meeting along the block's plane of symmetry (as exporters that split "
+      "periodic faces write it).",
+      40 * 20 * 10 - PI * 16 * 10,
+      "The seams of the hole with the block's ends and faces lie in the plane of symmetry, "
+      "so their touch points on the hole run along the lines where its two halves meet. "
+      "The medial axis has the solid's Euler characteristic, 0 (a block with a hole).")
+def split_hole():
+    b = Part.makeBox(40, 20, 10)
+    for a in (0, 180):
+        half = Part.makeCylinder(4, 10, V(20, 10, 0), V(0, 0, 1), 180)
+        half.rotate(V(20, 10, 0), V(0, 0, 1), a)
+        b = b.cut(half)
+    return b
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

@@ -90,8 +90,9 @@ const DM1: &str = "seven I-DEAS solids: 12 balls are up to 9e-3 mm bigger than t
 /// Every seam closed, every ball passes, but the graph's Euler characteristic differs from
 /// the solid's: a piece of the medial axis not in the graph (issue 20).
 const EULER_OFF: &str = "no seam ends open and every ball passes both checkers, but the \
-    medial axis's Euler characteristic differs from the solid's: sheets that end at \
-    curvature limits or degenerate pieces not in the graph (issue 20)";
+    medial axis's Euler characteristic differs from the solid's (the block with a through \
+    hole, split or not, counts -2 for 0): sheets that end at curvature limits or pieces not \
+    in the graph (issue 20)";
 
 /// Walls meeting at 0.6° across a smooth edge.
 const FACETED: &str = "the boss's walls meet at 0.6 degrees across edges classified smooth \
@@ -429,6 +430,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
         FACETED,
     ),
     ("slot_ends_in_round.step", &[("verify:euler", 1)], EULER_OFF),
+    ("split_hole.step", &[("verify:euler", 1)], EULER_OFF),
     (
         "touching_features.step",
         &[("occt:faces_touched", 1), ("verify:faces_touched", 1)],
