@@ -139,7 +139,7 @@ impl Tracer<'_> {
             let s = slot(&y, i);
             let n = Element::Edge(e).eval(self.model, s)?.n;
             let fan = self.edge_fan(e, s[0])?;
-            let k = usize::from(n.angle_between(fan[1]) < n.angle_between(fan[0]));
+            let k = nearer_end(&fan, n);
             let end = crate::medial::equations::edge_angle(self.model, e, s[0], fan[k])?;
             // The same branch of the angle as the touch point's.
             let tau = std::f64::consts::TAU;
@@ -184,33 +184,16 @@ impl Tracer<'_> {
         // From a reflex edge into the next one at a vertex where they meet at a slight
         // angle that turns away from the ball, the same ball's nearest point on the next
         // edge lies behind the vertex: the touch point stays on the vertex while the normal
-        // turns (see `next_from_vertex` for where it leaves).
-        if let (Err(HandOverError::Stop(_)), Element::Edge(e), Element::Edge(g)) =
+        // turns (see `next_from_vertex` for where it leaves), as when it is handed back and
+        // forth there.
+        if let (Err(HandOverError::Stop(_)), Element::Edge(_), Element::Edge(_)) =
             (&handed, seg, to)
         {
-            if let Some(v) = self.shared_vertex(e, g, ev.p) {
-                let to = Element::Vertex(v);
-                let params = vertex_angles(ev.n);
-                if self.on_segment(to, params) {
-                    if let Ok(ok) = self.polish_hand_over(triplet, i, &xc, t, to, params, ev.p) {
-                        return Ok(ok);
-                    }
-                }
+            if let Some(ok) = self.onto_vertex(triplet, i, &xc, t) {
+                return Ok(ok);
             }
         }
         handed
-    }
-
-    /// The vertex edges `e` and `g` share nearest to `p`.
-    fn shared_vertex(&self, e: usize, g: usize, p: DVec3) -> Option<usize> {
-        let (a, b) = (&self.model.edges[e].vertices, &self.model.edges[g].vertices);
-        a.iter()
-            .filter(|v| b.contains(v))
-            .min_by(|&&v, &&w| {
-                let d = |v: usize| self.model.vertices[v].point.distance(p);
-                d(v).total_cmp(&d(w))
-            })
-            .copied()
     }
 
     /// Where a touch point at `ev` that left face `f` goes on: the reflex edge it reached,
@@ -292,12 +275,7 @@ impl Tracer<'_> {
         let fan = self
             .edge_fan(e, te)
             .ok_or(OpenReason::NoFaceNormals { edge: e })?;
-        let k = if ev.n.angle_between(fan[0]) <= ev.n.angle_between(fan[1]) {
-            0
-        } else {
-            1
-        };
-        let g = edge.faces[k];
+        let g = edge.faces[nearer_end(&fan, ev.n)];
         let uv = project_point(&self.model.faces[g].surface, ev.p, None)
             .ok_or(OpenReason::NotFoundOnFace { face: g })?;
         Ok((Element::Face(g), [uv.0, uv.1]))
@@ -377,18 +355,16 @@ impl Tracer<'_> {
         // the ball's is.
         if self.class.edges[e].kind == EdgeKind::Smooth {
             let p = self.model.vertices[v].point;
-            let normal = |f: usize| {
-                let uv = project_point(&self.model.faces[f].surface, p, None)?;
-                let n = Element::Face(f).eval(self.model, [uv.0, uv.1])?.n;
-                Some((f, uv, n.angle_between(ev.n)))
-            };
-            let faces = &self.model.edges[e].faces;
-            if let Some((f, uv, _)) = faces
+            if let Some((f, uv, _)) = self.model.edges[e]
+                .faces
                 .iter()
-                .filter_map(|&f| normal(f))
+                .filter_map(|&f| {
+                    let (uv, n) = self.face_normal_at(f, p)?;
+                    Some((f, uv, n.angle_between(ev.n)))
+                })
                 .min_by(|a, b| a.2.total_cmp(&b.2))
             {
-                return Ok((Element::Face(f), [uv.0, uv.1]));
+                return Ok((Element::Face(f), uv));
             }
         }
         if !self.is_reflex(e) {
@@ -501,4 +477,9 @@ impl Tracer<'_> {
         }
         Ok((to, sol.x))
     }
+}
+
+/// Which end of an edge's arc of normals `fan` the normal `n` is nearer (the first on a tie).
+fn nearer_end(fan: &[DVec3; 2], n: DVec3) -> usize {
+    usize::from(n.angle_between(fan[1]) < n.angle_between(fan[0]))
 }

@@ -151,11 +151,16 @@ impl<'a> Tracer<'a> {
     pub(super) fn edge_fan(&self, e: usize, t: f64) -> Option<[DVec3; 2]> {
         let edge = &self.model.edges[e];
         let p = crate::geom::eval_curve(&edge.curve, t).p;
-        let normal = |f: usize| {
-            let uv = project_point(&self.model.faces[f].surface, p, None)?;
-            Element::Face(f).eval(self.model, [uv.0, uv.1]).map(|e| e.n)
-        };
+        let normal = |f: usize| self.face_normal_at(f, p).map(|(_, n)| n);
         Some([normal(edge.faces[0])?, normal(edge.faces[1])?])
+    }
+
+    /// The parameters of point `p` (on or next to face `f`) projected onto the face's
+    /// surface, and the face's outward normal there.
+    pub(super) fn face_normal_at(&self, f: usize, p: DVec3) -> Option<([f64; 2], DVec3)> {
+        let uv = project_point(&self.model.faces[f].surface, p, None)?;
+        let n = Element::Face(f).eval(self.model, [uv.0, uv.1])?.n;
+        Some(([uv.0, uv.1], n))
     }
 
     /// Where a touch point with parameters `s` on reflex edge `e` is: within the edge's
