@@ -287,14 +287,7 @@ pub(super) fn edge_entry<'a>(
     index: usize,
     from: usize,
 ) -> Result<(&'a DirEntry, EdgeEntry)> {
-    let e = ctx.typed(list, from, &[504])?;
-    let n = ctx.count(e, 0, "number of edges")?;
-    if index < 1 || index > n {
-        return Err(ctx.err(
-            from,
-            format!("edge {index} of the edge list DE {list}, which has {n}"),
-        ));
-    }
+    let e = list_with(ctx, list, index, from, (504, "edge", "number of edges"))?;
     let k = 1 + 5 * (index - 1);
     let entry = EdgeEntry {
         curve: ctx.ptr(e, k, "model-space curve")?,
@@ -310,16 +303,37 @@ pub(super) fn edge_entry<'a>(
     Ok((e, entry))
 }
 
-/// Vertex `index` of the 502 vertex list `list` (referred to from `from`), placed.
-pub(super) fn vertex_point(ctx: &Ctx, list: usize, index: usize, from: usize) -> Result<DVec3> {
-    let e = ctx.typed(list, from, &[502])?;
-    let n = ctx.count(e, 0, "number of vertices")?;
+/// The list `list` (referred to from `from`) of `kind`: its entity type (504 edges, 502
+/// vertices), what an item is called and what its count parameter is; it must hold an item
+/// `index` (1-based).
+fn list_with<'a>(
+    ctx: &'a Ctx,
+    list: usize,
+    index: usize,
+    from: usize,
+    kind: (i64, &str, &str),
+) -> Result<&'a DirEntry> {
+    let (ty, item, count) = kind;
+    let e = ctx.typed(list, from, &[ty])?;
+    let n = ctx.count(e, 0, count)?;
     if index < 1 || index > n {
         return Err(ctx.err(
             from,
-            format!("vertex {index} of the vertex list DE {list}, which has {n}"),
+            format!("{item} {index} of the {item} list DE {list}, which has {n}"),
         ));
     }
+    Ok(e)
+}
+
+/// Vertex `index` of the 502 vertex list `list` (referred to from `from`), placed.
+pub(super) fn vertex_point(ctx: &Ctx, list: usize, index: usize, from: usize) -> Result<DVec3> {
+    let e = list_with(
+        ctx,
+        list,
+        index,
+        from,
+        (502, "vertex", "number of vertices"),
+    )?;
     let r = ctx.reals(e, 1 + 3 * (index - 1), 3, "vertex coordinates")?;
     let m = ctx.place(&IDENTITY, e)?;
     Ok(apply(&m, DVec3::new(r[0], r[1], r[2])))
