@@ -145,6 +145,28 @@ def faceted_boss():
     return Part.makeBox(40, 30, 4).fuse(foot.extrude(V(0, 0, 4))).removeSplitter()
 
 
+KINK_B = 10.5 * math.tan(math.radians(0.5))
+KINKED_PTS = [(0, 0), (1.5, 0), (12, -KINK_B), (12, 6), (1.5, 6 + KINK_B), (0, 6 + KINK_B)]
+
+
+@part("kinked_walls",
+      "Block 12x6x4 whose two long walls are each two planar faces meeting 1.5 mm from "
+      "one end at 0.5 degrees (within the 1 degree tangent tolerance), one wall bent "
+      "outwards (a convex kink) and one inwards (a reflex kink), as faceted exports write "
+      "a wall.",
+      4 * 0.5 * abs(sum(a[0] * b[1] - b[0] * a[1]
+                        for a, b in zip(KINKED_PTS, KINKED_PTS[1:] + KINKED_PTS[:1]))),
+      "The seams from the kinked end's corners carry their long-wall touch point across "
+      "the kink at r of about 1.5. At the reflex kink the ball touches the edge itself "
+      "while its normal turns by 0.5 degrees; at the convex kink it passes at the ball "
+      "touching both faces (by the tolerance they are one tangent wall, so there is no "
+      "kink sheet). The seams go on to the junctions at r = 2; Euler characteristic 1.")
+def kinked_walls():
+    foot = Part.Face(Part.makePolygon([V(x, y, 0) for x, y in KINKED_PTS]
+                                      + [V(*KINKED_PTS[0], 0)]))
+    return foot.extrude(V(0, 0, 4))
+
+
 @part("split_hole",
       "Block 40x20x10 with a through hole r=4 at its middle whose wall is two half "
       "cylinders meeting along the block's plane of symmetry (as exporters that split "

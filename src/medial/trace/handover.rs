@@ -180,7 +180,19 @@ impl Tracer<'_> {
             Element::Edge(e) => self.next_from_edge(e, slot(&xc, i)[0], exit, &ev)?,
             Element::Vertex(v) => self.next_from_vertex(v, &ev)?,
         };
-        let handed = self.polish_hand_over(triplet, i, &xc, t, to, params, ev.p);
+        let mut handed = self.polish_hand_over(triplet, i, &xc, t, to, params, ev.p);
+        // Across a smooth edge where the next face bends slightly towards the ball (a
+        // reflex kink within the tangent tolerance), the same ball's touch point on it lies
+        // behind the edge, off the face: the ball touches the edge itself while its normal
+        // turns from one face's to the other's, as at a reflex edge.
+        // (`polish_hand_over` refuses a touch point that slid off the next face.)
+        if let (Element::Face(f), Element::Face(_), Err(HandOverError::Stop(_))) =
+            (seg, to, &handed)
+        {
+            if let Some(ok) = self.onto_smooth_edge(triplet, i, f, &xc, t, &ev) {
+                handed = Ok(ok);
+            }
+        }
         // From a reflex edge into the next one at a vertex where they meet at a slight
         // angle that turns away from the ball, the same ball's nearest point on the next
         // edge lies behind the vertex: the touch point stays on the vertex while the normal
@@ -194,6 +206,30 @@ impl Tracer<'_> {
             }
         }
         handed
+    }
+
+    /// Touch point `i` at `ev`, which left face `f` across a smooth edge, onto that edge
+    /// (with the face's normal, an end of the edge's arc), when it is the same ball there.
+    fn onto_smooth_edge(
+        &mut self,
+        triplet: &[Element; 3],
+        i: usize,
+        f: usize,
+        xc: &DVector<f64>,
+        t: &DVector<f64>,
+        ev: &FieldEval,
+    ) -> Option<(Element, DVector<f64>)> {
+        let (e, te) = self.nearest_edge_of_face(f, ev.p)?;
+        if self.class.edges[e].kind != EdgeKind::Smooth {
+            return None;
+        }
+        let th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)?;
+        let to = Element::Edge(e);
+        if !self.on_segment(to, [te, th]) {
+            return None;
+        }
+        self.polish_hand_over(triplet, i, xc, t, to, [te, th], ev.p)
+            .ok()
     }
 
     /// Where a touch point at `ev` that left face `f` goes on: the reflex edge it reached,
@@ -463,10 +499,34 @@ impl Tracer<'_> {
         // the new one starts (a face's trim is a sampled polygon; its crossing is off the
         // exact edge by up to the polygon's sag). The new point is solved exactly anyway.
         let gap = sys_point(self.model, to, params).map_or(0.0, |q| q.distance(p));
+        // Onto a face whose normal differs from the old segment's at the crossing by an
+        // angle δ within the tangent tolerance (faces that meet at a smooth edge are tangent
+        // only to that tolerance; a reflex edge's arc end is the face's normal only to the
+        // crossing's accuracy), the same ball touches it r·sin δ away, its centre moves
+        // r·(1 − cos δ); likewise onto a reflex edge running on from one at a slight angle.
+        // It must then still be on the new segment: where it slid off (behind a smooth
+        // edge or a vertex, the next one bending towards the ball), the ball touches that
+        // edge or vertex instead while its normal turns (see `hand_over_at`).
+        let kink = match (
+            seg.eval(self.model, slot(&xc, i)),
+            to.eval(self.model, params),
+        ) {
+            (Some(a), Some(b)) => a.n.angle_between(b.n),
+            _ => 0.0,
+        };
+        let kink = if !matches!(to, Element::Vertex(_)) && kink <= self.opts.tangent_angle_rad {
+            kink
+        } else {
+            0.0
+        };
+        let (slide, sink) = (xc[3] * kink.sin(), xc[3] * (1.0 - kink.cos()));
         let same = sol.status == SolveStatus::Converged
-            && v3(&sol.x).distance(v3(&xc)) <= 2.0 * acc + 10.0 * gap
-            && sys_point(self.model, to, slot(&sol.x, i))
-                .is_some_and(|q| q.distance(p) <= 2.0 * acc + 2.0 * gap);
+            && v3(&sol.x).distance(v3(&xc)) <= 2.0 * acc + 10.0 * gap + sink
+            && sys_point(self.model, to, slot(&sol.x, i)).is_some_and(|q| {
+                let d = q.distance(p);
+                d <= 2.0 * acc + 2.0 * gap
+                    || (d <= 2.0 * acc + 2.0 * gap + slide && self.on_segment(to, slot(&sol.x, i)))
+            });
         if !same {
             return Err(HandOverError::Stop(OpenReason::NoSeamPointAfterHandover {
                 from: seg,

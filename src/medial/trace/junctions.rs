@@ -8,13 +8,31 @@ use super::options::{
 };
 use super::tracer::{Start, Tracer};
 use super::unknowns::{seam_x, slot, sorted, sys_point, touches_meet, v3, Pairs};
+use crate::classify::EdgeKind;
 use crate::geom::{project_point, FaceHit};
 use crate::medial::axis::{Junction, Node, OpenReason, SeamEnd};
 use crate::medial::equations::{vertex_angles, MedialSystem, NormalField};
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
+use crate::medial::verify::separation;
 use crate::model::Element;
 use glam::DVec3;
 use nalgebra::DVector;
+
+/// What a seam meets where another part of the boundary comes closer than `r`.
+pub(super) enum Meeting {
+    /// It ends there: at the junction located at the point given (the 4-segment system's
+    /// solution), or open.
+    End(SeamEnd, Option<DVector<f64>>),
+    /// The part coming closer is face `to`, across a smooth edge from touched face `i` and
+    /// tangent to it there to the angle tolerance (an exporter's facets, a slight kink): the
+    /// touch point passes from one to the other at the ball `x` touching both (the
+    /// 4-segment system's solution, `to` last), which is no junction.
+    Across {
+        i: usize,
+        to: Element,
+        x: DVector<f64>,
+    },
+}
 
 impl Tracer<'_> {
     /// Checks the new seam point `xn` (reached from `x` along `t`) for a part of the solid's
@@ -29,7 +47,7 @@ impl Tracer<'_> {
         x: &DVector<f64>,
         xn: &DVector<f64>,
         t: &DVector<f64>,
-    ) -> Option<(SeamEnd, Option<DVector<f64>>)> {
+    ) -> Option<Meeting> {
         let (mut f, mut hit) = self.intrusion(triplet, solid, xn)?;
         // The first intrusion between x and xn (another feature may come closer than r
         // before the one seen at xn): bisect the step.
@@ -61,7 +79,7 @@ impl Tracer<'_> {
                 on: hit.on,
                 t: hit.edge().map(|(_, t)| t),
             };
-            return Some((SeamEnd::Open(why), None));
+            return Some(Meeting::End(SeamEnd::Open(why), None));
         };
         // A hit reported inside a face but next to one of its reflex edges (the trim test
         // and the nearest-point search agree only to their tolerances) may be a touch of
@@ -88,14 +106,71 @@ impl Tracer<'_> {
         });
         let Some((fourth, jx)) = located else {
             let why = OpenReason::NoJunction { element: fourth };
-            return Some((SeamEnd::Open(why), None));
+            return Some(Meeting::End(SeamEnd::Open(why), None));
         };
+        if let Some(i) = self.tangent_across(triplet, fourth, &jx) {
+            return Some(Meeting::Across {
+                i,
+                to: fourth,
+                x: jx,
+            });
+        }
         let id = self.add_junction(triplet, fourth, &jx);
         if let Some(a) = self.arrivals.get_mut(id) {
             a.push(-v3(t).normalize());
         }
         self.visited.insert((sorted(*triplet), Node::Junction(id)));
-        Some((SeamEnd::Junction(id), Some(jx)))
+        Some(Meeting::End(SeamEnd::Junction(id), Some(jx)))
+    }
+
+    /// Which touched segment of `triplet` the fourth segment of the junction point `jx` is
+    /// the smooth continuation of: a face joined to a touched face by a smooth edge, or a
+    /// reflex edge running on from a touched one at a vertex within the angle tolerance,
+    /// its normal at its touch point within twice that tolerance of the touched one's. By
+    /// the tolerance the two are one tangent surface or curve, whose kink sheet is not part
+    /// of the medial axis.
+    fn tangent_across(
+        &self,
+        triplet: &[Element; 3],
+        fourth: Element,
+        jx: &DVector<f64>,
+    ) -> Option<usize> {
+        let n4 = fourth.eval(self.model, slot(jx, 3))?.n;
+        (0..3).find(|&i| {
+            let joined = match (triplet[i], fourth) {
+                (Element::Face(f), Element::Face(g)) => f != g && self.smooth_edge_between(f, g),
+                (Element::Edge(e), Element::Edge(g)) => e != g && self.edges_run_on(e, g),
+                _ => false,
+            };
+            joined
+                && triplet[i]
+                    .eval(self.model, slot(jx, i))
+                    .is_some_and(|ev| ev.n.angle_between(n4) <= 2.0 * self.opts.tangent_angle_rad)
+        })
+    }
+
+    /// True when edges `e` and `g` meet at a vertex where one runs on from the other within
+    /// the angle tolerance.
+    fn edges_run_on(&self, e: usize, g: usize) -> bool {
+        let ends = |k: usize| self.model.edges[k].vertices;
+        ends(e).iter().filter(|v| ends(g).contains(v)).any(|&v| {
+            let tangents = self.vertex_tangents(v);
+            let leaving = |k: usize| tangents.iter().find(|(h, _)| *h == k).map(|(_, d)| *d);
+            matches!((leaving(e), leaving(g)), (Some(de), Some(dg))
+                if (-de).angle_between(dg) <= self.opts.tangent_angle_rad)
+        })
+    }
+
+    /// True when faces `f` and `g` share a smooth edge.
+    fn smooth_edge_between(&self, f: usize, g: usize) -> bool {
+        self.model.faces[f]
+            .loops
+            .iter()
+            .flat_map(|l| l.edges.iter())
+            .any(|oe| {
+                let edge = &self.model.edges[oe.edge];
+                edge.faces.contains(&g) && self.class.edges[oe.edge].kind == EdgeKind::Smooth
+            })
     }
 
     /// The nearest boundary point of the solid to the seam point `y` when it is closer than
@@ -234,8 +309,24 @@ impl Tracer<'_> {
                 seg.eval(self.model, [uv.0, uv.1])
                     .is_some_and(|e| (e.p - e.n * r - p).length() <= self.opts.accuracy)
             };
+            // A segment touching next to a touch point already counted (a face's reflex
+            // edge just past where the ball touches the face) is the same contact, not
+            // another place (verify counts places at the same separation): triplets with
+            // both would be one contact twice.
+            let another_place = |seg: Element, uv: (f64, f64)| {
+                sys_point(self.model, seg, [uv.0, uv.1]).is_some_and(|q| {
+                    segs.iter().zip(&params).all(|(s, st)| {
+                        sys_point(self.model, *s, [st.0, st.1])
+                            .is_none_or(|t| t.distance(q) > separation(r, self.opts.accuracy))
+                    })
+                })
+            };
             if let Some((seg, uv)) = seg {
-                if !segs.contains(&seg) && uv.0.is_finite() && fits(seg, uv) {
+                if !segs.contains(&seg)
+                    && uv.0.is_finite()
+                    && fits(seg, uv)
+                    && another_place(seg, uv)
+                {
                     segs.push(seg);
                     params.push(uv);
                 }

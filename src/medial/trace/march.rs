@@ -2,6 +2,7 @@
 //! the events that end a march or change its elements.
 
 use super::handover::HandOverError;
+use super::junctions::Meeting;
 use super::options::{
     FAST_CONVERGENCE_ITER, FIRST_STEP_REL_DIAGONAL, MAX_CENTRE_STEP_ITER, MAX_POINTS,
     MAX_STEP_REL_DIAGONAL, MAX_TURN_RAD, MERGED_TOUCH_REL_RADIUS, MIN_STEP_REL_DIAGONAL,
@@ -142,8 +143,8 @@ impl Tracer<'_> {
             return self.cross_over(m, i);
         }
         // Another part of the boundary closer than r: a junction between x and xn.
-        if let Some(end) = self.junction_end(m, &xn) {
-            return Flow::End(end);
+        if let Some(flow) = self.junction_end(m, &xn) {
+            return flow;
         }
         if let Some(end) = self.curvature_end(m, &xn) {
             return Flow::End(end);
@@ -201,7 +202,7 @@ impl Tracer<'_> {
         match self.hand_over(&m.triplet, &mut i, &m.x, &m.t, m.h) {
             Ok((to, xc, _)) if handed_back(m, i, to) => self.stay_on_vertex(m, i, to, &xc),
             Ok((to, crossing, xnew)) => self.continue_on(m, i, to, &crossing, xnew),
-            Err((e, xc)) => Flow::End(self.end_at_crossing(m, e, &xc)),
+            Err((e, xc)) => self.end_at_crossing(m, e, &xc),
         }
     }
 
@@ -235,8 +236,8 @@ impl Tracer<'_> {
         xnew: DVector<f64>,
     ) -> Flow {
         // The crossing point must itself be medial: a junction may come first.
-        if let Some(end) = self.junction_end(m, crossing) {
-            return Flow::End(end);
+        if let Some(flow) = self.junction_end(m, crossing) {
+            return flow;
         }
         let nt = new_triplet(&m.triplet, i, to);
         if self.coincident(&nt, &xnew, true) {
@@ -300,29 +301,45 @@ impl Tracer<'_> {
 
     /// A hand-over failed at the crossing point `xc`: the march ends at a junction before it
     /// (the step that left the element may have passed one), or at the crossing.
-    fn end_at_crossing(&mut self, m: &mut March, e: HandOverError, xc: &DVector<f64>) -> SeamEnd {
-        if let Some(end) = self.junction_end(m, xc) {
-            return end;
+    fn end_at_crossing(&mut self, m: &mut March, e: HandOverError, xc: &DVector<f64>) -> Flow {
+        if let Some(flow) = self.junction_end(m, xc) {
+            return flow;
         }
         // The crossing point itself is a seam point when it is medial.
         if self.is_medial(&m.triplet, xc) {
             m.points.push(self.seam_point(&m.sys, xc));
         }
-        match e {
+        Flow::End(match e {
             HandOverError::Osculates(seg) => SeamEnd::CurvatureLimit { segment: seg },
             HandOverError::Stop(why) => SeamEnd::Open(why),
-        }
+        })
     }
 
     /// The junction between `m.x` and `to`, if another part of the boundary comes closer than
-    /// `r` there: its point ends the march.
-    fn junction_end(&mut self, m: &mut March, to: &DVector<f64>) -> Option<SeamEnd> {
-        let (end, jx) = self.junction_between(&m.triplet, m.solid, &m.x, to, &m.t)?;
-        if let Some(jx) = jx {
-            m.points
-                .push(self.seam_point(&m.sys, &jx.rows(0, 10).into_owned()));
-        }
-        Some(end)
+    /// `r` there: its point ends the march. Where that part is the smooth continuation of a
+    /// touched face, the touch point passes onto it there instead, and the march goes on.
+    fn junction_end(&mut self, m: &mut March, to: &DVector<f64>) -> Option<Flow> {
+        let x = match self.junction_between(&m.triplet, m.solid, &m.x, to, &m.t)? {
+            Meeting::End(end, jx) => {
+                if let Some(jx) = jx {
+                    m.points
+                        .push(self.seam_point(&m.sys, &jx.rows(0, 10).into_owned()));
+                }
+                return Some(Flow::End(end));
+            }
+            Meeting::Across { i, to, x } => (i, to, x),
+        };
+        let (i, to, x) = x;
+        // As at a hand-over, the ball is output once, on the new triplet.
+        let mut xnew = x.rows(0, 10).into_owned();
+        xnew[4 + 2 * i] = x[10];
+        xnew[5 + 2 * i] = x[11];
+        m.handovers.push(Handover {
+            point: m.points.len(),
+            from: m.triplet[i],
+            to,
+        });
+        Some(self.switch_to(m, i, to, xnew))
     }
 
     /// The curvature criterion at `xn`: the ball must not poke through a touched face. Where

@@ -33,6 +33,7 @@ mod balls;
 mod outcome;
 pub mod topology;
 
+pub use balls::separation;
 pub use outcome::{nan_max, CheckCount, Verification, MAX_FAILURES_KEPT};
 pub use topology::{check_topology, Topology};
 
