@@ -83,10 +83,22 @@ impl Tracer<'_> {
         }
         let i = *i;
         let off = off.map(|y| slot(&y, i));
-        let exit = match (triplet[i], off) {
+        let mut exit = match (triplet[i], off) {
             (Element::Edge(e), Some(s)) => Some(self.edge_status(e, s)),
             _ => None,
         };
+        // Off an edge's arc: the crossing is where the normal is exactly the face's at that
+        // end of the arc (the fan's ends move with the parameter along a curved edge: a few
+        // rounds). Where no such point is near, while the touch point sits at an end of the
+        // edge, the step went past that end too (its normal then turns fast about the
+        // vertex, out of the arc): the range's end is the crossing.
+        if let (Element::Edge(e), Some((_, false))) = (triplet[i], exit) {
+            match self.at_arc_end(&sys, e, i, &xc) {
+                Some(x_arc) => xc = x_arc,
+                None if self.at_edge_end(e, slot(&xc, i)[0]) => exit = Some((false, true)),
+                None => {}
+            }
+        }
         // Off an edge's end: the crossing is where the touch point is exactly at the end
         // (the bisection on the centre's travel leaves it up to the accuracy short of or
         // past it), so the next segment takes over the same ball at the shared vertex.
@@ -107,18 +119,19 @@ impl Tracer<'_> {
                 xc = sol.x;
             }
         }
-        // Off an edge's arc: likewise, the crossing is where the normal is exactly the
-        // face's at that end of the arc (the fan's ends move with the parameter along a
-        // curved edge: a few rounds).
-        if let (Element::Edge(e), Some((true, false))) = (triplet[i], exit) {
-            if let Some(x_arc) = self.at_arc_end(&sys, e, i, &xc) {
-                xc = x_arc;
-            }
-        }
         match self.hand_over_at(triplet, i, &xc, t, exit) {
             Ok((to, xnew)) => Ok((to, xc, xnew)),
             Err(e) => Err((e, xc)),
         }
+    }
+
+    /// True when the point at parameter `te` of edge `e` is within
+    /// [`SAME_PLACE_REL_ACCURACY`] × the accuracy of one of its end vertices.
+    fn at_edge_end(&self, e: usize, te: f64) -> bool {
+        let p = crate::geom::eval_curve(&self.model.edges[e].curve, te).p;
+        self.model.edges[e].vertices.iter().any(|&v| {
+            self.model.vertices[v].point.distance(p) <= SAME_PLACE_REL_ACCURACY * self.opts.accuracy
+        })
     }
 
     /// The seam point near `xc` of the system `sys` whose touch point `i`, on reflex edge

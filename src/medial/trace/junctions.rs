@@ -23,10 +23,10 @@ pub(super) enum Meeting {
     /// It ends there: at the junction located at the point given (the 4-segment system's
     /// solution), or open.
     End(SeamEnd, Option<DVector<f64>>),
-    /// The part coming closer is face `to`, across a smooth edge from touched face `i` and
-    /// tangent to it there to the angle tolerance (an exporter's facets, a slight kink): the
-    /// touch point passes from one to the other at the ball `x` touching both (the
-    /// 4-segment system's solution, `to` last), which is no junction.
+    /// The part coming closer, `to`, continues touched segment `i` to the angle tolerance
+    /// (a face across a smooth edge, a reflex edge running on at a slight kink: an
+    /// exporter's facets): the touch point passes from one to the other at the ball `x`
+    /// touching both (the 4-segment system's solution, `to` last), which is no junction.
     Across {
         i: usize,
         to: Element,
@@ -39,7 +39,8 @@ impl Tracer<'_> {
     /// boundary closer than `r`: another face, or a touched face far from its touch point
     /// (the ball meets it a second time; a face close to its own touch point is the
     /// curvature criterion's business). Then the seam ends at the junction located between
-    /// `x` and `xn`, or — when the 4-segment system has no solution on the faces — open.
+    /// `x` and `xn`, or — when the 4-segment system has no solution on the faces — open; or,
+    /// where the fourth segment continues a touched one ([`Meeting::Across`]), goes on.
     pub(super) fn junction_between(
         &mut self,
         triplet: &[Element; 3],

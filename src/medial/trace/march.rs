@@ -4,9 +4,9 @@
 use super::handover::HandOverError;
 use super::junctions::Meeting;
 use super::options::{
-    FAST_CONVERGENCE_ITER, FIRST_STEP_REL_DIAGONAL, MAX_CENTRE_STEP_ITER, MAX_POINTS,
-    MAX_STEP_REL_DIAGONAL, MAX_TURN_RAD, MERGED_TOUCH_REL_RADIUS, MIN_STEP_REL_DIAGONAL,
-    REACH_REL_ACCURACY, SAME_PLACE_REL_ACCURACY, STEP_GROWTH, STEP_SHRINK,
+    FAST_CONVERGENCE_ITER, FIRST_STEP_REL_DIAGONAL, MAX_CENTRE_STEP_ITER, MAX_HANDOVERS_IN_PLACE,
+    MAX_POINTS, MAX_STEP_REL_DIAGONAL, MAX_TURN_RAD, MERGED_TOUCH_REL_RADIUS,
+    MIN_STEP_REL_DIAGONAL, REACH_REL_ACCURACY, SAME_PLACE_REL_ACCURACY, STEP_GROWTH, STEP_SHRINK,
 };
 use super::tracer::Tracer;
 use super::unknowns::{new_triplet, slot, sys_point, to_chord, touches_meet, v3, Pairs};
@@ -44,6 +44,8 @@ struct March<'c> {
     travel: f64,
     points: Vec<SeamPoint>,
     handovers: Vec<Handover>,
+    /// Hand-overs since the last ordinary step.
+    in_place: usize,
 }
 
 /// What one step of a march leads to.
@@ -99,6 +101,7 @@ impl Tracer<'_> {
             travel: 0.0,
             points,
             handovers: vec![],
+            in_place: 0,
         };
         let end = loop {
             if let Flow::End(end) = self.march_step(&mut m) {
@@ -150,6 +153,7 @@ impl Tracer<'_> {
             return Flow::End(end);
         }
         m.points.push(self.seam_point(&m.sys, &xn));
+        m.in_place = 0;
         m.travel += v3(&xn).distance(v3(&m.x));
         m.x = xn;
         m.t = tn;
@@ -285,6 +289,15 @@ impl Tracer<'_> {
     /// Moves touch point `i` onto `to` and goes on from `xnew` (the ball on the new triplet),
     /// along the tangent there oriented like the last one.
     fn switch_to(&mut self, m: &mut March, i: usize, to: Element, xnew: DVector<f64>) -> Flow {
+        // A touch point handed on and on without the seam moving (between a vertex and its
+        // edges, each hand-over undoing another) is stuck there: end rather than loop.
+        m.in_place += 1;
+        if m.in_place > MAX_HANDOVERS_IN_PLACE {
+            return Flow::End(SeamEnd::Open(OpenReason::Oscillates {
+                from: m.triplet[i],
+                to,
+            }));
+        }
         m.triplet[i] = to;
         m.sys = MedialSystem::new(m.triplet.to_vec());
         m.points.push(self.seam_point(&m.sys, &xnew));
@@ -317,9 +330,10 @@ impl Tracer<'_> {
 
     /// The junction between `m.x` and `to`, if another part of the boundary comes closer than
     /// `r` there: its point ends the march. Where that part is the smooth continuation of a
-    /// touched face, the touch point passes onto it there instead, and the march goes on.
+    /// touched face or edge, the touch point passes onto it there instead, and the march
+    /// goes on.
     fn junction_end(&mut self, m: &mut March, to: &DVector<f64>) -> Option<Flow> {
-        let x = match self.junction_between(&m.triplet, m.solid, &m.x, to, &m.t)? {
+        let (i, to, x) = match self.junction_between(&m.triplet, m.solid, &m.x, to, &m.t)? {
             Meeting::End(end, jx) => {
                 if let Some(jx) = jx {
                     m.points
@@ -329,7 +343,6 @@ impl Tracer<'_> {
             }
             Meeting::Across { i, to, x } => (i, to, x),
         };
-        let (i, to, x) = x;
         // As at a hand-over, the ball is output once, on the new triplet.
         let mut xnew = x.rows(0, 10).into_owned();
         xnew[4 + 2 * i] = x[10];

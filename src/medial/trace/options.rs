@@ -15,6 +15,10 @@ pub const FIRST_STEP_REL_DIAGONAL: f64 = 1e-3;
 pub const MAX_TURN_RAD: f64 = 0.15;
 /// Budget of points per seam.
 pub const MAX_POINTS: usize = 20_000;
+/// Hand-overs in a row, with no ordinary step between, after which a march ends as
+/// oscillating (a touch point handed between a vertex and its edges without the seam moving).
+/// A seam passing a corner needs a few (onto an edge, its vertex, the next edge, a face).
+pub const MAX_HANDOVERS_IN_PLACE: usize = 8;
 /// Budget of seams per part (guards against a tracer loop on unexpected geometry).
 pub const MAX_SEAMS: usize = 10_000;
 /// Newton iterations of a corrector step (and of the other polishing solves).
