@@ -8,7 +8,6 @@ use super::options::{
 };
 use super::tracer::{Start, Tracer};
 use super::unknowns::{seam_x, slot, sorted, sys_point, touches_meet, v3, Pairs};
-use crate::classify::EdgeKind;
 use crate::geom::{project_point, FaceHit};
 use crate::medial::axis::{Junction, Node, OpenReason, SeamEnd};
 use crate::medial::equations::{vertex_angles, MedialSystem, NormalField};
@@ -139,7 +138,9 @@ impl Tracer<'_> {
         let n4 = fourth.eval(self.model, slot(jx, 3))?.n;
         (0..3).find(|&i| {
             let joined = match (triplet[i], fourth) {
-                (Element::Face(f), Element::Face(g)) => f != g && self.smooth_edge_between(f, g),
+                (Element::Face(f), Element::Face(g)) => {
+                    f != g && self.smooth_edge_between(f, g).is_some()
+                }
                 (Element::Edge(e), Element::Edge(g)) => e != g && self.edges_run_on(e, g),
                 _ => false,
             };
@@ -160,18 +161,6 @@ impl Tracer<'_> {
             matches!((leaving(e), leaving(g)), (Some(de), Some(dg))
                 if (-de).angle_between(dg) <= self.opts.tangent_angle_rad)
         })
-    }
-
-    /// True when faces `f` and `g` share a smooth edge.
-    fn smooth_edge_between(&self, f: usize, g: usize) -> bool {
-        self.model.faces[f]
-            .loops
-            .iter()
-            .flat_map(|l| l.edges.iter())
-            .any(|oe| {
-                let edge = &self.model.edges[oe.edge];
-                edge.faces.contains(&g) && self.class.edges[oe.edge].kind == EdgeKind::Smooth
-            })
     }
 
     /// The nearest boundary point of the solid to the seam point `y` when it is closer than

@@ -103,11 +103,13 @@ impl Tracer<'_> {
             handovers: vec![],
             in_place: 0,
         };
+        self.along = None;
         let end = loop {
             if let Flow::End(end) = self.march_step(&mut m) {
                 break end;
             }
         };
+        self.along = None;
         Run {
             points: m.points,
             end,
@@ -224,7 +226,20 @@ impl Tracer<'_> {
                 });
                 self.switch_to(m, i, v, xv)
             }
-            None => Flow::End(SeamEnd::Open(OpenReason::Oscillates { from, to })),
+            None => match (from, to) {
+                // Two faces across a smooth edge: the touch point runs along the edge. Stay
+                // on this face, counting points within the accuracy past that edge as on it.
+                (Element::Face(f), Element::Face(g)) if self.along.is_none() => {
+                    match self.smooth_edge_between(f, g) {
+                        Some(e) => {
+                            self.along = Some((f, e));
+                            Flow::Next
+                        }
+                        None => Flow::End(SeamEnd::Open(OpenReason::Oscillates { from, to })),
+                    }
+                }
+                _ => Flow::End(SeamEnd::Open(OpenReason::Oscillates { from, to })),
+            },
         }
     }
 

@@ -52,6 +52,9 @@ pub(super) struct Tracer<'a> {
     pub(super) visited: HashSet<([Element; 3], Node)>,
     pub(super) queue: VecDeque<Start>,
     pub(super) stats: TraceStats,
+    /// In the current march: a face and a smooth edge of it along which a touch point runs
+    /// (see [`Tracer::stays_on`]).
+    pub(super) along: Option<(usize, usize)>,
 }
 
 impl<'a> Tracer<'a> {
@@ -93,6 +96,7 @@ impl<'a> Tracer<'a> {
             traced_between: HashSet::new(),
             queue: VecDeque::new(),
             stats: TraceStats::default(),
+            along: None,
         }
     }
 
@@ -192,6 +196,13 @@ impl<'a> Tracer<'a> {
     /// `to` is on it, and on a face the path between did not cross a trimming loop (a step
     /// over a hole lands on the face again).
     pub(super) fn stays_on(&self, seg: Element, from: [f64; 2], to: [f64; 2]) -> bool {
+        if let (Element::Face(f), Some((g, e))) = (seg, self.along) {
+            if f == g && !self.on_segment(seg, to) {
+                return seg.eval(self.model, to).is_some_and(|ev| {
+                    crate::geom::nearest_on_edge(self.model, e, ev.p, None).2 <= self.opts.accuracy
+                });
+            }
+        }
         self.on_segment(seg, to)
             && match seg {
                 Element::Face(f) => !crate::geom::trim::path_crosses_loops(
@@ -202,6 +213,20 @@ impl<'a> Tracer<'a> {
                 ),
                 _ => true,
             }
+    }
+
+    /// The smooth edge between faces `f` and `g`, if any.
+    pub(super) fn smooth_edge_between(&self, f: usize, g: usize) -> Option<usize> {
+        self.model.faces[f]
+            .loops
+            .iter()
+            .flat_map(|l| l.edges.iter())
+            .map(|oe| oe.edge)
+            .find(|&e| {
+                f != g
+                    && self.model.edges[e].faces.contains(&g)
+                    && self.class.edges[e].kind == EdgeKind::Smooth
+            })
     }
 
     /// True when parameters `s` lie on segment `seg`: inside a face's trim, or on a reflex
