@@ -184,6 +184,21 @@ def split_hole():
     return b
 
 
+@part("elliptic_bar",
+      "Bar 16 mm high whose section is an ellipse with semi-axes 20 and 10: one lateral "
+      "face, closed round.",
+      PI * 20 * 10 * 16,
+      "Balls inside the ellipse touch its one lateral face twice (radius 5 at the ends of "
+      "the major axis to 10 at the centre). Where that radius is half the height, 8, the "
+      "seams of the lateral face touched twice with the top and the bottom meet the seam "
+      "of the lateral face with both, at junctions touching the lateral face twice: four "
+      "seams each, two of them on the same elements.")
+def elliptic_bar():
+    e = Part.Ellipse(V(0, 0, 0), 20, 10)
+    face = Part.Face(Part.Wire(e.toShape()))
+    return face.extrude(V(0, 0, 16))
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

@@ -24,11 +24,16 @@
 //! pieces (a cylinder's axis) or mixed edges.
 
 use crate::classify::{Classification, EdgeKind};
-use crate::medial::axis::{MedialAxis, Node, SeamEnd};
+use crate::medial::axis::{MedialAxis, Node, SeamEnd, SeamPoint};
 use crate::medial::segments::{SegmentGroups, UnionFind};
 use crate::model::{Element, Model};
+use glam::DVec3;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
+
+/// Touch points of two arcs at a junction are the same contact when they lie this close, over
+/// the model's bounding-box diagonal (both come from the junction's one solution).
+const SAME_TOUCH_REL_DIAGONAL: f64 = 1e-7;
 
 /// One element of a sheet's boundary.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
@@ -94,6 +99,9 @@ struct Arc {
     closed: bool,
     /// The segment pair where the arc starts (a closed seam's side has no node to name it).
     pair: [Element; 2],
+    /// A seam's side: its two touch points at each end (which contacts of a junction it
+    /// runs between, where one element is touched there twice).
+    touch: [Option<[DVec3; 2]>; 2],
 }
 
 /// Finds the sheets of `mat` and the Euler characteristics of each solid and its medial axis.
@@ -101,7 +109,19 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
     let groups = SegmentGroups::new(model, class);
     let mut arcs = seam_arcs(mat, &groups);
     let mixed = add_rims(model, class, &groups, &mut arcs);
-    let (mut uf, paired, unpaired) = pair_ends(&arcs);
+    // Elements a junction touches in two places.
+    let twice: BTreeSet<(Node, Element)> = mat
+        .junctions
+        .iter()
+        .flat_map(|j| {
+            let segs = &j.segments;
+            (0..segs.len())
+                .filter(move |&k| segs[..k].contains(&segs[k]))
+                .map(move |k| (Node::Junction(j.id), segs[k]))
+        })
+        .collect();
+    let tol = SAME_TOUCH_REL_DIAGONAL * model.diagonal();
+    let (mut uf, paired, unpaired) = pair_ends(&arcs, &twice, tol);
     let (by_sheet, incomplete) = loops_by_sheet(&arcs, &mut uf, &paired);
     let mut out = Sheets {
         unpaired,
@@ -144,6 +164,9 @@ fn seam_arcs(mat: &MedialAxis, groups: &SegmentGroups) -> Vec<Arc> {
             let start = s.ends[0].node().zip(pair(&s.segments));
             let end = s.ends[1].node().zip(pair(&s.end_segments));
             let g = [groups.of(s.segments[i]), groups.of(s.segments[j])];
+            let touch = |p: Option<&SeamPoint>| {
+                p.map(|p| [DVec3::from_array(p.touch[i]), DVec3::from_array(p.touch[j])])
+            };
             arcs.push(Arc {
                 element: BoundaryRef::Seam(s.id),
                 solid: s.solid,
@@ -151,6 +174,7 @@ fn seam_arcs(mat: &MedialAxis, groups: &SegmentGroups) -> Vec<Arc> {
                 groups: [g[0].min(g[1]), g[0].max(g[1])],
                 closed,
                 pair: sorted_pair(s.segments[i], s.segments[j]),
+                touch: [touch(s.points.first()), touch(s.points.last())],
             });
         }
     }
@@ -182,6 +206,7 @@ fn add_rims(
                     groups: [g[0].min(g[1]), g[0].max(g[1])],
                     closed: false,
                     pair,
+                    touch: [None, None],
                 });
             }
             EdgeKind::Mixed => {
@@ -195,8 +220,14 @@ fn add_rims(
 }
 
 /// Pairs the arc ends at each node by group pair, then (where that is ambiguous) by segment
-/// pair: the union of paired arcs, which ends are paired, and the ends that could not be.
-fn pair_ends(arcs: &[Arc]) -> (UnionFind, Vec<[bool; 2]>, Vec<String>) {
+/// pair, then (where one element is touched twice there, so that two sheets share a segment
+/// pair) by the touch points the arcs run between, equal to `tol`: the union of paired arcs,
+/// which ends are paired, and the ends that could not be.
+fn pair_ends(
+    arcs: &[Arc],
+    twice: &BTreeSet<(Node, Element)>,
+    tol: f64,
+) -> (UnionFind, Vec<[bool; 2]>, Vec<String>) {
     let mut at: BTreeMap<Node, Vec<(usize, usize)>> = BTreeMap::new();
     for (k, arc) in arcs.iter().enumerate() {
         for (end, e) in arc.ends.iter().enumerate() {
@@ -225,7 +256,18 @@ fn pair_ends(arcs: &[Arc]) -> (UnionFind, Vec<[bool; 2]>, Vec<String>) {
                         .or_default()
                         .push((k, end));
                 }
-                tries = by_pair.into_values().collect();
+                tries = by_pair
+                    .into_values()
+                    .flat_map(|list| {
+                        let (k, end) = list[0];
+                        let pair = arcs[k].ends[end].as_ref().unwrap().1;
+                        if pair.iter().any(|e| twice.contains(&(*node, *e))) {
+                            by_touch(arcs, list, tol)
+                        } else {
+                            vec![list]
+                        }
+                    })
+                    .collect();
             }
             for list in tries {
                 if let [(k1, e1), (k2, e2)] = list[..] {
@@ -252,6 +294,30 @@ fn pair_ends(arcs: &[Arc]) -> (UnionFind, Vec<[bool; 2]>, Vec<String>) {
     }
 
     (uf, paired, unpaired)
+}
+
+/// Splits arc ends at one node that have one segment pair into the pairs that run between the
+/// same two touch points (to `tol`); an end left unmatched is a list by itself (reported
+/// unpaired). A list of two, or with an end that has no touch points, is kept as it is.
+fn by_touch(arcs: &[Arc], list: Vec<(usize, usize)>, tol: f64) -> Vec<Vec<(usize, usize)>> {
+    let touch = |&(k, end): &(usize, usize)| arcs[k].touch[end];
+    if list.len() <= 2 || list.iter().any(|e| touch(e).is_none()) {
+        return vec![list];
+    }
+    let same = |a: [DVec3; 2], b: [DVec3; 2]| {
+        (a[0].distance(b[0]) <= tol && a[1].distance(b[1]) <= tol)
+            || (a[0].distance(b[1]) <= tol && a[1].distance(b[0]) <= tol)
+    };
+    let mut rest = list;
+    let mut out = vec![];
+    while let Some(first) = rest.pop() {
+        let t = touch(&first).unwrap();
+        match rest.iter().position(|e| same(t, touch(e).unwrap())) {
+            Some(k) => out.push(vec![first, rest.remove(k)]),
+            None => out.push(vec![first]),
+        }
+    }
+    out
 }
 
 /// Loops (components of paired arcs, complete when every end is paired) by sheet: (solid,
@@ -452,6 +518,67 @@ mod tests {
         let (m, c, mat) = crate::testing::traced(name);
         let s = sheets(&m, &c, &mat);
         (mat, s)
+    }
+
+    /// Four arc ends at a junction that touches face 0 twice, all on the segment pair
+    /// (face 0, face 1): two sheets, told apart by the touch points their arcs run between.
+    /// Paired by those; and when one arc's touch points are not the junction's, it is
+    /// reported, not paired with the wrong sheet.
+    #[test]
+    fn a_face_touched_twice_pairs_arcs_by_their_touch_points() {
+        let j = Node::Junction(0);
+        let (f0, f1) = (Element::Face(0), Element::Face(1));
+        let (a, b, bottom) = (
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(0.0, -1.0, 0.0),
+            DVec3::Z,
+        );
+        let arc = |id: usize, t: [DVec3; 2]| Arc {
+            element: BoundaryRef::Seam(id),
+            solid: 0,
+            ends: [Some((j, [f0, f1])), Some((Node::Vertex(id), [f0, f1]))],
+            groups: [0, 1],
+            closed: false,
+            pair: [f0, f1],
+            touch: [Some(t), None],
+        };
+        let twice = BTreeSet::from([(j, f0)]);
+        let arcs = vec![
+            arc(0, [a, bottom]),
+            arc(1, [b, bottom]),
+            arc(2, [bottom, a]),
+            arc(3, [b, bottom]),
+        ];
+        let (mut uf, paired, unpaired) = pair_ends(&arcs, &twice, 1e-9);
+        assert!(paired.iter().all(|p| p[0]), "{paired:?}");
+        assert!(
+            unpaired.iter().all(|u| !u.contains("junction")),
+            "{unpaired:?}"
+        );
+        assert_eq!(uf.find(0), uf.find(2));
+        assert_eq!(uf.find(1), uf.find(3));
+        assert_ne!(uf.find(0), uf.find(1));
+        // Arc 3 off by more than the tolerance: arcs 1 and 3 are not one sheet's.
+        let mut wrong = arcs;
+        wrong[3] = arc(3, [b + DVec3::X * 1e-6, bottom]);
+        let (_, paired, unpaired) = pair_ends(&wrong, &twice, 1e-9);
+        assert!(!paired[1][0] && !paired[3][0], "{paired:?}");
+        assert_eq!(
+            unpaired
+                .iter()
+                .filter(|u| u.starts_with("junction 0: 1 arc end(s)"))
+                .count(),
+            2,
+            "{unpaired:?}"
+        );
+        // Without the face touched twice the four are one ambiguous set, as before.
+        let (_, _, unpaired) = pair_ends(&wrong, &BTreeSet::new(), 1e-9);
+        assert!(
+            unpaired
+                .iter()
+                .any(|u| u.starts_with("junction 0: 4 arc end(s)")),
+            "{unpaired:?}"
+        );
     }
 
     fn loop_sizes(s: &Sheets) -> Vec<usize> {

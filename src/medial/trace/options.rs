@@ -21,6 +21,9 @@ pub const MAX_POINTS: usize = 20_000;
 pub const MAX_HANDOVERS_IN_PLACE: usize = 8;
 /// Budget of seams per part (guards against a tracer loop on unexpected geometry).
 pub const MAX_SEAMS: usize = 10_000;
+/// Distance between unit directions under which a branch leaving a junction is the seam that
+/// arrived there (its tangent a step before the junction), where the elements cannot tell.
+pub const SAME_BRANCH: f64 = 0.05;
 /// Newton iterations of a corrector step (and of the other polishing solves).
 pub const MAX_CORRECTOR_ITER: usize = 12;
 /// Newton iterations when refining a seed, or solving a junction from a seam point.

@@ -2,7 +2,7 @@
 //! from the same node on the same elements, and a seam between two nodes that repeats one
 //! already traced is dropped.
 
-use super::options::MAX_SEAMS;
+use super::options::{MAX_SEAMS, SAME_BRANCH};
 use super::tracer::Tracer;
 use super::unknowns::sorted;
 use crate::medial::axis::{Handover, Node, Seam, SeamEnd, SeamPoint};
@@ -16,14 +16,25 @@ impl Tracer<'_> {
             if self.seams.len() >= MAX_SEAMS {
                 break;
             }
+            // At a junction touching one element in two places, two branches leave on the
+            // same elements (a, b and either touch of the element): there the branch is named
+            // by its direction, not its elements.
+            let twice = match start.from {
+                Node::Junction(j) => {
+                    let segs = &self.junctions[j].segments;
+                    segs.iter().enumerate().any(|(k, s)| segs[..k].contains(s))
+                }
+                _ => false,
+            };
             let key = (sorted(start.triplet), start.from);
-            if !self.visited.insert(key) {
+            if !twice && !self.visited.insert(key) {
                 continue;
             }
             if let Node::Junction(j) = start.from {
+                let same = if twice { SAME_BRANCH } else { 1e-6 };
                 if self.arrivals[j]
                     .iter()
-                    .any(|a| a.distance(start.dir) < 1e-6)
+                    .any(|a| a.distance(start.dir) < same)
                 {
                     continue;
                 }
@@ -88,16 +99,24 @@ impl Tracer<'_> {
         points: Vec<SeamPoint>,
         handovers: Vec<Handover>,
     ) {
+        let id = self.seams.len();
         if let (Some(a), Some(b)) = (ends[0].node(), ends[1].node()) {
             let mut key = [(a, sorted(triplet)), (b, sorted(last))];
             key.sort();
-            if !self.traced_between.insert(key) {
+            let same = self.traced_between.entry(key).or_default();
+            // Between the same two ends on the same elements there may be two seams (the
+            // offset curve of a face touched twice, running both ways round): it repeats one
+            // only if it runs along it.
+            if same
+                .iter()
+                .any(|&k| runs_along(&points, &self.seams[k].points))
+            {
                 self.stats.duplicate_seams += 1;
                 return;
             }
+            same.push(id);
         }
         self.stats.points += points.len();
-        let id = self.seams.len();
         self.seams.push(Seam {
             id,
             solid: self.solid_of(triplet[0]),
@@ -108,4 +127,18 @@ impl Tracer<'_> {
             handovers,
         });
     }
+}
+
+/// True when the seam `new` runs along the seam `old`: its middle point is no farther from a
+/// point of `old` than `old`'s longest step.
+fn runs_along(new: &[SeamPoint], old: &[SeamPoint]) -> bool {
+    let c = |p: &SeamPoint| glam::DVec3::new(p.point[0], p.point[1], p.point[2]);
+    let Some(mid) = new.get(new.len() / 2).map(c) else {
+        return true;
+    };
+    let step = old
+        .windows(2)
+        .map(|w| c(&w[0]).distance(c(&w[1])))
+        .fold(0.0, f64::max);
+    old.iter().any(|p| c(p).distance(mid) <= step)
 }

@@ -12,7 +12,7 @@ use crate::medial::solver::SolveOptions;
 use crate::model::{Element, Model};
 use glam::DVec3;
 use nalgebra::DVector;
-use std::collections::{HashSet, VecDeque};
+use std::collections::{HashMap, HashSet, VecDeque};
 
 /// Where a seam starts.
 pub(super) struct Start {
@@ -46,8 +46,9 @@ pub(super) struct Tracer<'a> {
     /// junction) is not traced again.
     pub(super) arrivals: Vec<Vec<DVec3>>,
     pub(super) seams: Vec<Seam>,
-    /// The two ends (and the elements there) of every seam between proper ends.
-    pub(super) traced_between: HashSet<[(Node, [Element; 3]); 2]>,
+    /// The two ends (and the elements there) of every seam between proper ends, with the
+    /// seams (indices) between them.
+    pub(super) traced_between: HashMap<[(Node, [Element; 3]); 2], Vec<usize>>,
     /// (sorted triplet, the node where it starts or ends) already traced.
     pub(super) visited: HashSet<([Element; 3], Node)>,
     pub(super) queue: VecDeque<Start>,
@@ -93,7 +94,7 @@ impl<'a> Tracer<'a> {
             arrivals: vec![],
             seams: vec![],
             visited: HashSet::new(),
-            traced_between: HashSet::new(),
+            traced_between: HashMap::new(),
             queue: VecDeque::new(),
             stats: TraceStats::default(),
             along: None,
