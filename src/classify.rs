@@ -142,45 +142,70 @@ fn uses(model: &Model, face: usize, edge: usize) -> Vec<bool> {
         .collect()
 }
 
-fn classify_edge(model: &Model, e: usize, opts: &ClassifyOptions) -> EdgeClass {
+/// The kind of edge `e` at curve parameter `t` and the solid's interior angle there
+/// (radians), by the angle tolerance `angle_tol`: what [`classify`] samples along each edge,
+/// and where an edge is mixed, what it is at one point of it.
+pub fn edge_kind_at(model: &Model, e: usize, t: f64, angle_tol: f64) -> (EdgeKind, f64) {
+    let dir1 = uses(model, model.edges[e].faces[0], e)
+        .first()
+        .copied()
+        .unwrap_or(true);
+    dihedral(model, e, t, dir1, &mut [None, None], angle_tol)
+}
+
+/// [`edge_kind_at`], with the first face's loop direction along the edge `dir1` and hints
+/// for the projections onto the two faces (updated).
+fn dihedral(
+    model: &Model,
+    e: usize,
+    t: f64,
+    dir1: bool,
+    hints: &mut [Option<(f64, f64)>; 2],
+    angle_tol: f64,
+) -> (EdgeKind, f64) {
     let edge = &model.edges[e];
     let (f1, f2) = (edge.faces[0], edge.faces[1]);
-    let dir1 = uses(model, f1, e)[0];
+    let p = edge.curve.subs(t);
+    let p = DVec3::new(p.x, p.y, p.z);
+    let d = edge.curve.der(t);
+    let tangent = DVec3::new(d.x, d.y, d.z).normalize_or_zero();
+    let mut normals = [DVec3::ZERO; 2];
+    let mut topo1 = DVec3::ZERO;
+    for (i, f) in [f1, f2].into_iter().enumerate() {
+        let face = &model.faces[f];
+        let Some(uv) = project_point(&face.surface, p, hints[i]) else {
+            continue;
+        };
+        hints[i] = Some(uv);
+        let s = eval_surface(&face.surface, uv.0, uv.1);
+        let raw = s.su.cross(s.sv).normalize_or_zero();
+        normals[i] = raw * face.sign;
+        if i == 0 {
+            topo1 = if face.same_sense { raw } else { -raw };
+        }
+    }
+    let (n1, n2) = (normals[0], normals[1]);
+    let theta = n1.dot(n2).clamp(-1.0, 1.0).acos();
+    let travel = if dir1 { tangent } else { -tangent };
+    let b1 = topo1.cross(travel);
+    if theta <= angle_tol || f1 == f2 {
+        (EdgeKind::Smooth, std::f64::consts::PI)
+    } else if b1.dot(n2) < 0.0 {
+        (EdgeKind::Convex, std::f64::consts::PI - theta)
+    } else {
+        (EdgeKind::Reflex, std::f64::consts::PI + theta)
+    }
+}
+
+fn classify_edge(model: &Model, e: usize, opts: &ClassifyOptions) -> EdgeClass {
+    let edge = &model.edges[e];
+    let dir1 = uses(model, edge.faces[0], e)[0];
     let n = opts.edge_samples.max(1);
     let mut hints: [Option<(f64, f64)>; 2] = [None, None];
     let mut samples = Vec::with_capacity(n);
     for k in 0..n {
         let t = edge.range.0 + (edge.range.1 - edge.range.0) * (k as f64 + 0.5) / n as f64;
-        let p = edge.curve.subs(t);
-        let p = DVec3::new(p.x, p.y, p.z);
-        let d = edge.curve.der(t);
-        let tangent = DVec3::new(d.x, d.y, d.z).normalize_or_zero();
-        let mut normals = [DVec3::ZERO; 2];
-        let mut topo1 = DVec3::ZERO;
-        for (i, f) in [f1, f2].into_iter().enumerate() {
-            let face = &model.faces[f];
-            let Some(uv) = project_point(&face.surface, p, hints[i]) else {
-                continue;
-            };
-            hints[i] = Some(uv);
-            let s = eval_surface(&face.surface, uv.0, uv.1);
-            let raw = s.su.cross(s.sv).normalize_or_zero();
-            normals[i] = raw * face.sign;
-            if i == 0 {
-                topo1 = if face.same_sense { raw } else { -raw };
-            }
-        }
-        let (n1, n2) = (normals[0], normals[1]);
-        let theta = n1.dot(n2).clamp(-1.0, 1.0).acos();
-        let travel = if dir1 { tangent } else { -tangent };
-        let b1 = topo1.cross(travel);
-        let (kind, angle) = if theta <= opts.angle_tol || f1 == f2 {
-            (EdgeKind::Smooth, std::f64::consts::PI)
-        } else if b1.dot(n2) < 0.0 {
-            (EdgeKind::Convex, std::f64::consts::PI - theta)
-        } else {
-            (EdgeKind::Reflex, std::f64::consts::PI + theta)
-        };
+        let (kind, angle) = dihedral(model, e, t, dir1, &mut hints, opts.angle_tol);
         samples.push(DihedralSample {
             t,
             angle_deg: angle.to_degrees(),
@@ -235,4 +260,30 @@ fn classify_vertices(model: &Model, edges: &[EdgeClass]) -> Vec<VertexKind> {
             _ => VertexKind::Mixed,
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One point of an edge has the kind its samples have: on the L-bracket (convex and
+    /// reflex edges) and the filleted box (smooth ones), `edge_kind_at` agrees with every
+    /// sample `classify` took, angle included.
+    #[test]
+    fn the_kind_at_a_point_is_what_classify_samples() {
+        for file in ["l_bracket.step", "filleted_box.step"] {
+            let (model, class) = crate::testing::classified(file);
+            let tol = ClassifyOptions::default().angle_tol;
+            for (e, c) in class.edges.iter().enumerate() {
+                for s in &c.samples {
+                    let (kind, angle) = edge_kind_at(&model, e, s.t, tol);
+                    assert_eq!(kind, s.kind, "{file} E{e} at {}", s.t);
+                    assert!(
+                        (angle.to_degrees() - s.angle_deg).abs() < 1e-9,
+                        "{file} E{e}"
+                    );
+                }
+            }
+        }
+    }
 }

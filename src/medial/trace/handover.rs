@@ -262,7 +262,15 @@ impl Tracer<'_> {
             })
             .ok_or(OpenReason::LeftFaceAwayFromEdges { face: seg })?;
         let edge = &self.model.edges[e];
-        match self.class.edges[e].kind {
+        // A mixed edge (convex along part of it, reflex or smooth along the rest) is what it
+        // is where the touch point reaches it.
+        let kind = match self.class.edges[e].kind {
+            EdgeKind::Mixed => {
+                crate::classify::edge_kind_at(self.model, e, te, self.opts.tangent_angle_rad).0
+            }
+            kind => kind,
+        };
+        match kind {
             EdgeKind::Reflex => {
                 let th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)
                     .ok_or(OpenReason::NoNormalFrame { edge: e })?;
