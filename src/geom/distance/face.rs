@@ -16,7 +16,9 @@
 //! the [`MAX_EXTRA_SEEDS`] best local minima of a grid over the face are tried too.
 //!
 //! With a [`Boundary`] the same search reads the cached cells (the seed, and a face that no
-//! cell box brings within the bound is skipped), trim grid and edge samples.
+//! cell box brings within the bound is skipped), trim grid and edge samples; and descends a
+//! second time from the nearest cell well away from the foot whose box is nearer than the
+//! foot (a face seen twice has two basins of the distance).
 
 use super::edge::{
     edge_feature, edge_nearest, wraps_around, MAX_DESCENT_HALVINGS, MAX_DESCENT_ITER,
@@ -61,6 +63,10 @@ pub fn nearest_on_face(
     face_nearest(model, face, p, hint, f64::INFINITY, None, true)
 }
 
+/// How far (over the foot's distance) from the foot a cell must lie to seed a second descent
+/// (another basin of the distance, not the same one again).
+const SECOND_BASIN_REL_DISTANCE: f64 = 0.5;
+
 /// Per-face data that [`Boundary`] caches; [`nearest_on_face`] works without it.
 pub(super) struct Cached<'a> {
     pub(super) boundary: &'a Boundary,
@@ -96,7 +102,23 @@ pub(super) fn face_nearest(
     let mut best: Option<FaceHit> = None;
     // Interior candidate.
     let from = start.unwrap_or((face.domain.u.0, face.domain.v.0));
-    let interior = interior_foot(face, p, plane, closed, seed, from);
+    let mut interior = interior_foot(face, p, plane, closed, seed, from);
+    // A curved face can have a second basin of the distance about as near as the first
+    // (an elliptic bar's wall seen from near its major axis: both sides at about r, the
+    // nearest cell on either): descend from the nearest cell well away from the foot too,
+    // when its box is nearer than the foot, and keep the nearer foot.
+    if let (Some(c), Some((_, x, d)), None) = (&cache, interior, plane) {
+        if let Some(other) = c
+            .boundary
+            .cell_seed_away(fi, p, x, SECOND_BASIN_REL_DISTANCE * d)
+            .filter(|s| s.1 < d)
+        {
+            let foot = interior_foot(face, p, plane, closed, Some(other), (other.0.x, other.0.y));
+            if foot.is_some_and(|f| f.2 < d) {
+                interior = foot;
+            }
+        }
+    }
     let interior_uv = interior.map(|i| i.0);
     if let Some((uv, x, d)) = interior {
         let uv2 = DVec2::new(uv.0, uv.1);

@@ -370,6 +370,35 @@ impl Boundary {
         Some(seed)
     }
 
+    /// The cell of face `fi` whose representative point is nearest `p` among those whose
+    /// box is farther than `apart` from `away` (another basin of the distance than the foot
+    /// at `away`), with the distance to its box (nothing in it is nearer).
+    pub(super) fn cell_seed_away(
+        &self,
+        fi: usize,
+        p: DVec3,
+        away: DVec3,
+        apart: f64,
+    ) -> Option<(DVec2, f64)> {
+        let fc = &self.faces[fi];
+        let apart2 = apart * apart;
+        let mut best = f64::INFINITY;
+        let mut seed = None;
+        for block in &self.blocks[range(&fc.blocks)] {
+            if box_distance_squared(&block.reps, p) >= best {
+                continue;
+            }
+            for cell in &self.cells[range(&block.cells)] {
+                let d2 = cell.rep.distance_squared(p);
+                if d2 < best && box_distance_squared(&cell.bbox, away) > apart2 {
+                    best = d2;
+                    seed = Some((cell.uv, box_distance_squared(&cell.bbox, p).sqrt()));
+                }
+            }
+        }
+        seed
+    }
+
     /// Unit outward normal of `face` at its point nearest `x` (see [`normal_near`]).
     pub(super) fn normal_at(
         &self,

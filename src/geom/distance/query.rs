@@ -176,6 +176,35 @@ mod tests {
     use crate::geom::nearest_on_face;
     use crate::testing::distance::{assert_hit_on_face, Lcg};
 
+    /// A face with two basins of the distance about as near: the elliptic bar's wall (semi-axes
+    /// 20 and 10, 16 high) from a point just past the major axis, where the wall's two sides
+    /// are at 7.81 (this side, y < 0) and 8.00 (the other). The nearest cell of the face's
+    /// coarse grid lies on the farther side, whose foot (8.00) used to be returned: the
+    /// tracer's seams ran on past their junction and `verify` passed them (OpenCASCADE did
+    /// not). The hit must be on this side, at the exact distance to the ellipse (by dense
+    /// sampling).
+    #[test]
+    fn a_face_seen_twice_gives_its_nearer_side() {
+        let model =
+            crate::ingest::read_model(&crate::testing::sample_path("trace/elliptic_bar.step"))
+                .unwrap();
+        let b = Boundary::new(&model);
+        let p = DVec3::new(10.606865956887082, -0.10567701088875538, 8.0);
+        let hit = b.nearest(&model, p);
+        let exact = (0..200_000)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / 200_000.0;
+                DVec3::new(20.0 * t.cos(), 10.0 * t.sin(), 8.0).distance(p)
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(hit.point.y < 0.0, "{hit:?}");
+        assert!(
+            (hit.distance - exact).abs() < 1e-6,
+            "{} vs {exact}",
+            hit.distance
+        );
+    }
+
     /// `Boundary::nearest` equals the minimum of `nearest_on_face` over all faces, and
     /// `within` lists exactly the faces closer than r.
     #[test]
