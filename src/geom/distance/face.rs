@@ -102,11 +102,35 @@ pub(super) fn face_nearest(
     let mut best: Option<FaceHit> = None;
     // Interior candidate.
     let from = start.unwrap_or((face.domain.u.0, face.domain.v.0));
-    let mut interior = interior_foot(face, p, plane, closed, seed, from);
+    let interior = interior_foot(face, p, plane, closed, seed, from);
+    let interior_uv = interior.map(|i| i.0);
+    let inside = |uv: (f64, f64)| {
+        let uv2 = DVec2::new(uv.0, uv.1);
+        match &cache {
+            Some(c) => c.boundary.contains_uv(face, fi, uv2),
+            None => trim::contains(face, uv2),
+        }
+    };
+    let take = |foot: Option<Foot>, best_d: &mut f64, best: &mut Option<FaceHit>| {
+        if let Some((uv, x, d)) = foot {
+            if d < *best_d && inside(uv) {
+                *best_d = d;
+                *best = Some(FaceHit {
+                    point: x,
+                    distance: d,
+                    uv,
+                    on: Element::Face(fi),
+                    t: None,
+                });
+            }
+        }
+    };
+    take(interior, &mut best_d, &mut best);
     // A curved face can have a second basin of the distance about as near as the first
     // (an elliptic bar's wall seen from near its major axis: both sides at about r, the
     // nearest cell on either): descend from the nearest cell well away from the foot too,
-    // when its box is nearer than the foot, and keep the nearer foot.
+    // when its box is nearer than the foot, and keep that foot when it is nearer and inside
+    // the trim.
     if let (Some(c), Some((_, x, d)), None) = (&cache, interior, plane) {
         if let Some(other) = c
             .boundary
@@ -114,27 +138,7 @@ pub(super) fn face_nearest(
             .filter(|s| s.1 < d)
         {
             let foot = interior_foot(face, p, plane, closed, Some(other), (other.0.x, other.0.y));
-            if foot.is_some_and(|f| f.2 < d) {
-                interior = foot;
-            }
-        }
-    }
-    let interior_uv = interior.map(|i| i.0);
-    if let Some((uv, x, d)) = interior {
-        let uv2 = DVec2::new(uv.0, uv.1);
-        let inside = || match &cache {
-            Some(c) => c.boundary.contains_uv(face, fi, uv2),
-            None => trim::contains(face, uv2),
-        };
-        if d < best_d && inside() {
-            best_d = d;
-            best = Some(FaceHit {
-                point: x,
-                distance: d,
-                uv,
-                on: Element::Face(fi),
-                t: None,
-            });
+            take(foot, &mut best_d, &mut best);
         }
     }
     // Boundary candidates.
