@@ -35,6 +35,14 @@ const OPEN_AND_SHALLOW: &str = "seams end open where a touch point is handed to 
     mixed vertices, where a convex edge's rim meets no seam (on the LCD knob all 36 are at \
     mixed vertices: `sheets_closed`, issue 20)";
 
+/// No seam end open any more, but faceted walls above the angle tolerance.
+const SHALLOW_FACETS: &str = "no seam ends open; seams leaving a vertex between faces at a \
+    shallow angle (above the tolerance) have points whose touch points on those faces lie \
+    closer than √(8·r·accuracy) (`separated`); some junctions miss a seam end \
+    (`junction_seams`) and sheet boundaries stay open at mixed vertices (`sheets_closed`, \
+    issue 20); on the Dragon one sheet-mesh ball lies in a trim polygon's sliver \
+    (`occt:inside`, `occt:mesh_contacts`)";
+
 /// The apex of a square pyramid is a non-generic point: four faces meet symmetrically, so the
 /// seam from it is where four sheets meet, which the sheet pairing does not handle yet.
 const NON_GENERIC_APEX: &str = "the seam from the apex is non-generic (four sheets meet \
@@ -56,6 +64,11 @@ const OPEN_AND_DEGENERATE: &str = "seams end open at hand-overs; faces only dege
 /// one contact only.
 const MESH_PAST_BOUNDARY: &str = "sheet-mesh vertices next to a sheet's boundary lie past \
     it, where the ball has one contact (`occt:mesh_contacts`); the seams themselves pass";
+
+/// A sheet-mesh ball on a face at a point between its trim polygon's chord and the exact edge.
+const MESH_IN_TRIM_SLIVER: &str = "one sheet-mesh ball sits on the bottom face 0.02 mm inside \
+    the hole, in the sliver between the hole's 32-sample trim polygon and the exact circle \
+    (`occt:inside`, `occt:mesh_contacts`); the seams themselves pass";
 
 const SCREW: &str = "touch points on the degree-13 B-spline thread faces lie up to 0.16 mm \
     off them in matrace's own distance query (their trim is a 32-point polygon per edge: \
@@ -96,8 +109,9 @@ const EULER_OFF: &str = "no seam ends open and every ball passes both checkers, 
 
 /// Walls meeting at 0.6° across a smooth edge.
 const FACETED: &str = "the boss's walls meet at 0.6 degrees across edges classified smooth \
-    (within the 1 degree tolerance): the seam between two such walls has touch points closer \
-    than √(8·r·accuracy) (`separated`), and the sheets there do not close";
+    (within the 1 degree tolerance), and its foot's reflex edges likewise: the seams pass \
+    from one wall or edge to the next, but where a seam leaves a foot edge onto a vertex and \
+    a wall the sheets there do not close";
 
 /// Parts known not to pass: every failing check with its count, and why.
 type Expected = (&'static str, &'static [(&'static str, usize)], &'static str);
@@ -108,12 +122,12 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:distance", 1),
             ("occt:junction_seams", 1),
             ("occt:mesh_contacts", 11),
-            ("occt:seam_ends", 7),
-            ("occt:separated", 20),
+            ("occt:seam_ends", 6),
+            ("occt:separated", 25),
             ("verify:distance", 326),
             ("verify:junction_seams", 1),
-            ("verify:seam_ends", 7),
-            ("verify:separated", 20),
+            ("verify:seam_ends", 6),
+            ("verify:separated", 25),
             ("verify:sheets_closed", 16),
             ("verify:touch_on_boundary", 1163),
         ],
@@ -135,13 +149,18 @@ const EXPECTED_FAILURES: &[Expected] = &[
         DEGENERATE_ONLY,
     ),
     (
+        "scad_difference.step",
+        &[("occt:inside", 1), ("occt:mesh_contacts", 1)],
+        MESH_IN_TRIM_SLIVER,
+    ),
+    (
         "elliptic_cylinder.step",
-        &[("occt:mesh_contacts", 22)],
+        &[("occt:mesh_contacts", 3)],
         MESH_PAST_BOUNDARY,
     ),
     (
         "elliptic_cylinder_nurbs.step",
-        &[("occt:mesh_contacts", 4)],
+        &[("occt:mesh_contacts", 3)],
         MESH_PAST_BOUNDARY,
     ),
     (
@@ -156,17 +175,15 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "prusa_adapter-printer.stp",
         &[
-            ("occt:distance", 30),
-            ("occt:junction_seams", 2),
+            ("occt:distance", 13),
+            ("occt:junction_seams", 1),
             ("occt:mesh_contacts", 4),
-            ("occt:seam_ends", 17),
-            ("occt:separated", 3),
-            ("occt:touch_on_boundary", 21),
+            ("occt:seam_ends", 14),
+            ("occt:touch_on_boundary", 12),
             ("verify:distance", 11),
-            ("verify:junction_seams", 2),
-            ("verify:seam_ends", 17),
-            ("verify:separated", 3),
-            ("verify:sheets_closed", 10),
+            ("verify:junction_seams", 1),
+            ("verify:seam_ends", 14),
+            ("verify:sheets_closed", 7),
         ],
         GAPS_ACCEPTED,
     ),
@@ -174,9 +191,9 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "prusa_extruder-idler.stp",
         &[
             ("occt:seam_ends", 9),
-            ("occt:separated", 15),
+            ("occt:separated", 35),
             ("verify:seam_ends", 9),
-            ("verify:separated", 15),
+            ("verify:separated", 35),
             ("verify:sheets_closed", 72),
         ],
         OPEN_AND_SHALLOW,
@@ -184,21 +201,21 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "prusa_extruder-motor-plate.stp",
         &[
-            ("occt:distance", 9),
-            ("occt:faces_touched", 4),
+            ("occt:distance", 10),
+            ("occt:faces_touched", 3),
             ("occt:inside", 3),
-            ("occt:junction_seams", 4),
+            ("occt:junction_seams", 11),
             ("occt:mesh_contacts", 1),
-            ("occt:seam_ends", 35),
-            ("occt:separated", 89),
+            ("occt:seam_ends", 24),
+            ("occt:separated", 85),
             ("occt:touch_at_radius", 1),
             ("occt:touch_on_boundary", 12),
-            ("verify:distance", 5),
-            ("verify:faces_touched", 4),
-            ("verify:junction_seams", 4),
-            ("verify:seam_ends", 35),
-            ("verify:separated", 89),
-            ("verify:sheets_closed", 62),
+            ("verify:distance", 6),
+            ("verify:faces_touched", 3),
+            ("verify:junction_seams", 11),
+            ("verify:seam_ends", 24),
+            ("verify:separated", 85),
+            ("verify:sheets_closed", 76),
             ("verify:touch_at_radius", 1),
             ("verify:touch_on_boundary", 3),
         ],
@@ -207,27 +224,25 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "prusa_fs-lever.stp",
         &[
-            ("occt:seam_ends", 2),
-            ("occt:separated", 5),
-            ("verify:seam_ends", 2),
-            ("verify:separated", 5),
+            ("occt:separated", 3),
+            ("verify:separated", 3),
             ("verify:sheets_closed", 26),
         ],
-        OPEN_AND_SHALLOW,
+        SHALLOW_FACETS,
     ),
     (
         "prusa_y-belt-idler.stp",
         &[
             ("occt:faces_touched", 1),
-            ("occt:junction_seams", 2),
+            ("occt:junction_seams", 1),
             ("occt:mesh_contacts", 1),
-            ("occt:seam_ends", 11),
-            ("occt:separated", 21),
+            ("occt:seam_ends", 1),
+            ("occt:separated", 13),
             ("verify:faces_touched", 1),
-            ("verify:junction_seams", 2),
-            ("verify:seam_ends", 11),
-            ("verify:separated", 21),
-            ("verify:sheets_closed", 43),
+            ("verify:junction_seams", 1),
+            ("verify:seam_ends", 1),
+            ("verify:separated", 13),
+            ("verify:sheets_closed", 18),
         ],
         VOIDS_TURNED,
     ),
@@ -235,9 +250,9 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "prusa_y-rod-holder.stp",
         &[
             ("occt:seam_ends", 20),
-            ("occt:separated", 20),
+            ("occt:separated", 19),
             ("verify:seam_ends", 20),
-            ("verify:separated", 20),
+            ("verify:separated", 19),
             ("verify:sheets_closed", 79),
         ],
         OPEN_AND_SHALLOW,
@@ -333,14 +348,12 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "trimesh_featuretype.STEP",
         &[
-            ("occt:junction_seams", 1),
-            ("occt:mesh_contacts", 3),
-            ("occt:seam_ends", 17),
+            ("occt:mesh_contacts", 1),
+            ("occt:seam_ends", 8),
             ("occt:separated", 2),
-            ("verify:junction_seams", 1),
-            ("verify:seam_ends", 17),
+            ("verify:seam_ends", 8),
             ("verify:separated", 2),
-            ("verify:sheets_closed", 27),
+            ("verify:sheets_closed", 20),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -352,43 +365,43 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "voron0_Hotend_Mount_Dragon.step",
         &[
-            ("occt:junction_seams", 11),
-            ("occt:seam_ends", 12),
-            ("occt:separated", 193),
-            ("verify:junction_seams", 11),
-            ("verify:seam_ends", 12),
-            ("verify:separated", 193),
-            ("verify:sheets_closed", 187),
+            ("occt:inside", 1),
+            ("occt:junction_seams", 5),
+            ("occt:mesh_contacts", 1),
+            ("occt:separated", 116),
+            ("verify:junction_seams", 5),
+            ("verify:separated", 116),
+            ("verify:sheets_closed", 145),
         ],
-        OPEN_AND_SHALLOW,
+        SHALLOW_FACETS,
     ),
     (
         "voron0_Hotend_Mount_Revo_Voron.step",
         &[
             ("occt:distance", 2),
-            ("occt:junction_seams", 7),
-            ("occt:seam_ends", 7),
-            ("occt:separated", 211),
+            ("occt:junction_seams", 1),
+            ("occt:seam_ends", 5),
+            ("occt:separated", 156),
             ("verify:distance", 2),
-            ("verify:junction_seams", 7),
-            ("verify:seam_ends", 7),
-            ("verify:separated", 208),
-            ("verify:sheets_closed", 147),
+            ("verify:junction_seams", 1),
+            ("verify:seam_ends", 5),
+            ("verify:separated", 153),
+            ("verify:sheets_closed", 103),
         ],
         OPEN_AND_SHALLOW,
     ),
     (
         "voron0_Manta_M4P_Din_Mount_2pc.step",
         &[
-            ("occt:junction_seams", 8),
-            ("occt:mesh_contacts", 1),
-            ("occt:seam_ends", 71),
-            ("occt:separated", 204),
-            ("occt:touch_on_boundary", 2),
-            ("verify:junction_seams", 8),
-            ("verify:seam_ends", 71),
-            ("verify:separated", 204),
-            ("verify:sheets_closed", 185),
+            ("occt:junction_seams", 10),
+            ("occt:mesh_contacts", 2),
+            ("occt:seam_ends", 10),
+            ("occt:separated", 139),
+            ("occt:touch_on_boundary", 6),
+            ("verify:junction_seams", 10),
+            ("verify:seam_ends", 10),
+            ("verify:separated", 139),
+            ("verify:sheets_closed", 129),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -396,9 +409,9 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "voron0_VHB_DIN_Mount.STEP",
         &[
             ("occt:faces_touched", 6),
-            ("occt:seam_ends", 10),
+            ("occt:seam_ends", 8),
             ("verify:faces_touched", 6),
-            ("verify:seam_ends", 10),
+            ("verify:seam_ends", 8),
             ("verify:sheets_closed", 4),
         ],
         OPEN_AND_DEGENERATE,
@@ -421,14 +434,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
         EULER_OFF,
     ),
     (
-        "faceted_boss.step",
-        &[
-            ("occt:separated", 17),
-            ("verify:separated", 17),
-            ("verify:sheets_closed", 9),
-        ],
-        FACETED,
+        "elliptic_bar.step",
+        &[("occt:mesh_contacts", 6)],
+        MESH_PAST_BOUNDARY,
     ),
+    ("faceted_boss.step", &[("verify:sheets_closed", 8)], FACETED),
     ("slot_ends_in_round.step", &[("verify:euler", 1)], EULER_OFF),
     ("split_hole.step", &[("verify:euler", 1)], EULER_OFF),
     (
