@@ -304,7 +304,6 @@ impl Tracer<'_> {
         exit: Option<(bool, bool)>,
         ev: &FieldEval,
     ) -> Result<(Element, [f64; 2]), HandOverError> {
-        let acc = self.opts.accuracy;
         let edge = &self.model.edges[e];
         let (lo, hi) = edge.range;
         // Off the edge's end or off its arc? The crossing is bisected on the centre's
@@ -314,13 +313,8 @@ impl Tracer<'_> {
         let at_end = match exit {
             Some((in_range, in_arc)) => !in_range && in_arc,
             None => {
-                let near_end = self.model.vertices[edge.vertices[0]]
-                    .point
-                    .distance(ev.p)
-                    .min(self.model.vertices[edge.vertices[1]].point.distance(ev.p))
-                    <= SAME_PLACE_REL_ACCURACY * acc;
                 (te - lo).min(hi - te) <= 1e-6 * (hi - lo)
-                    || (near_end
+                    || (self.at_edge_end(e, te)
                         && self.edge_fan(e, te).is_some_and(|fan| {
                             ev.n.angle_between(fan[0]).min(ev.n.angle_between(fan[1])) > 1e-4
                         }))
@@ -367,15 +361,10 @@ impl Tracer<'_> {
             })
             .collect();
         if let [(g, tg)] = next[..] {
-            let tangents = self.vertex_tangents(v);
-            let leaving = |k: usize| tangents.iter().find(|(h, _)| *h == k).map(|(_, d)| *d);
-            let tangential = match (leaving(e), leaving(g)) {
-                // Leaving v along e is arriving along −e; g goes on from there.
-                (Some(de), Some(dg)) if e != g => {
-                    (-de).angle_between(dg) <= self.opts.tangent_angle_rad
-                }
-                _ => true,
-            };
+            let tangential = e == g
+                || self
+                    .turn_at(v, e, g)
+                    .is_none_or(|a| a <= self.opts.tangent_angle_rad);
             if let Some(th) = tangential
                 .then(|| crate::medial::equations::edge_angle(self.model, g, tg, ev.n))
                 .flatten()
@@ -532,10 +521,10 @@ impl Tracer<'_> {
             seg.eval(self.model, slot(&xc, i)),
             to.eval(self.model, params),
         ) {
-            (Some(a), Some(b)) => a.n.angle_between(b.n),
+            (Some(a), Some(b)) if !matches!(to, Element::Vertex(_)) => a.n.angle_between(b.n),
             _ => 0.0,
         };
-        let kink = if !matches!(to, Element::Vertex(_)) && kink <= self.opts.tangent_angle_rad {
+        let kink = if kink <= self.opts.tangent_angle_rad {
             kink
         } else {
             0.0

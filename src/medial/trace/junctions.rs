@@ -138,9 +138,7 @@ impl Tracer<'_> {
         let n4 = fourth.eval(self.model, slot(jx, 3))?.n;
         (0..3).find(|&i| {
             let joined = match (triplet[i], fourth) {
-                (Element::Face(f), Element::Face(g)) => {
-                    f != g && self.smooth_edge_between(f, g).is_some()
-                }
+                (Element::Face(f), Element::Face(g)) => self.smooth_edge_between(f, g).is_some(),
                 (Element::Edge(e), Element::Edge(g)) => e != g && self.edges_run_on(e, g),
                 _ => false,
             };
@@ -156,10 +154,8 @@ impl Tracer<'_> {
     fn edges_run_on(&self, e: usize, g: usize) -> bool {
         let ends = |k: usize| self.model.edges[k].vertices;
         ends(e).iter().filter(|v| ends(g).contains(v)).any(|&v| {
-            let tangents = self.vertex_tangents(v);
-            let leaving = |k: usize| tangents.iter().find(|(h, _)| *h == k).map(|(_, d)| *d);
-            matches!((leaving(e), leaving(g)), (Some(de), Some(dg))
-                if (-de).angle_between(dg) <= self.opts.tangent_angle_rad)
+            self.turn_at(v, e, g)
+                .is_some_and(|a| a <= self.opts.tangent_angle_rad)
         })
     }
 

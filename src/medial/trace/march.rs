@@ -226,20 +226,17 @@ impl Tracer<'_> {
                 });
                 self.switch_to(m, i, v, xv)
             }
-            None => match (from, to) {
+            None => {
                 // Two faces across a smooth edge: the touch point runs along the edge. Stay
                 // on this face, counting points within the accuracy past that edge as on it.
-                (Element::Face(f), Element::Face(g)) if self.along.is_none() => {
-                    match self.smooth_edge_between(f, g) {
-                        Some(e) => {
-                            self.along = Some((f, e));
-                            Flow::Next
-                        }
-                        None => Flow::End(SeamEnd::Open(OpenReason::Oscillates { from, to })),
+                if let (Element::Face(f), Element::Face(g), None) = (from, to, self.along) {
+                    if let Some(e) = self.smooth_edge_between(f, g) {
+                        self.along = Some((f, e));
+                        return Flow::Next;
                     }
                 }
-                _ => Flow::End(SeamEnd::Open(OpenReason::Oscillates { from, to })),
-            },
+                Flow::End(SeamEnd::Open(OpenReason::Oscillates { from, to }))
+            }
         }
     }
 

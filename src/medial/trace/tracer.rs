@@ -216,6 +216,15 @@ impl<'a> Tracer<'a> {
             }
     }
 
+    /// The angle by which edge `g` turns away from edge `e` at their shared vertex `v`:
+    /// between arriving at `v` along `e` (leaving it along −e) and leaving along `g`; `None`
+    /// where either has no tangent there.
+    pub(super) fn turn_at(&self, v: usize, e: usize, g: usize) -> Option<f64> {
+        let tangents = self.vertex_tangents(v);
+        let leaving = |k: usize| tangents.iter().find(|(h, _)| *h == k).map(|(_, d)| *d);
+        Some((-leaving(e)?).angle_between(leaving(g)?))
+    }
+
     /// The smooth edge between faces `f` and `g`, if any.
     pub(super) fn smooth_edge_between(&self, f: usize, g: usize) -> Option<usize> {
         self.model.faces[f]
