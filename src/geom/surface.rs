@@ -125,6 +125,21 @@ pub fn parameter_range(
     }
 }
 
+/// The number of non-empty knot spans of a B-spline or NURBS surface along u and along v;
+/// `None` for other surfaces.
+pub fn knot_spans(surface: &Surface) -> Option<(usize, usize)> {
+    let count =
+        |k: &truck_geometry::prelude::KnotVec| k.windows(2).filter(|w| w[1] > w[0]).count().max(1);
+    match surface {
+        Surface::BSplineSurface(b) => Some((count(&b.knot_vecs().0), count(&b.knot_vecs().1))),
+        Surface::NurbsSurface(n) => {
+            let b = n.non_rationalized();
+            Some((count(&b.knot_vecs().0), count(&b.knot_vecs().1)))
+        }
+        _ => None,
+    }
+}
+
 /// Directions in which a B-spline/NURBS or swept surface is closed although truck does not call
 /// it periodic (a cylinder or sphere converted to NURBS, an extrusion of a closed B-spline
 /// profile): `S(u₀, v) = S(u₁, v)` at a few `v` (and likewise in `v`), to 1e-9

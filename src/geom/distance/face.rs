@@ -540,7 +540,8 @@ fn at_range_end(x: f64, r: (f64, f64)) -> bool {
     (x - r.0).abs() <= tol || (x - r.1).abs() <= tol
 }
 
-/// The nearest node of a `FACE_SEED_GRID` grid over the face's domain, preferring nodes inside the
+/// The nearest node of a `FACE_SEED_GRID` grid (finer where the face winds:
+/// `index::finer_where_it_winds`) over the face's domain, preferring nodes inside the
 /// trim: `(uv, distance)`.
 fn grid_seed(face: &Face, p: DVec3) -> Option<(DVec2, f64)> {
     let (u, v) = covered_domain(face);
@@ -551,11 +552,12 @@ fn grid_seed(face: &Face, p: DVec3) -> Option<(DVec2, f64)> {
     };
     let mut best_in: Option<(DVec2, f64)> = None;
     let mut best_any: Option<(DVec2, f64)> = None;
-    for i in 0..=FACE_SEED_GRID {
-        for j in 0..=FACE_SEED_GRID {
+    let (nu, nv) = super::index::finer_where_it_winds(face, FACE_SEED_GRID, FACE_SEED_GRID);
+    for i in 0..=nu {
+        for j in 0..=nv {
             let uv = DVec2::new(
-                d.u.0 + (d.u.1 - d.u.0) * i as f64 / FACE_SEED_GRID as f64,
-                d.v.0 + (d.v.1 - d.v.0) * j as f64 / FACE_SEED_GRID as f64,
+                d.u.0 + (d.u.1 - d.u.0) * i as f64 / nu as f64,
+                d.v.0 + (d.v.1 - d.v.0) * j as f64 / nv as f64,
             );
             let dist = crate::geom::surface_point(&face.surface, uv.x, uv.y).distance(p);
             if !dist.is_finite() {

@@ -46,6 +46,23 @@ use std::ops::Range;
 /// outweighs the looser bounds).
 pub const MAX_FACE_GRID: usize = 8;
 
+/// The most a curved face (its normal or its parameter lines) turns across one cell of its
+/// grid (radians, as [`turning`] estimates it).
+pub const MAX_CELL_TURN: f64 = std::f64::consts::FRAC_PI_4;
+
+/// Most cells per direction that [`MAX_CELL_TURN`] asks for (a 12-turn thread face needs 96).
+pub const MAX_TURNING_GRID: usize = 256;
+
+/// Samples per knot span along a parameter line when the normal's turning is measured.
+pub const TURNING_SAMPLES_PER_SPAN: usize = 4;
+
+/// Fewest samples along a parameter line when the normal's turning is measured (all of them
+/// on a surface without knots).
+pub const MIN_TURNING_SAMPLES: usize = 64;
+
+/// Most samples along a parameter line when the normal's turning is measured.
+pub const MAX_TURNING_SAMPLES: usize = 4096;
+
 /// Fewest cells per direction of a face's grids.
 pub const MIN_FACE_GRID: usize = 2;
 
@@ -288,6 +305,7 @@ impl Boundary {
         let trim = TrimGrid::new(face, tu, tv);
         if plane.is_none() {
             let (nu, nv) = counts(MAX_FACE_GRID);
+            let (nu, nv) = finer_where_it_winds(face, nu, nv);
             if let Some(grid) = TrimGrid::new(face, nu, nv) {
                 for cell in face_cells(face, &grid) {
                     bbox = union(&bbox, &cell.bbox);
@@ -471,6 +489,105 @@ fn face_period_min(face: &Face) -> f64 {
         .u_period
         .unwrap_or(f64::INFINITY)
         .min(face.domain.v_period.unwrap_or(f64::INFINITY))
+}
+
+/// The cell counts `(nu, nv)` of a curved face's grid raised where it turns (its normal or
+/// its parameter lines, see [`turning`]): no cell wider than a turn of [`MAX_CELL_TURN`], and
+/// square cells (in 3D, [`MIN_FACE_GRID`] across the narrower direction) on a face that winds
+/// round more than once (a thread's flank, a spiral): there the face comes back near itself a turn later,
+/// and a cell as long as that turn holds both places, so the nearest cell's centre seeds the
+/// descent into the wrong turn. At most [`MAX_TURNING_GRID`] per direction.
+pub(super) fn finer_where_it_winds(face: &Face, nu: usize, nv: usize) -> (usize, usize) {
+    let w = turning(face);
+    let raise = |n: usize, want: f64| {
+        if want.is_finite() && want > n as f64 {
+            (want.ceil() as usize).min(MAX_TURNING_GRID).max(n)
+        } else {
+            n
+        }
+    };
+    let (mut nu, mut nv) = (
+        raise(nu, w.turn_u / MAX_CELL_TURN),
+        raise(nv, w.turn_v / MAX_CELL_TURN),
+    );
+    let narrow = w.len_u.min(w.len_v);
+    if w.turn_u.max(w.turn_v) > std::f64::consts::TAU && narrow > 0.0 {
+        let side = narrow / MIN_FACE_GRID as f64;
+        nu = raise(nu, w.len_u / side);
+        nv = raise(nv, w.len_v / side);
+    }
+    (nu, nv)
+}
+
+/// How far a curved face turns along its parameter lines, and how long they are.
+#[derive(Clone, Copy, Debug, Default)]
+struct Winding {
+    /// Radians (the normal's turning or the line's, whichever is more), the most of three
+    /// parameter lines along u, and along v.
+    turn_u: f64,
+    turn_v: f64,
+    /// Lengths in 3D (polylines through the samples), the most of the same lines.
+    len_u: f64,
+    len_v: f64,
+}
+
+/// How far the normal of a curved face, or its parameter lines' direction, turns along u and
+/// along v over its covered domain, and how long its parameter lines are (the most of three parameter lines each, sampled [`TURNING_SAMPLES_PER_SPAN`] times
+/// per knot span of a B-spline, at least [`MIN_TURNING_SAMPLES`] times, at most
+/// [`MAX_TURNING_SAMPLES`]).
+fn turning(face: &Face) -> Winding {
+    let ((u0, u1), (v0, v1)) = covered_domain(face);
+    if !(u0.is_finite() && u1.is_finite() && v0.is_finite() && v1.is_finite()) {
+        return Winding::default();
+    }
+    let spans = crate::geom::surface::knot_spans(&face.surface);
+    let samples = |spans: Option<usize>| {
+        spans.map_or(MIN_TURNING_SAMPLES, |s| {
+            (s * TURNING_SAMPLES_PER_SPAN).clamp(MIN_TURNING_SAMPLES, MAX_TURNING_SAMPLES)
+        })
+    };
+    let (nu, nv) = (samples(spans.map(|s| s.0)), samples(spans.map(|s| s.1)));
+    let angle = |a: DVec3, b: DVec3| a.dot(b).clamp(-1.0, 1.0).acos();
+    // Total turning (of the normal, and of the line's own direction: a helicoid's flat
+    // flank winds round with a normal that hardly turns) and length along the line
+    // `at(k/n)`, k = 0..=n.
+    let along = |n: usize, at: &dyn Fn(f64) -> (f64, f64)| {
+        let (mut normal_turn, mut line_turn, mut len) = (0.0, 0.0, 0.0);
+        let mut prev: Option<(DVec3, DVec3)> = None;
+        let mut prev_chord: Option<DVec3> = None;
+        for k in 0..=n {
+            let (u, v) = at(k as f64 / n as f64);
+            let d = eval_surface(&face.surface, u, v);
+            let normal = d.su.cross(d.sv).normalize_or_zero();
+            if normal == DVec3::ZERO || !normal.is_finite() || !d.p.is_finite() {
+                continue;
+            }
+            if let Some((p, m)) = prev {
+                normal_turn += angle(m, normal);
+                len += p.distance(d.p);
+                let chord = (d.p - p).normalize_or_zero();
+                if chord != DVec3::ZERO {
+                    if let Some(c) = prev_chord {
+                        line_turn += angle(c, chord);
+                    }
+                    prev_chord = Some(chord);
+                }
+            }
+            prev = Some((d.p, normal));
+        }
+        (f64::max(normal_turn, line_turn), len)
+    };
+    let mut w = Winding::default();
+    for s in [1.0 / 6.0, 0.5, 5.0 / 6.0] {
+        let (v, u) = (v0 + (v1 - v0) * s, u0 + (u1 - u0) * s);
+        let (tu, lu) = along(nu, &|x| (u0 + (u1 - u0) * x, v));
+        let (tv, lv) = along(nv, &|x| (u, v0 + (v1 - v0) * x));
+        w.turn_u = w.turn_u.max(tu);
+        w.len_u = w.len_u.max(lu);
+        w.turn_v = w.turn_v.max(tv);
+        w.len_v = w.len_v.max(lv);
+    }
+    w
 }
 
 /// Lengths in 3D of the face's domain along u and along v (the longest of a few parameter

@@ -205,6 +205,54 @@ mod tests {
         );
     }
 
+    /// Every point of every face (on a grid over its domain, inside its trim) is at distance 0
+    /// from the boundary, on faces that wind round many times (`samples/distance`: a coil
+    /// whose turns are 0.2 mm apart; the M6 screw's thread when the corpus is there). A grid
+    /// cell as long as a turn used to seed the descent on the next turn: 13 % of the screw's
+    /// points were found up to 0.30 mm away, half of the coil's flanks up to 0.2 mm.
+    #[test]
+    fn points_of_winding_faces_are_on_the_boundary() {
+        let mut files = vec![crate::testing::sample_path("distance/coil.step")];
+        if let Some(dir) = crate::testing::realworld_dir() {
+            files.push(dir.join("b3d_M6-1x12-countersunk-screw.step"));
+        }
+        for path in &files {
+            let file = path.file_name().unwrap().to_string_lossy();
+            let model = crate::ingest::read_model(path).expect("reads");
+            let boundary = Boundary::new(&model);
+            let scale = model.diagonal();
+            let n = 24;
+            let mut checked = 0;
+            for (fi, face) in model.faces.iter().enumerate() {
+                let d = &face.domain;
+                for i in 0..n {
+                    for j in 0..n {
+                        let uv = glam::DVec2::new(
+                            d.u.0 + (d.u.1 - d.u.0) * (i as f64 + 0.5) / n as f64,
+                            d.v.0 + (d.v.1 - d.v.0) * (j as f64 + 0.5) / n as f64,
+                        );
+                        if !crate::geom::trim::contains(face, uv) {
+                            continue;
+                        }
+                        let p = crate::geom::surface_point(&face.surface, uv.x, uv.y);
+                        let hit = boundary.nearest(&model, p);
+                        assert!(
+                            hit.distance <= 1e-9 * scale,
+                            "{file}: face {fi} at {uv}, {p}: nearest boundary {} away on {:?}",
+                            hit.distance,
+                            hit.on
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+            assert!(
+                checked > 100 * model.faces.len(),
+                "{file}: {checked} points"
+            );
+        }
+    }
+
     /// `Boundary::nearest` equals the minimum of `nearest_on_face` over all faces, and
     /// `within` lists exactly the faces closer than r.
     #[test]

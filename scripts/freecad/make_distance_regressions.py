@@ -1,0 +1,75 @@
+#!/usr/bin/python3
+"""Regression parts for the distance queries: faces on which the nearest-point search used to
+descend into the wrong basin of the distance. A point of such a face, inside its trim, must
+be found at distance 0 from the boundary (the test in `src/geom/distance/query.rs` samples
+every face of every part here).
+
+Run with Debian's python (not freecadcmd, not the pyenv python):
+
+    /usr/bin/python3 scripts/freecad/make_distance_regressions.py [OUTDIR]   (default samples/distance)
+
+- `coil.step`: a square wire 0.4 mm wide wound 10 turns round a 3 mm radius at a 0.6 mm pitch
+  (a rectangle swept along a helix). Its four B-spline faces wind round ten times, a turn
+  0.2 mm from the next: the flat flanks' normals hardly turn, their parameter lines do. Cells
+  as long as a turn seed the descent on the neighbouring turn (before the fix, half the points
+  of the flanks were found 5e-3 to 0.2 mm away).
+
+Each part is built with FreeCAD's Part module, checked (valid, one closed solid), written as
+AP214 STEP, and listed in OUTDIR/manifest.json. Deterministic up to the STEP header's
+timestamp.
+"""
+
+import json
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import samplelib as L  # noqa: E402  (sets up FreeCAD's sys.path)
+from samplelib import Part, V  # noqa: E402
+
+
+def coil():
+    helix = Part.makeHelix(0.6, 6.0, 3.0)
+    square = Part.makePolygon([V(2.8, 0, -0.2), V(3.2, 0, -0.2), V(3.2, 0, 0.2),
+                               V(2.8, 0, 0.2), V(2.8, 0, -0.2)])
+    return Part.Wire(helix).makePipeShell([square], True, True)
+
+
+PARTS = [
+    ("coil", coil, "A square wire 0.4 mm wide wound 10 turns round a 3 mm radius at a 0.6 mm "
+     "pitch: four B-spline faces that wind round ten times, each turn 0.2 mm from the next."),
+]
+
+
+def main():
+    args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "distance"))
+    out = os.path.abspath(args.outdir)
+    os.makedirs(out, exist_ok=True)
+    L.setup_step_writer()
+    manifest = []
+    for name, build, description in PARTS:
+        shape = build()
+        L.check_solid(name, shape, 1)
+        solid = shape.Solids[0]
+        path = os.path.join(out, name + ".step")
+        tmp = os.path.join(out, "." + name + ".partial.step")
+        solid.exportStep(tmp)
+        os.replace(tmp, path)
+        manifest.append({
+            "file": name + ".step",
+            "made_by": "scripts/freecad/make_distance_regressions.py",
+            "description": description,
+            "faces": len(solid.Faces), "edges": len(solid.Edges),
+            "vertices": len(solid.Vertexes),
+            "volume": round(solid.Volume, 9),
+        })
+        print(f"{name + '.step':12s} faces {len(solid.Faces):3d} edges {len(solid.Edges):3d} "
+              f"volume {solid.Volume:.6f}", flush=True)
+    with open(os.path.join(out, "manifest.json"), "w") as f:
+        json.dump({"made_by": "scripts/freecad/make_distance_regressions.py",
+                   "parts": manifest}, f, indent=1)
+        f.write("\n")
+
+
+if __name__ == "__main__":
+    L.run_main(main)
