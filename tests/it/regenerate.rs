@@ -75,38 +75,54 @@ fn regenerated_samples_have_the_same_topology() {
 
 #[test]
 fn regenerated_trace_regression_parts_match_their_manifest() {
-    if !require(
+    regenerated_parts_match_their_manifest(
         "regenerate::regenerated_trace_regression_parts_match_their_manifest",
-        &[Tool::FreeCad],
-    ) {
+        "scripts/freecad/make_trace_regressions.py",
+        "samples/trace",
+    );
+}
+
+#[test]
+fn regenerated_distance_regression_parts_match_their_manifest() {
+    regenerated_parts_match_their_manifest(
+        "regenerate::regenerated_distance_regression_parts_match_their_manifest",
+        "scripts/freecad/make_distance_regressions.py",
+        "samples/distance",
+    );
+}
+
+/// Running a FreeCAD `script` that writes parts and their `manifest.json` gives the manifest
+/// committed in `samples_dir`, and parts of the same topology.
+fn regenerated_parts_match_their_manifest(test: &str, script: &str, samples_dir: &str) {
+    if !require(test, &[Tool::FreeCad]) {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
     let out = std::process::Command::new("/usr/bin/python3")
-        .arg(root().join("scripts/freecad/make_trace_regressions.py"))
+        .arg(root().join(script))
         .arg(dir.path())
         .env("PYTHONDONTWRITEBYTECODE", "1")
         .current_dir(root())
         .output()
-        .expect("run make_trace_regressions.py");
+        .unwrap_or_else(|e| panic!("run {script}: {e}"));
     assert!(
         out.status.success(),
-        "make_trace_regressions.py failed:\n{}\n{}",
+        "{script} failed:\n{}\n{}",
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
     let read = |p: std::path::PathBuf| -> serde_json::Value {
         serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
     };
-    let committed = read(root().join("samples/trace/manifest.json"));
+    let committed = read(root().join(samples_dir).join("manifest.json"));
     let fresh = read(dir.path().join("manifest.json"));
     assert_eq!(
         committed, fresh,
-        "the regenerated manifest differs from samples/trace/manifest.json"
+        "the regenerated manifest differs from {samples_dir}/manifest.json"
     );
     for p in committed["parts"].as_array().unwrap() {
         let name = p["file"].as_str().unwrap();
-        let a = matrace::read_model(&root().join("samples/trace").join(name)).unwrap();
+        let a = matrace::read_model(&root().join(samples_dir).join(name)).unwrap();
         let b = matrace::read_model(&dir.path().join(name)).unwrap();
         let sig = |m: &matrace::Model| {
             (
