@@ -48,11 +48,9 @@ pub const BBOX_EDGE_SAMPLES: usize = 128;
 /// Grid per face (in each UV direction) for the model's bounding box.
 pub const BBOX_FACE_GRID: usize = 32;
 
-/// Bounding box of a model (see [`Model::bounding_box`]): vertices, densely sampled edges, and
-/// for faces whose extent the edges do not show (a sphere bounded by a vertex loop, a torus),
-/// a grid over the face's UV domain. It is an inner estimate, within the sampling's chordal
-/// error of the exact box.
-pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
+/// Bounding box of a model's vertices and densely sampled edges: what [`model_bounding_box`]
+/// starts from, and all that is known of the model's size before its faces' UV domains are.
+pub fn edges_bounding_box(model: &Model) -> Aabb {
     let mut b = Aabb::EMPTY;
     for v in &model.vertices {
         b.add(v.point);
@@ -73,6 +71,15 @@ pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
             b.add(super::eval::curve_point(&e.curve, t));
         }
     }
+    b
+}
+
+/// Bounding box of a model (see [`Model::bounding_box`]): vertices, densely sampled edges, and
+/// for faces whose extent the edges do not show (a sphere bounded by a vertex loop, a torus),
+/// a grid over the face's UV domain. It is an inner estimate, within the sampling's chordal
+/// error of the exact box.
+pub fn model_bounding_box(model: &Model) -> (DVec3, DVec3) {
+    let mut b = edges_bounding_box(model);
     // Face interiors: a free-form face can bulge beyond its edges (a B-spline top with a
     // bump), and a periodic face without a closed outer loop (a sphere bounded by a vertex
     // loop, a torus) has edges that show nothing of its extent. A ruled face cannot

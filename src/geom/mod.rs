@@ -18,7 +18,7 @@ mod surface;
 pub mod trim;
 pub mod volume;
 
-pub use bbox::{model_bounding_box, Aabb};
+pub use bbox::{edges_bounding_box, model_bounding_box, Aabb};
 pub use bvh::Bvh;
 pub use curvature::{principal_curvatures, unit_normal, Curvature};
 pub use distance::{nearest_on_edge, nearest_on_face, Boundary, FaceHit};

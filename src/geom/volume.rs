@@ -15,7 +15,8 @@
 //! exact to rounding for planes and polynomial patches and to about 1e-10 for the others.
 //!
 //! The boundary is the loops' UV samples ([`Loop::uv`](crate::model::Loop::uv)), exact points
-//! of the trimming curves, even in each edge's parameter ([`edge_samples`]). Between two of
+//! of the trimming curves, even in each edge's parameter
+//! ([`Loop::uv_counts`](crate::model::Loop::uv_counts)). Between two of
 //! them the path is the cubic through four consecutive samples of the same curved edge, which
 //! follows the curve to fourth order in the spacing: a circle sampled 32 times bounds its area
 //! to 1e-5 (the chord polygon cut 0.64 % off it, about 0.2 % of a plate's volume per hole of
@@ -332,16 +333,47 @@ fn knots(surface: &Surface) -> (Vec<f64>, Vec<f64>) {
 
 /// A loop's UV polygon as a closed path in (swapped) coordinates `(x, y)`: point `i` for any
 /// integer `i`, a wrapping loop's copies shifted by the period it winds (`offset`), and how
-/// its points fall on the loop's edges ([`edge_samples`]).
+/// its points fall on the loop's edges ([`Loop::uv_counts`](crate::model::Loop::uv_counts)).
 struct LoopPath<'a> {
     surface: &'a Surface,
-    poly: &'a [DVec2],
+    poly: Vec<DVec2>,
     swap: bool,
     /// From the point after the last back to the first: zero unless the loop wraps.
     offset: DVec2,
     /// For each point, the index of its edge's first point and the edge's sample count, when
     /// the edge is curved (sampled more than twice) and the counts match the polygon.
     edge_of: Vec<Option<(usize, usize)>>,
+}
+
+/// A loop's polygon with each edge's samples thinned to the count the reader starts from
+/// ([`edge_samples`]: the reader refines by doubling, so every `n/n₀`-th sample is one of
+/// those), and the per-edge counts; the polygon as it is, without counts, when they do not
+/// match it. The cubic path through the thinned samples follows the edges to fourth order
+/// already (see the module docs); the refined polygon would only multiply the work.
+fn decimated(
+    model: &Model,
+    face_index: usize,
+    lp: &crate::model::Loop,
+) -> (Vec<DVec2>, Option<Vec<usize>>) {
+    let counts = &lp.uv_counts;
+    if !lp.uv_counts_match() {
+        return (lp.uv.clone(), None);
+    }
+    let mut poly = Vec::with_capacity(lp.uv.len());
+    let mut thinned = Vec::with_capacity(counts.len());
+    let mut start = 0;
+    for (oe, &n) in lp.edges.iter().zip(counts) {
+        let n0 = edge_samples(model, face_index, oe).1;
+        let stride = if n0 > 0 && n > n0 && n % n0 == 0 {
+            n / n0
+        } else {
+            1
+        };
+        poly.extend((0..n).step_by(stride).map(|k| lp.uv[start + k]));
+        thinned.push(n.div_ceil(stride));
+        start += n;
+    }
+    (poly, Some(thinned))
 }
 
 impl<'a> LoopPath<'a> {
@@ -352,9 +384,9 @@ impl<'a> LoopPath<'a> {
         periods: (Option<f64>, Option<f64>),
         swap: bool,
     ) -> LoopPath<'a> {
-        let poly = &lp.uv[..];
+        let (poly, counts) = decimated(model, face_index, lp);
         let n = poly.len();
-        let (wu, wv) = wrapping(poly, periods);
+        let (wu, wv) = wrapping(&poly, periods);
         let offset = if wu || wv {
             let (first, last) = (poly[0], poly[n - 1]);
             DVec2::new(
@@ -365,13 +397,8 @@ impl<'a> LoopPath<'a> {
             DVec2::ZERO
         };
         let offset = if swap { offset.yx() } else { offset };
-        let counts: Vec<usize> = lp
-            .edges
-            .iter()
-            .map(|oe| edge_samples(model, face_index, oe).1)
-            .collect();
         let mut edge_of = vec![None; n];
-        if counts.iter().sum::<usize>() == n {
+        if let Some(counts) = counts {
             let mut start = 0;
             for c in counts {
                 if c > 2 {

@@ -33,7 +33,8 @@ use glam::{DVec2, DVec3};
 /// Grid points per direction of a face's domain where the shell's extremes are looked for.
 pub const ORIENT_GRID: usize = 5;
 
-/// The boundary is looked at in every this-many of the loops' UV samples (4 per curved edge).
+/// The boundary is looked at in every this-many of the loops' UV samples (4 on a curved edge
+/// the reader did not refine).
 pub const BOUNDARY_STRIDE: usize = 8;
 
 /// A direction votes only where its extreme point's normal leans this much along it
@@ -57,17 +58,17 @@ fn edge_votes(model: &Model, fi: usize, limit: usize) -> Votes {
     }
     let mut votes = Votes::default();
     for lp in &face.loops {
-        let counts: Vec<(bool, usize)> = lp
-            .edges
-            .iter()
-            .map(|oe| edge_samples(model, fi, oe))
-            .collect();
-        let total: usize = counts.iter().map(|c| c.1).sum();
-        if lp.edges.is_empty() || lp.uv.len() != total {
+        if lp.edges.is_empty() || !lp.uv_counts_match() {
             continue;
         }
+        let total = lp.uv.len();
+        let counts = lp
+            .edges
+            .iter()
+            .zip(&lp.uv_counts)
+            .map(|(oe, &n)| (edge_samples(model, fi, oe).0, n));
         let mut start = 0;
-        for &(seam, n) in &counts {
+        for (seam, n) in counts {
             let mid = start + n / 2;
             start += n;
             if seam {
@@ -248,17 +249,11 @@ pub fn shell_votes(model: &Model, s: usize) -> Votes {
                 }
                 continue;
             }
-            let total: usize = lp
-                .edges
-                .iter()
-                .map(|oe| edge_samples(model, fi, oe).1)
-                .sum();
-            if lp.uv.len() != total {
+            if !lp.uv_counts_match() {
                 continue;
             }
             let mut idx = 0;
-            for oe in &lp.edges {
-                let (_, n) = edge_samples(model, fi, oe);
+            for (oe, &n) in lp.edges.iter().zip(&lp.uv_counts) {
                 let edge = &model.edges[oe.edge];
                 let (t0, t1) = if oe.forward {
                     edge.range

@@ -112,6 +112,18 @@ pub struct Loop {
     /// The loop as a closed polygon in the face's (unwrapped) UV space, densely sampled from
     /// the exact edge curves; used for inside/outside tests of the trimmed face.
     pub uv: Vec<glam::DVec2>,
+    /// How many points of `uv` each edge has, in the order of `edges`: sample `k` of `n` is
+    /// at `t0 + (t1 − t0)·k/n` in the loop's direction, and each edge's first sample is its
+    /// start. Empty for a vertex loop, and before the reader has built `uv`.
+    pub uv_counts: Vec<usize>,
+}
+
+impl Loop {
+    /// True when `uv` is laid out on the edges as `uv_counts` says (the reader has built it).
+    pub fn uv_counts_match(&self) -> bool {
+        self.uv_counts.len() == self.edges.len()
+            && self.uv_counts.iter().sum::<usize>() == self.uv.len()
+    }
 }
 
 /// An edge used in a loop, in the edge's direction (`forward`) or against it.

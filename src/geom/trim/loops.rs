@@ -568,6 +568,7 @@ mod tests {
             edges: vec![],
             vertex: None,
             uv: (0..n).map(|k| f(k as f64 / n as f64)).collect(),
+            uv_counts: vec![],
         }
     }
 
@@ -623,6 +624,7 @@ mod tests {
             edges: vec![],
             vertex: Some(0),
             uv: vec![DVec2::new(0.0, 40.0)],
+            uv_counts: vec![],
         });
         face.domain.v = (-0.5, 40.0);
         assert!(contains(&face, DVec2::new(3.0, 20.0)));

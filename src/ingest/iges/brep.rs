@@ -165,6 +165,7 @@ fn build_loop(
                 edges: vec![],
                 vertex: Some(v),
                 uv: vec![],
+                uv_counts: vec![],
             }),
             None => Err(ctx.err(de, "empty loop")),
         };
@@ -184,6 +185,7 @@ fn build_loop(
         edges,
         vertex: None,
         uv: vec![],
+        uv_counts: vec![],
     })
 }
 

@@ -25,7 +25,9 @@
 
 use super::ctx::Ctx;
 use crate::error::Result;
-use crate::ingest::domain::{align_loops, face_domain, loop_uv, signed_area};
+use crate::ingest::domain::{
+    align_loops, face_domain, loop_polygon_tolerance, loop_uv, signed_area,
+};
 use crate::model::*;
 use glam::DVec3;
 use std::collections::VecDeque;
@@ -219,13 +221,22 @@ fn orient_consistently(ctx: &Ctx, model: &mut Model, uses: &[Vec<(usize, bool)>]
 }
 
 /// UV loops, domain and outer loop of one face, for a given `same_sense`.
-fn face_loops(ctx: &Ctx, model: &mut Model, f: usize, same_sense: bool) -> Result<Option<f64>> {
+fn face_loops(
+    ctx: &Ctx,
+    model: &mut Model,
+    f: usize,
+    same_sense: bool,
+    tol: f64,
+) -> Result<Option<f64>> {
     model.faces[f].same_sense = same_sense;
     let mut loops = std::mem::take(&mut model.faces[f].loops);
     let mut failed = None;
     for l in &mut loops {
-        match loop_uv(model, f, l) {
-            Ok(uv) => l.uv = uv,
+        match loop_uv(model, f, l, tol) {
+            Ok(poly) => {
+                l.uv = poly.uv;
+                l.uv_counts = poly.counts;
+            }
             Err(reason) => {
                 failed = Some((l.source_id, reason));
                 break;
@@ -255,6 +266,7 @@ fn within_one_period(face: &Face) -> bool {
 
 /// Step 2 of the module docs.
 fn compute_domains(ctx: &Ctx, model: &mut Model) -> Result<()> {
+    let tol = loop_polygon_tolerance(model);
     for f in 0..model.faces.len() {
         let has_seam = model.faces[f]
             .loops
@@ -268,7 +280,7 @@ fn compute_domains(ctx: &Ctx, model: &mut Model) -> Result<()> {
                     .count()
                     >= 2
             });
-        let area = face_loops(ctx, model, f, true)?;
+        let area = face_loops(ctx, model, f, true, tol)?;
         if !has_seam {
             // The UV polygons do not depend on `same_sense`: a clockwise outer loop says it.
             // (No outer loop — only wrapping or vertex loops — leaves nothing to tell by.)
@@ -280,12 +292,12 @@ fn compute_domains(ctx: &Ctx, model: &mut Model) -> Result<()> {
         if within_one_period(&model.faces[f]) && area.is_some_and(|a| a > 0.0) {
             continue;
         }
-        let other = face_loops(ctx, model, f, false)?;
+        let other = face_loops(ctx, model, f, false, tol)?;
         if within_one_period(&model.faces[f]) && other.is_some_and(|a| a < 0.0) {
             continue;
         }
         // Neither fits (a face whose loops only wrap around a period): keep the default.
-        face_loops(ctx, model, f, true)?;
+        face_loops(ctx, model, f, true, tol)?;
     }
     Ok(())
 }
@@ -325,7 +337,13 @@ fn orient_outward(ctx: &Ctx, model: &mut Model) -> Result<()> {
                     for oe in &mut l.edges {
                         oe.forward = !oe.forward;
                     }
+                    // The polygon backwards, each edge's samples from its new start: the
+                    // reversed edge starts where the loop's next edge started.
                     l.uv.reverse();
+                    if !l.uv.is_empty() {
+                        l.uv.rotate_right(1);
+                    }
+                    l.uv_counts.reverse();
                 }
                 model.faces[f].same_sense = !model.faces[f].same_sense;
             }

@@ -252,6 +252,7 @@ fn push_faces(
                 edges,
                 vertex: None,
                 uv: vec![],
+                uv_counts: vec![],
             });
         }
         model.faces.push(Face {

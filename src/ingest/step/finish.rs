@@ -7,7 +7,7 @@
 use super::records::Records;
 use super::source::Source;
 use crate::error::Result;
-use crate::ingest::domain::{align_loops, face_domain, loop_uv_and_gap};
+use crate::ingest::domain::{align_loops, face_domain, loop_polygon_tolerance, loop_uv_and_gap};
 use crate::ingest::tolerance::VERTEX_ON_CURVE_REL_COORD;
 use crate::model::*;
 use rayon::prelude::*;
@@ -111,21 +111,32 @@ fn compute_domains(src: &Source, model: &mut Model) -> Result<()> {
     // Faces are independent: their loops are projected in parallel (results are the same
     // whatever the thread count), then the first error in face order is reported.
     let m = &*model;
+    let tol = loop_polygon_tolerance(m);
     let uvs: Vec<LoopsUv> = (0..m.faces.len())
         .into_par_iter()
         .map(|fi| {
             m.faces[fi]
                 .loops
                 .iter()
-                .map(|l| loop_uv_and_gap(m, fi, l).map_err(|reason| (l.source_id, reason)))
+                .map(|l| loop_uv_and_gap(m, fi, l, tol).map_err(|reason| (l.source_id, reason)))
                 .collect()
         })
         .collect();
     for (fi, uv) in uvs.into_iter().enumerate() {
         let uv = uv.map_err(|(id, reason)| src.err(id, reason))?;
         let m = &mut *model;
-        for (l, (uv, gap)) in m.faces[fi].loops.iter_mut().zip(uv) {
-            l.uv = uv;
+        for (l, (poly, gap)) in m.faces[fi].loops.iter_mut().zip(uv) {
+            l.uv = poly.uv;
+            l.uv_counts = poly.counts;
+            if poly.worst_mm > tol {
+                src.warn_gap(
+                    "coarse_trim",
+                    l.source_id,
+                    "loop's UV polygon still strays from its edges by more than the trim tolerance at the most samples per edge",
+                    "accepted; inside tests within that distance of this loop may err",
+                    Some(poly.worst_mm),
+                );
+            }
             // Edges off their face's surface by more than rounding, and less than the
             // projection accepts (`ON_SURFACE_REL_COORD`): read, and said.
             if gap.rel > VERTEX_ON_CURVE_REL_COORD {
@@ -149,8 +160,13 @@ fn compute_domains(src: &Source, model: &mut Model) -> Result<()> {
 }
 
 /// One face's loops in UV, or the failing loop's id and the reason.
-type LoopsUv =
-    std::result::Result<Vec<(Vec<glam::DVec2>, crate::ingest::domain::SurfaceGap)>, (u64, String)>;
+type LoopsUv = std::result::Result<
+    Vec<(
+        crate::ingest::domain::LoopPolygon,
+        crate::ingest::domain::SurfaceGap,
+    )>,
+    (u64, String),
+>;
 
 fn order_keys(ids: impl Iterator<Item = u64>, recs: &Records) -> Vec<(usize, usize)> {
     let mut seen: HashMap<u64, usize> = HashMap::default();

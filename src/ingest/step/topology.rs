@@ -501,6 +501,7 @@ impl Walk<'_> {
                     edges: vec![],
                     vertex: Some(vi),
                     uv: vec![],
+                    uv_counts: vec![],
                 })
             }
             "EDGE_LOOP" => {
@@ -552,6 +553,7 @@ impl Walk<'_> {
                     edges,
                     vertex: None,
                     uv: vec![],
+                    uv_counts: vec![],
                 })
             }
             "POLY_LOOP" => Err(self
