@@ -65,15 +65,9 @@ const OPEN_AND_DEGENERATE: &str = "seams end open at hand-overs; faces only dege
 const MESH_PAST_BOUNDARY: &str = "sheet-mesh vertices next to a sheet's boundary lie past \
     it, where the ball has one contact (`occt:mesh_contacts`); the seams themselves pass";
 
-/// A sheet-mesh ball on a face at a point between its trim polygon's chord and the exact edge.
-const MESH_IN_TRIM_SLIVER: &str = "one sheet-mesh ball sits on the bottom face 0.02 mm inside \
-    the hole, in the sliver between the hole's 32-sample trim polygon and the exact circle \
-    (`occt:inside`, `occt:mesh_contacts`); the seams themselves pass";
-
-const SCREW: &str = "touch points on the degree-13 B-spline thread faces lie up to 0.16 mm \
-    off them in matrace's own distance query (their trim is a 32-point polygon per edge: \
-    `verify:touch_on_boundary`, `verify:distance`), where OCCT finds them on the boundary; \
-    seams end open at hand-overs";
+const SCREW: &str = "seams end open at hand-overs; 25 seam balls touch only two places \
+    farther apart than the separation √(8·r·a) (`separated`, not yet looked into); two \
+    sheet-mesh vertices lie past a sheet's boundary (`occt:mesh_contacts`)";
 
 const MOTOR_PLATE: &str = "a few touch points lie up to 5.7e-4 mm off the boundary and a few \
     balls' nearest boundary is up to 1.4e-4 mm closer than r (the accuracy is 7.4e-5 mm); \
@@ -119,17 +113,12 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "b3d_M6-1x12-countersunk-screw.step",
         &[
-            ("occt:distance", 1),
-            ("occt:junction_seams", 1),
-            ("occt:mesh_contacts", 11),
-            ("occt:seam_ends", 6),
+            ("occt:mesh_contacts", 2),
+            ("occt:seam_ends", 3),
             ("occt:separated", 25),
-            ("verify:distance", 326),
-            ("verify:junction_seams", 1),
-            ("verify:seam_ends", 6),
+            ("verify:seam_ends", 3),
             ("verify:separated", 25),
-            ("verify:sheets_closed", 16),
-            ("verify:touch_on_boundary", 1163),
+            ("verify:sheets_closed", 17),
         ],
         SCREW,
     ),
@@ -149,18 +138,13 @@ const EXPECTED_FAILURES: &[Expected] = &[
         DEGENERATE_ONLY,
     ),
     (
-        "scad_difference.step",
-        &[("occt:inside", 1), ("occt:mesh_contacts", 1)],
-        MESH_IN_TRIM_SLIVER,
-    ),
-    (
         "elliptic_cylinder.step",
         &[("occt:mesh_contacts", 3)],
         MESH_PAST_BOUNDARY,
     ),
     (
         "elliptic_cylinder_nurbs.step",
-        &[("occt:mesh_contacts", 3)],
+        &[("occt:mesh_contacts", 9)],
         MESH_PAST_BOUNDARY,
     ),
     (
@@ -175,15 +159,17 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "prusa_adapter-printer.stp",
         &[
-            ("occt:distance", 13),
-            ("occt:junction_seams", 1),
-            ("occt:mesh_contacts", 4),
-            ("occt:seam_ends", 14),
-            ("occt:touch_on_boundary", 12),
-            ("verify:distance", 11),
-            ("verify:junction_seams", 1),
-            ("verify:seam_ends", 14),
-            ("verify:sheets_closed", 7),
+            ("occt:distance", 15),
+            ("occt:junction_seams", 2),
+            ("occt:mesh_contacts", 3),
+            ("occt:seam_ends", 16),
+            ("occt:separated", 5),
+            ("occt:touch_on_boundary", 3),
+            ("verify:distance", 13),
+            ("verify:junction_seams", 2),
+            ("verify:seam_ends", 16),
+            ("verify:separated", 5),
+            ("verify:sheets_closed", 11),
         ],
         GAPS_ACCEPTED,
     ),
@@ -191,31 +177,33 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "prusa_extruder-idler.stp",
         &[
             ("occt:seam_ends", 9),
-            ("occt:separated", 35),
+            ("occt:separated", 17),
+            ("occt:touch_on_boundary", 1),
             ("verify:seam_ends", 9),
-            ("verify:separated", 35),
+            ("verify:separated", 17),
             ("verify:sheets_closed", 72),
+            ("verify:touch_on_boundary", 1),
         ],
         OPEN_AND_SHALLOW,
     ),
     (
         "prusa_extruder-motor-plate.stp",
         &[
-            ("occt:distance", 10),
-            ("occt:faces_touched", 3),
-            ("occt:inside", 3),
-            ("occt:junction_seams", 11),
+            ("occt:distance", 6),
+            ("occt:faces_touched", 4),
+            ("occt:inside", 1),
+            ("occt:junction_seams", 10),
             ("occt:mesh_contacts", 1),
-            ("occt:seam_ends", 24),
-            ("occt:separated", 85),
+            ("occt:seam_ends", 22),
+            ("occt:separated", 82),
             ("occt:touch_at_radius", 1),
-            ("occt:touch_on_boundary", 12),
+            ("occt:touch_on_boundary", 9),
             ("verify:distance", 6),
-            ("verify:faces_touched", 3),
-            ("verify:junction_seams", 11),
-            ("verify:seam_ends", 24),
-            ("verify:separated", 85),
-            ("verify:sheets_closed", 76),
+            ("verify:faces_touched", 4),
+            ("verify:junction_seams", 10),
+            ("verify:seam_ends", 22),
+            ("verify:separated", 82),
+            ("verify:sheets_closed", 70),
             ("verify:touch_at_radius", 1),
             ("verify:touch_on_boundary", 3),
         ],
@@ -279,8 +267,8 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "stepswift_HEAD_FRONT.stp",
         &[
-            ("occt:inside", 4),
-            ("occt:mesh_contacts", 5),
+            ("occt:inside", 7),
+            ("occt:mesh_contacts", 8),
             ("occt:seam_ends", 4),
             ("verify:seam_ends", 4),
         ],
@@ -314,13 +302,13 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "stepswift_nist_ftc_06_asme1_rd.stp",
         &[
             ("occt:faces_touched", 6),
-            ("occt:mesh_contacts", 2),
+            ("occt:mesh_contacts", 3),
             ("occt:seam_ends", 9),
-            ("occt:separated", 35),
+            ("occt:separated", 33),
             ("verify:convex_vertices", 2),
             ("verify:faces_touched", 6),
             ("verify:seam_ends", 9),
-            ("verify:separated", 35),
+            ("verify:separated", 33),
             ("verify:sheets_closed", 22),
         ],
         FTC06,
@@ -338,17 +326,13 @@ const EXPECTED_FAILURES: &[Expected] = &[
     ),
     (
         "stepswift_nist_ftc_11_asme1_rb.stp",
-        &[
-            ("occt:faces_touched", 2),
-            ("occt:mesh_contacts", 6),
-            ("verify:faces_touched", 2),
-        ],
+        &[("occt:faces_touched", 2), ("verify:faces_touched", 2)],
         DEGENERATE_ONLY,
     ),
     (
         "trimesh_featuretype.STEP",
         &[
-            ("occt:mesh_contacts", 1),
+            ("occt:mesh_contacts", 2),
             ("occt:seam_ends", 8),
             ("occt:separated", 2),
             ("verify:seam_ends", 8),
@@ -365,9 +349,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "voron0_Hotend_Mount_Dragon.step",
         &[
-            ("occt:inside", 1),
             ("occt:junction_seams", 5),
-            ("occt:mesh_contacts", 1),
             ("occt:separated", 116),
             ("verify:junction_seams", 5),
             ("verify:separated", 116),
@@ -394,7 +376,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "voron0_Manta_M4P_Din_Mount_2pc.step",
         &[
             ("occt:junction_seams", 10),
-            ("occt:mesh_contacts", 2),
+            ("occt:mesh_contacts", 1),
             ("occt:seam_ends", 10),
             ("occt:separated", 139),
             ("occt:touch_on_boundary", 6),
