@@ -169,11 +169,22 @@ pub fn loop_polygon_tolerance(model: &Model) -> f64 {
 /// that still strays is reported in [`LoopPolygon::worst_mm`]).
 pub const MAX_SAMPLES_PER_EDGE: usize = 1 << 14;
 
+/// Most samples the polygon of one loop has (16 MiB of points).
+pub const MAX_SAMPLES_PER_LOOP: usize = 1 << 20;
+
+/// An edge whose stray is more than this fraction of the last round's did not converge that
+/// round.
+const STALLED_REL_BEFORE: f64 = 0.5;
+
+/// Rounds in a row an edge may fail to converge before its refinement stops.
+const MAX_STALLED_ROUNDS: usize = 2;
+
 /// A loop's UV polygon: `uv`, with `counts[i]` samples on the loop's edge `i` (sample `k` of
 /// `n` at `t0 + (t1 − t0)·k/n` in the loop's direction, edges in the loop's order). Each edge
 /// starts with [`edge_samples`]'s count, doubled until the polygon's chords, mapped onto the
-/// surface, stray at most the tolerance across the edge at their midpoints (or the edge has
-/// [`MAX_SAMPLES_PER_EDGE`]); `worst_mm` is the largest such distance left.
+/// surface, stray at most the tolerance across the edge at their midpoints, or the edge has
+/// [`MAX_SAMPLES_PER_EDGE`], or the loop [`MAX_SAMPLES_PER_LOOP`], or its stray stops
+/// converging; `worst_mm` is the largest such distance left.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LoopPolygon {
     pub uv: Vec<DVec2>,
@@ -214,6 +225,9 @@ pub fn loop_uv_and_gap(
         .iter()
         .map(|oe| edge_samples(model, face_index, oe).1)
         .collect();
+    // Each edge's stray after the last round, and how many rounds in a row it did not halve.
+    let mut before: Vec<Option<f64>> = vec![None; counts.len()];
+    let mut stalled: Vec<usize> = vec![0; counts.len()];
     loop {
         let samples = sample_loop(model, face_index, lp, &counts);
         let (raw, singular, gap) = project_samples(face, periodic, &samples);
@@ -225,9 +239,24 @@ pub fn loop_uv_and_gap(
         let strays = chord_strays(model, face, lp, &counts, &samples, &uv, &singular);
         let worst_mm = strays.iter().copied().fold(0.0, f64::max);
         let mut refined = false;
-        for (n, &stray) in counts.iter_mut().zip(&strays) {
-            if stray > tol_mm && *n < MAX_SAMPLES_PER_EDGE {
-                *n = (*n * 2).min(MAX_SAMPLES_PER_EDGE);
+        let mut total: usize = counts.iter().sum();
+        for (e, &stray) in strays.iter().enumerate() {
+            // Sampling error falls about fourfold per doubling; what does not even halve twice
+            // running is not sampling error (a gap, a kink the tolerance hides): leave it.
+            if before[e].is_some_and(|b| stray > STALLED_REL_BEFORE * b) {
+                stalled[e] += 1;
+            } else {
+                stalled[e] = 0;
+            }
+            before[e] = Some(stray);
+            let n = counts[e];
+            if stray > tol_mm
+                && n < MAX_SAMPLES_PER_EDGE
+                && stalled[e] < MAX_STALLED_ROUNDS
+                && total + n <= MAX_SAMPLES_PER_LOOP
+            {
+                counts[e] = (n * 2).min(MAX_SAMPLES_PER_EDGE);
+                total += counts[e] - n;
                 refined = true;
             }
         }
@@ -248,8 +277,8 @@ pub fn loop_uv_and_gap(
 /// uneven parametrisation moves the point along), and the file's gap between edge and surface
 /// is taken out: the edge's offset from its foot at the chord's ends, averaged, is added to
 /// the midpoint (and so is half the gap between the edge's end and the next edge's start, on
-/// the chord between them). Chords at a pole are not measured (the polygon's point there is a coordinate
-/// borrowed from its neighbour).
+/// the chord between them). Chords at a pole are not measured (the polygon's point there is a
+/// coordinate borrowed from its neighbour).
 fn chord_strays(
     model: &Model,
     face: &Face,
