@@ -53,14 +53,14 @@ pub const MAX_CELL_TURN: f64 = std::f64::consts::FRAC_PI_4;
 /// Most cells per direction that [`MAX_CELL_TURN`] asks for (a 12-turn thread face needs 96).
 pub const MAX_TURNING_GRID: usize = 256;
 
-/// Samples per knot span along a parameter line when the normal's turning is measured.
+/// Samples per knot span along a parameter line when a face's turning is measured.
 pub const TURNING_SAMPLES_PER_SPAN: usize = 4;
 
-/// Fewest samples along a parameter line when the normal's turning is measured (all of them
-/// on a surface without knots).
+/// Fewest samples along a parameter line when a face's turning is measured (all of them on a
+/// surface without knots).
 pub const MIN_TURNING_SAMPLES: usize = 64;
 
-/// Most samples along a parameter line when the normal's turning is measured.
+/// Most samples along a parameter line when a face's turning is measured.
 pub const MAX_TURNING_SAMPLES: usize = 4096;
 
 /// Fewest cells per direction of a face's grids.
@@ -494,9 +494,9 @@ fn face_period_min(face: &Face) -> f64 {
 /// The cell counts `(nu, nv)` of a curved face's grid raised where it turns (its normal or
 /// its parameter lines, see [`turning`]): no cell wider than a turn of [`MAX_CELL_TURN`], and
 /// square cells (in 3D, [`MIN_FACE_GRID`] across the narrower direction) on a face that winds
-/// round more than once (a thread's flank, a spiral): there the face comes back near itself a turn later,
-/// and a cell as long as that turn holds both places, so the nearest cell's centre seeds the
-/// descent into the wrong turn. At most [`MAX_TURNING_GRID`] per direction.
+/// round more than once (a thread's flank, a spiral): there the face comes back near itself a
+/// turn later, and a cell as long as that turn holds both places, so the nearest cell's centre
+/// seeds the descent into the wrong turn. At most [`MAX_TURNING_GRID`] per direction.
 pub(super) fn finer_where_it_winds(face: &Face, nu: usize, nv: usize) -> (usize, usize) {
     let w = turning(face);
     let raise = |n: usize, want: f64| {
@@ -532,9 +532,9 @@ struct Winding {
 }
 
 /// How far the normal of a curved face, or its parameter lines' direction, turns along u and
-/// along v over its covered domain, and how long its parameter lines are (the most of three parameter lines each, sampled [`TURNING_SAMPLES_PER_SPAN`] times
-/// per knot span of a B-spline, at least [`MIN_TURNING_SAMPLES`] times, at most
-/// [`MAX_TURNING_SAMPLES`]).
+/// along v over its covered domain, and how long its parameter lines are: the most of three
+/// parameter lines each, sampled [`TURNING_SAMPLES_PER_SPAN`] times per knot span of a
+/// B-spline, at least [`MIN_TURNING_SAMPLES`] times, at most [`MAX_TURNING_SAMPLES`].
 fn turning(face: &Face) -> Winding {
     let ((u0, u1), (v0, v1)) = covered_domain(face);
     if !(u0.is_finite() && u1.is_finite() && v0.is_finite() && v1.is_finite()) {
