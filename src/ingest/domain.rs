@@ -165,6 +165,15 @@ pub fn loop_polygon_tolerance(model: &Model) -> f64 {
     }
 }
 
+/// What a reader warns (kind `coarse_trim`) of a loop whose polygon still strays more than the
+/// tolerance from its edges ([`LoopPolygon::worst_mm`]).
+pub const COARSE_TRIM_PROBLEM: &str =
+    "loop's UV polygon strays from its edges by more than the trim tolerance, and more samples did not help";
+
+/// What is done about it.
+pub const COARSE_TRIM_ACTION: &str =
+    "accepted; inside tests within that distance of this loop may err";
+
 /// Most samples the polygon has on one edge: the refinement stops there (a polygon this fine
 /// that still strays is reported in [`LoopPolygon::worst_mm`]).
 pub const MAX_SAMPLES_PER_EDGE: usize = 1 << 14;
@@ -773,6 +782,37 @@ mod tests {
     /// True where `uv` is a pole of the face's surface.
     fn at_pole(face: &Face, uv: DVec2) -> bool {
         is_singular(&eval_surface(&face.surface, uv.x, uv.y))
+    }
+
+    /// A tolerance no sampling reaches stops the refinement at the caps, and the polygon
+    /// says how far it still strays (what the readers warn of as `coarse_trim`).
+    #[test]
+    fn an_unreachable_tolerance_is_bounded_and_reported() {
+        let model =
+            crate::ingest::read_model(&crate::testing::sample_path("plate_with_holes.step"))
+                .expect("reads");
+        let mut checked = 0;
+        for (fi, face) in model.faces.iter().enumerate() {
+            for lp in face.loops.iter().filter(|l| l.vertex.is_none()) {
+                let (poly, _) = loop_uv_and_gap(&model, fi, lp, 1e-300).expect("projects");
+                let curved = lp.edges.iter().any(|oe| {
+                    !matches!(model.edges[oe.edge].curve, crate::model::Curve3D::Line(_))
+                });
+                if !curved {
+                    continue;
+                }
+                assert!(poly.worst_mm > 1e-300, "{poly:?}");
+                assert_eq!(poly.counts.iter().sum::<usize>(), poly.uv.len());
+                assert!(
+                    poly.counts.iter().all(|&n| n <= MAX_SAMPLES_PER_EDGE),
+                    "{:?}",
+                    poly.counts
+                );
+                assert!(poly.uv.len() <= MAX_SAMPLES_PER_LOOP);
+                checked += 1;
+            }
+        }
+        assert!(checked > 3);
     }
 
     /// Every chord of every loop polygon, mapped onto its face's surface at its middle, lies

@@ -234,6 +234,18 @@ fn face_loops(
     for l in &mut loops {
         match loop_uv(model, f, l, tol) {
             Ok(poly) => {
+                if poly.worst_mm > tol {
+                    ctx.warn(
+                        "coarse_trim",
+                        l.source_id as usize,
+                        &format!(
+                            "{} (by {:.3e} mm)",
+                            crate::ingest::domain::COARSE_TRIM_PROBLEM,
+                            poly.worst_mm
+                        ),
+                        crate::ingest::domain::COARSE_TRIM_ACTION,
+                    );
+                }
                 l.uv = poly.uv;
                 l.uv_counts = poly.counts;
             }

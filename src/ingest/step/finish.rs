@@ -132,8 +132,8 @@ fn compute_domains(src: &Source, model: &mut Model) -> Result<()> {
                 src.warn_gap(
                     "coarse_trim",
                     l.source_id,
-                    "loop's UV polygon still strays from its edges by more than the trim tolerance at the most samples per edge",
-                    "accepted; inside tests within that distance of this loop may err",
+                    crate::ingest::domain::COARSE_TRIM_PROBLEM,
+                    crate::ingest::domain::COARSE_TRIM_ACTION,
                     Some(poly.worst_mm),
                 );
             }
