@@ -19,13 +19,15 @@ AP214 STEP, and listed in OUTDIR/manifest.json. Deterministic up to the STEP hea
 timestamp.
 """
 
-import json
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import samplelib as L  # noqa: E402  (sets up FreeCAD's sys.path)
 from samplelib import Part, V  # noqa: E402
+
+
+MADE_BY = "scripts/freecad/make_distance_regressions.py"
 
 
 def coil():
@@ -51,24 +53,8 @@ def main():
         shape = build()
         L.check_solid(name, shape, 1)
         solid = shape.Solids[0]
-        path = os.path.join(out, name + ".step")
-        tmp = os.path.join(out, "." + name + ".partial.step")
-        solid.exportStep(tmp)
-        os.replace(tmp, path)
-        manifest.append({
-            "file": name + ".step",
-            "made_by": "scripts/freecad/make_distance_regressions.py",
-            "description": description,
-            "faces": len(solid.Faces), "edges": len(solid.Edges),
-            "vertices": len(solid.Vertexes),
-            "volume": round(solid.Volume, 9),
-        })
-        print(f"{name + '.step':12s} faces {len(solid.Faces):3d} edges {len(solid.Edges):3d} "
-              f"volume {solid.Volume:.6f}", flush=True)
-    with open(os.path.join(out, "manifest.json"), "w") as f:
-        json.dump({"made_by": "scripts/freecad/make_distance_regressions.py",
-                   "parts": manifest}, f, indent=1)
-        f.write("\n")
+        manifest.append(L.write_regression_part(out, name, solid, MADE_BY, description))
+    L.write_manifest(out, MADE_BY, manifest)
 
 
 if __name__ == "__main__":

@@ -16,7 +16,6 @@ vertex, a junction, a curvature limit, by closing, or at a degenerate piece) and
 volume. Deterministic up to the STEP header's timestamp.
 """
 
-import json
 import math
 import os
 import sys
@@ -26,6 +25,7 @@ import samplelib as L  # noqa: E402  (sets up FreeCAD's sys.path)
 from samplelib import Part, V  # noqa: E402
 
 PI = math.pi
+MADE_BY = "scripts/freecad/make_trace_regressions.py"
 PARTS = []
 
 
@@ -214,26 +214,11 @@ def main():
         solid = shape.Solids[0]
         if p["volume"] is not None:
             L.check_volume(p["name"], solid, p["volume"], rel=1e-9)
-        path = os.path.join(out, p["name"] + ".step")
-        tmp = os.path.join(out, "." + p["name"] + ".partial.step")
-        solid.exportStep(tmp)
-        os.replace(tmp, path)
-        manifest.append({
-            "file": p["name"] + ".step",
-            "made_by": "scripts/freecad/make_trace_regressions.py",
-            "description": p["description"],
-            "faces": len(solid.Faces), "edges": len(solid.Edges),
-            "vertices": len(solid.Vertexes),
-            "volume": round(solid.Volume, 9),
-            "volume_exact": p["volume"] is not None,
-            "mat": {"open_ends": 0, "note": p["mat_note"]},
-        })
-        print(f"{p['name'] + '.step':28s} faces {len(solid.Faces):3d} "
-              f"edges {len(solid.Edges):3d} volume {solid.Volume:.6f}", flush=True)
-    with open(os.path.join(out, "manifest.json"), "w") as f:
-        json.dump({"made_by": "scripts/freecad/make_trace_regressions.py",
-                   "parts": manifest}, f, indent=1)
-        f.write("\n")
+        manifest.append(L.write_regression_part(
+            out, p["name"], solid, MADE_BY, p["description"],
+            {"volume_exact": p["volume"] is not None,
+             "mat": {"open_ends": 0, "note": p["mat_note"]}}))
+    L.write_manifest(out, MADE_BY, manifest)
 
 
 if __name__ == "__main__":

@@ -306,6 +306,35 @@ def export_and_check(s, shape, outdir, meta_dir, made_by, exporter=None, volume_
     return meta
 
 
+def write_regression_part(outdir, name, solid, made_by, description, extra=None):
+    """Write one regression part's STEP file (under a temporary name, renamed when written)
+    and return its manifest entry: file, made_by, description, the topology counts and the
+    volume, then `extra`'s fields."""
+    path = os.path.join(outdir, name + ".step")
+    tmp = os.path.join(outdir, "." + name + ".partial.step")
+    solid.exportStep(tmp)
+    os.replace(tmp, path)
+    entry = {
+        "file": name + ".step",
+        "made_by": made_by,
+        "description": description,
+        "faces": len(solid.Faces), "edges": len(solid.Edges),
+        "vertices": len(solid.Vertexes),
+        "volume": round(solid.Volume, 9),
+    }
+    entry.update(extra or {})
+    print(f"{name + '.step':28s} faces {len(solid.Faces):3d} "
+          f"edges {len(solid.Edges):3d} volume {solid.Volume:.6f}", flush=True)
+    return entry
+
+
+def write_manifest(outdir, made_by, parts):
+    """OUTDIR/manifest.json: `{"made_by": ..., "parts": [...]}`."""
+    with open(os.path.join(outdir, "manifest.json"), "w") as f:
+        json.dump({"made_by": made_by, "parts": parts}, f, indent=1)
+        f.write("\n")
+
+
 def write_meta(meta_dir, meta):
     if not meta_dir:
         return
