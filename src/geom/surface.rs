@@ -125,19 +125,27 @@ pub fn parameter_range(
     }
 }
 
+/// The knot vectors along u and along v of a B-spline or NURBS surface; `None` for other
+/// surfaces.
+pub fn knot_vectors(
+    surface: &Surface,
+) -> Option<&(
+    truck_geometry::prelude::KnotVec,
+    truck_geometry::prelude::KnotVec,
+)> {
+    match surface {
+        Surface::BSplineSurface(b) => Some(b.knot_vecs()),
+        Surface::NurbsSurface(n) => Some(n.knot_vecs()),
+        _ => None,
+    }
+}
+
 /// The number of non-empty knot spans of a B-spline or NURBS surface along u and along v;
 /// `None` for other surfaces.
 pub fn knot_spans(surface: &Surface) -> Option<(usize, usize)> {
     let count =
         |k: &truck_geometry::prelude::KnotVec| k.windows(2).filter(|w| w[1] > w[0]).count().max(1);
-    match surface {
-        Surface::BSplineSurface(b) => Some((count(&b.knot_vecs().0), count(&b.knot_vecs().1))),
-        Surface::NurbsSurface(n) => {
-            let b = n.non_rationalized();
-            Some((count(&b.knot_vecs().0), count(&b.knot_vecs().1)))
-        }
-        _ => None,
-    }
+    knot_vectors(surface).map(|(u, v)| (count(u), count(v)))
 }
 
 /// Directions in which a B-spline/NURBS or swept surface is closed although truck does not call

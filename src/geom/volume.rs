@@ -324,11 +324,9 @@ fn knots(surface: &Surface) -> (Vec<f64>, Vec<f64>) {
         out.dedup();
         out
     };
-    match surface {
-        Surface::BSplineSurface(b) => (distinct(&b.knot_vecs().0), distinct(&b.knot_vecs().1)),
-        Surface::NurbsSurface(n) => (distinct(&n.knot_vecs().0), distinct(&n.knot_vecs().1)),
-        _ => (Vec::new(), Vec::new()),
-    }
+    super::surface::knot_vectors(surface).map_or((Vec::new(), Vec::new()), |(u, v)| {
+        (distinct(u), distinct(v))
+    })
 }
 
 /// A loop's UV polygon as a closed path in (swapped) coordinates `(x, y)`: point `i` for any
