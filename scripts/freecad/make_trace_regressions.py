@@ -3,7 +3,7 @@
 together, each provoking a seam event the tracer must locate and go on from: a fillet
 meeting a hole, a thin rib on a plate, a boss near an edge, a slot ending in a round, a
 chamfered pocket, a counterbore whose depth equals a channel's half-width, several small
-features touching.
+features touching, a boss whose rounded corners end seams at a curved reflex edge.
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -197,6 +197,21 @@ def elliptic_bar():
     e = Part.Ellipse(V(0, 0, 0), 20, 10)
     face = Part.Face(Part.Wire(e.toShape()))
     return face.extrude(V(0, 0, 16))
+
+
+@part("rounded_boss_corners",
+      "Plate 30x30x4 with a box boss 10x10x6 standing at its middle, the boss's vertical "
+      "edges filleted r=0.6, so its foot is four straight reflex edges joined by quarter "
+      "circles.",
+      30 * 30 * 4 + (10 * 10 - (4 - PI) * 0.36) * 6,
+      "Under each corner of the boss the seam of the plate's bottom with the two straight "
+      "foot edges runs towards the corner. It ends where its centre is on the axis of the "
+      "corner's quarter circle: there the ball touches that whole arc (r times the arc's "
+      "curvature towards the centre is 1), a curvature limit on the curved reflex edge.")
+def rounded_boss_corners():
+    boss = Part.makeBox(10, 10, 6, V(10, 10, 4))
+    boss = boss.makeFillet(0.6, [e for e in boss.Edges if abs(e.tangentAt(0).z) > 0.99])
+    return Part.makeBox(30, 30, 4).fuse(boss).removeSplitter()
 
 
 def main():

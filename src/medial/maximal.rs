@@ -2,8 +2,9 @@
 //!
 //! A solution of the medial equations is only a bisector point; it is on the medial axis
 //! when, besides nothing of the boundary being closer than `r` (a distance query, done by
-//! the tracer), the ball does not poke through a face it touches.
+//! the tracer), the ball does not poke through a face or a curved edge it touches.
 
+use crate::medial::equations::NormalField;
 use crate::model::{Element, Model};
 
 /// Rounding allowance of the criterion `r·κmax ≤ 1`, relative (balls that osculate exactly,
@@ -14,6 +15,12 @@ pub const CURVATURE_ROUNDING_REL: f64 = 1e-9;
 /// inside stays inside near the touch point only if `r·κmax ≤ 1`, with `κmax` the larger
 /// principal curvature (positive where the face bends towards the ball, as a convex solid's
 /// boundary does). Where the normal is undefined (a pole) the criterion cannot fail.
+///
+/// On a reflex edge touched at `s = (t, θ)` the same holds along the edge: a curved edge
+/// whose curvature vector points towards the centre (a hole's rim seen from inside the
+/// hole) enters the ball near the touch point unless `r·κn ≤ 1`, `κn` the normal curvature
+/// of the edge in the direction of the centre, `−C''·N/|C'|²` (`N` ⊥ `C'`). A vertex is a
+/// point: the criterion cannot fail there.
 pub fn curvature_allows(model: &Model, seg: Element, s: [f64; 2], r: f64) -> bool {
     match seg {
         Element::Face(f) => {
@@ -24,8 +31,19 @@ pub fn curvature_allows(model: &Model, seg: Element, s: [f64; 2], r: f64) -> boo
                 None => true,
             }
         }
-        // Reflex edges and vertices bend away from every ball that touches them from inside.
-        Element::Edge(_) | Element::Vertex(_) => true,
+        Element::Edge(e) => {
+            let Some(ev) = seg.eval(model, s) else {
+                return true;
+            };
+            let d = crate::geom::eval_curve(&model.edges[e].curve, s[0]);
+            let speed2 = d.d1.length_squared();
+            // A vanishing tangent (a degenerate parametrisation): no curvature to compare.
+            if speed2 <= 0.0 || !speed2.is_finite() {
+                return true;
+            }
+            r * (-d.d2.dot(ev.n) / speed2) <= 1.0 + CURVATURE_ROUNDING_REL
+        }
+        Element::Vertex(_) => true,
     }
 }
 
@@ -44,5 +62,52 @@ mod tests {
         assert!(!curvature_allows(&m, Element::Face(0), s, 16.0));
         let b = crate::testing::sample("box.step");
         assert!(curvature_allows(&b, Element::Face(0), [1.0, 1.0], 1e6));
+    }
+
+    /// The boss on the plate (radius 12): the boss's base circle is a reflex edge. A ball
+    /// whose centre lies towards the boss's axis from the rim fits against it only up to the
+    /// rim's radius, 12; one on the far side is never stopped by the rim's curvature; a
+    /// straight reflex edge never stops a ball.
+    #[test]
+    fn curvature_criterion_on_a_curved_reflex_edge() {
+        use crate::geom::eval_curve;
+        let m = crate::testing::sample("boss_on_plate.step");
+        let class = crate::classify::classify(&m, &Default::default());
+        let reflex = |e: &usize| class.edges[*e].kind == crate::classify::EdgeKind::Reflex;
+        let straight = |e: &usize| matches!(m.edges[*e].curve, crate::model::Curve3D::Line(_));
+        let rim = (0..m.edges.len())
+            .filter(reflex)
+            .find(|e| !straight(e))
+            .expect("the boss's base circle is a curved reflex edge");
+        let (lo, hi) = m.edges[rim].range;
+        let t = 0.5 * (lo + hi);
+        let d = eval_curve(&m.edges[rim].curve, t);
+        let towards_axis = (d.d2 - d.d1 * (d.d2.dot(d.d1) / d.d1.length_squared())).normalize();
+        // The angles whose normal puts the centre (at p − r·n) straight towards the axis,
+        // and straight away from it.
+        let angle_where = |share: f64| {
+            (0..360)
+                .map(|k| (k as f64).to_radians())
+                .min_by_key(|&th| {
+                    let n = Element::Edge(rim).eval(&m, [t, th]).unwrap().n;
+                    ((n.dot(towards_axis) + share).abs() * 1e9) as i64
+                })
+                .unwrap()
+        };
+        let inner = [t, angle_where(1.0)];
+        assert!(curvature_allows(&m, Element::Edge(rim), inner, 11.9));
+        assert!(!curvature_allows(&m, Element::Edge(rim), inner, 12.1));
+        let outer = [t, angle_where(-1.0)];
+        assert!(curvature_allows(&m, Element::Edge(rim), outer, 1e6));
+        let line = (0..m.edges.len()).filter(reflex).find(straight);
+        if let Some(e) = line {
+            let (lo, hi) = m.edges[e].range;
+            assert!(curvature_allows(
+                &m,
+                Element::Edge(e),
+                [0.5 * (lo + hi), 0.3],
+                1e6
+            ));
+        }
     }
 }
