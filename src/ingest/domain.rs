@@ -110,6 +110,144 @@ fn is_singular(d: &SurfaceDerivs) -> bool {
         || lv < VANISHING_DERIVATIVE_REL_OTHER * lu
 }
 
+/// The outline of a loop polygon `uv` of `face` with each pole given two points
+/// ([`Loop::outline`]); empty when the polygon has no point at a pole (it is its own
+/// outline then).
+///
+/// A pole is one point of the surface (a sphere's, a cone's apex, a B-spline patch whose
+/// border row collapses) and a segment of its UV domain: the coordinate whose derivative
+/// vanishes there is free. The loop reaches the pole along one meridian and leaves along
+/// another, and the polygon has one point there, its free coordinate borrowed from a
+/// neighbour ([`unwrap_loop`]), so one of the chords to it cuts across the face (0.07 mm
+/// off at the filleted box's sphere corners; a touch point running into that corner is
+/// "off the face"). The outline replaces the pole's point (or run of points) by the two
+/// corners: the free coordinate of the sample before it, then of the one after, each with
+/// the pole's other coordinate. The samples themselves stay as they are in `uv`, laid out
+/// on the edges as [`Loop::uv_counts`] says.
+pub fn pole_outline(face: &Face, uv: &[DVec2]) -> Vec<DVec2> {
+    if matches!(
+        crate::geom::surface_kind(&face.surface),
+        "plane" | "cylinder"
+    ) || uv.len() < 3
+    {
+        return Vec::new();
+    }
+    let n = uv.len();
+    // A B-spline patch's poles are rows of its control net collapsed to a point: on the
+    // border of its knot rectangle. Only points there are evaluated (the patches are the
+    // faces with the most loop points, and their evaluation the dearest).
+    let border = crate::geom::knot_vectors(&face.surface).map(|(ku, kv)| {
+        let range = |k: &truck_geometry::prelude::KnotVec| {
+            let (a, b) = (k[0], k[k.len() - 1]);
+            (a, b, 1e-9 * (b - a).abs().max(1.0))
+        };
+        (range(ku), range(kv))
+    });
+    let may_be_pole = |p: DVec2| match border {
+        None => true,
+        Some(((u0, u1, tu), (v0, v1, tv))) => {
+            (p.x - u0).abs() <= tu
+                || (p.x - u1).abs() <= tu
+                || (p.y - v0).abs() <= tv
+                || (p.y - v1).abs() <= tv
+        }
+    };
+    let derivs: Vec<Option<SurfaceDerivs>> = uv
+        .iter()
+        .map(|&p| may_be_pole(p).then(|| eval_surface(&face.surface, p.x, p.y)))
+        .collect();
+    let singular: Vec<bool> = derivs
+        .iter()
+        .map(|d| d.as_ref().is_some_and(is_singular))
+        .collect();
+    // Start after a regular sample, so that no run of pole samples wraps round the end.
+    let Some(first) = (0..n).find(|&i| !singular[i]) else {
+        return Vec::new();
+    };
+    if !singular.iter().any(|&s| s) {
+        return Vec::new();
+    }
+    let (up, vp) = (face.domain.u_period, face.domain.v_period);
+    let wrapping = wraps(uv, up, vp);
+    let mut out = Vec::with_capacity(n + 4);
+    // Where the outline's point for `uv[0]` is (its run's first corner at a pole).
+    let mut start_at = 0;
+    let mut k = 0;
+    while k < n {
+        let i = (first + k) % n;
+        if !singular[i] {
+            if i == 0 {
+                start_at = out.len();
+            }
+            out.push(uv[i]);
+            k += 1;
+            continue;
+        }
+        // A run of pole samples, between two regular ones.
+        let mut len = 0;
+        while len < n && singular[(i + len) % n] {
+            len += 1;
+        }
+        let straddles = i == 0 || i + len > n;
+        if straddles {
+            start_at = out.len();
+        }
+        let pole = uv[i];
+        let after = uv[(i + len) % n];
+        // The polygon is unwrapped continuously, so the free coordinates of the samples
+        // before and after the pole are where the outline runs along it (a loop passing
+        // straight through a pole, half a period round, included) — except across the
+        // closing step of a loop that wraps round a period, where it jumps by the period:
+        // there the sample before is brought next to the pole's copy.
+        let mut before = uv[(i + n - 1) % n];
+        if straddles && wrapping {
+            before = DVec2::new(
+                wrap_near(before.x, pole.x, up),
+                wrap_near(before.y, pole.y, vp),
+            );
+        }
+        let Some(d) = &derivs[i] else {
+            unreachable!("a pole sample was evaluated")
+        };
+        let corners = if d.su.length() < d.sv.length() {
+            [DVec2::new(before.x, pole.y), DVec2::new(after.x, pole.y)]
+        } else {
+            [DVec2::new(pole.x, before.y), DVec2::new(pole.x, after.y)]
+        };
+        out.push(corners[0]);
+        if corners[1] != corners[0] {
+            out.push(corners[1]);
+        }
+        k += len;
+    }
+    // The outline was built from `first`: turn it so that it starts where `uv` does (a
+    // loop that wraps round a period jumps by the period between its last and first points,
+    // and the inside tests take that closing step to the copy of the first point).
+    out.rotate_left(start_at);
+    out
+}
+
+/// Gives every loop of `model` whose polygon passes a pole its [`pole_outline`].
+pub fn outline_poles(model: &mut Model) {
+    use rayon::prelude::*;
+    model.faces.par_iter_mut().for_each(|face| {
+        let outlines: Vec<Vec<DVec2>> = face
+            .loops
+            .iter()
+            .map(|l| {
+                if l.vertex.is_none() {
+                    pole_outline(face, &l.uv)
+                } else {
+                    Vec::new()
+                }
+            })
+            .collect();
+        for (l, o) in face.loops.iter_mut().zip(outlines) {
+            l.outline = o;
+        }
+    });
+}
+
 fn wrap_near(x: f64, reference: f64, period: Option<f64>) -> f64 {
     match period {
         Some(p) => x + ((reference - x) / p).round() * p,
@@ -815,6 +953,71 @@ mod tests {
         assert!(checked > 3);
     }
 
+    /// A pole is a segment of the UV domain. The loops of the filleted box's sphere corners
+    /// and of the NIST part's hemispherical face (bounded by one great circle through both
+    /// poles) have outlines that run along each pole between the meridians the loop arrives
+    /// and leaves by, so that the face's points just off the pole, all the way between
+    /// them, are inside. The one-point polygons (`uv`) cut a triangle off there: the test
+    /// fails on them (checked below), as the tracer did ("touch point left F1 away from its
+    /// edges" on the CATIA head's spherical shell).
+    #[test]
+    fn pole_outlines_keep_the_face_at_its_poles() {
+        use crate::geom::trim::contains;
+        use std::path::PathBuf;
+        let mut pole_segments = 0;
+        let mut cut_off_without = 0;
+        let hemisphere =
+            crate::testing::realworld_dir().map(|d| d.join("stepswift_nist_ftc_06_asme1_rd.stp"));
+        let parts: Vec<PathBuf> = std::iter::once(crate::testing::sample_path("filleted_box.step"))
+            .chain(hemisphere.clone())
+            .collect();
+        for path in parts {
+            let model = crate::ingest::read_model(&path).expect("reads");
+            for face in &model.faces {
+                let mut bare = face.clone();
+                for l in &mut bare.loops {
+                    l.outline.clear();
+                }
+                let (vmid, umid) = (
+                    0.5 * (face.domain.v.0 + face.domain.v.1),
+                    0.5 * (face.domain.u.0 + face.domain.u.1),
+                );
+                for l in face.loops.iter().filter(|l| !l.outline.is_empty()) {
+                    let o = &l.outline;
+                    for k in 0..o.len() {
+                        let (a, b) = (o[k], o[(k + 1) % o.len()]);
+                        let at_pole =
+                            |p: DVec2| is_singular(&eval_surface(&face.surface, p.x, p.y));
+                        if a == b || !at_pole(a) || !at_pole(b) {
+                            continue;
+                        }
+                        pole_segments += 1;
+                        // Just off the pole, towards the middle of the domain.
+                        let off = if a.y == b.y {
+                            DVec2::new(0.0, 1e-3 * (vmid - a.y).signum())
+                        } else {
+                            DVec2::new(1e-3 * (umid - a.x).signum(), 0.0)
+                        };
+                        for t in [0.05, 0.25, 0.5, 0.75, 0.95] {
+                            let q = a + (b - a) * t + off;
+                            assert!(
+                                contains(face, q),
+                                "{}: face {}: {q} next to the pole from {a} to {b} is outside",
+                                path.display(),
+                                face.source_id
+                            );
+                            cut_off_without += usize::from(!contains(&bare, q));
+                        }
+                    }
+                }
+            }
+        }
+        // 8 sphere corners of the box; the hemisphere's 2 poles.
+        let want = 8 + if hemisphere.is_some() { 2 } else { 0 };
+        assert!(pole_segments >= want, "{pole_segments}");
+        assert!(cut_off_without >= pole_segments, "{cut_off_without}");
+    }
+
     /// Every chord of every loop polygon, mapped onto its face's surface at its middle, lies
     /// within the polygon tolerance of the chord's edge, measured independently of the
     /// refinement (the exact edge's nearest point): holes in a plate, a filleted box's
@@ -824,8 +1027,8 @@ mod tests {
     ///
     /// Not the chords at a pole: the polygon reaches a pole along one meridian and leaves
     /// along another, with one point there, so one of the two chords is a diagonal (0.07 mm
-    /// off at the filleted box's corners). Giving the pole two points needs the per-edge
-    /// counts to allow a point that is not a sample; not done yet.
+    /// off at the filleted box's corners). The inside tests walk the loop's outline instead,
+    /// which runs along the pole ([`pole_outlines_keep_the_face_at_its_poles`]).
     #[test]
     fn loop_polygons_follow_their_edges() {
         for name in [

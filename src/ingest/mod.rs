@@ -87,10 +87,11 @@ pub fn read_model(path: &Path) -> Result<Model> {
 /// Reads STEP or IGES text already in memory: IGES when `path` has an IGES extension or the
 /// text has IGES's `S` in column 73 of its first record, STEP otherwise.
 pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
-    let model = if is_iges_path(path) || iges::looks_like_iges(bytes) {
+    let mut model = if is_iges_path(path) || iges::looks_like_iges(bytes) {
         iges::read_model_from_bytes(path, bytes)
     } else {
         step::read_model_from_bytes(path, bytes)
     }?;
+    domain::outline_poles(&mut model);
     plausible::check_finite(path, model)
 }

@@ -116,9 +116,25 @@ pub struct Loop {
     /// at `t0 + (t1 − t0)·k/n` in the loop's direction, and each edge's first sample is its
     /// start. Empty for a vertex loop, and before the reader has built `uv`.
     pub uv_counts: Vec<usize>,
+    /// The polygon the inside tests walk, when it is not `uv` itself (empty then): `uv` with
+    /// each pole given two points. A pole is one point of the surface but a segment of its
+    /// UV domain; the loop reaches it along one meridian and leaves along another, and with
+    /// one point there one of the two chords would cut across the face (see
+    /// [`crate::ingest::domain::pole_outline`]).
+    pub outline: Vec<glam::DVec2>,
 }
 
 impl Loop {
+    /// The closed polygon that bounds the loop's region in UV: [`Loop::outline`] when the
+    /// reader made one, else [`Loop::uv`].
+    pub fn outline(&self) -> &[glam::DVec2] {
+        if self.outline.is_empty() {
+            &self.uv
+        } else {
+            &self.outline
+        }
+    }
+
     /// True when `uv` is laid out on the edges as `uv_counts` says (the reader has built it).
     pub fn uv_counts_match(&self) -> bool {
         self.uv_counts.len() == self.edges.len()

@@ -84,10 +84,6 @@ const GAPS_ACCEPTED: &str = "a vertex 8.7e-3 mm off its curve, accepted within t
     a few touch points and balls are off by more than the accuracy (2e-5 mm); seams end open \
     at hand-overs (issue 19)";
 
-const THIN_SPHERICAL_SHELL: &str = "a hemispherical shell 1 mm thick (CATIA V5, directions \
-    normalised on reading): its two seams end open where a touch point leaves a sphere face \
-    (issue 19), and a few sheet-mesh vertices near those ends lie outside the part";
-
 const CURVATURE_LIMITS_AND_CYLINDERS: &str = "CATIA V5 (directions normalised on reading): \
     faces only degenerate pieces reach are touched by no ball, and two sheets end at \
     curvature limits whose skeletal edges are not traced (issue 20)";
@@ -263,16 +259,6 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("verify:sheets_closed", 2),
         ],
         CURVATURE_LIMITS_AND_CYLINDERS,
-    ),
-    (
-        "stepswift_HEAD_FRONT.stp",
-        &[
-            ("occt:inside", 7),
-            ("occt:mesh_contacts", 8),
-            ("occt:seam_ends", 4),
-            ("verify:seam_ends", 4),
-        ],
-        THIN_SPHERICAL_SHELL,
     ),
     (
         "stepswift_dm1-id-214.stp",

@@ -24,14 +24,15 @@ pub fn covered_domain(face: &Face) -> ((f64, f64), (f64, f64)) {
         .iter()
         .filter(|l| l.vertex.is_none() && l.uv.len() >= 2)
     {
-        let gap = l.uv[0] - l.uv[l.uv.len() - 1];
+        let poly = l.outline();
+        let gap = poly[0] - poly[poly.len() - 1];
         if d.u_period.is_some_and(|p| gap.x.abs() > 0.5 * p) {
             wraps[0] += 1;
-            example[0] = Some(&l.uv);
+            example[0] = Some(poly);
         }
         if d.v_period.is_some_and(|p| gap.y.abs() > 0.5 * p) {
             wraps[1] += 1;
-            example[1] = Some(&l.uv);
+            example[1] = Some(poly);
         }
     }
     let (ur, vr) = clamp_ranges(&face.surface);

@@ -58,10 +58,11 @@ impl TrimGrid {
         };
         let mut near = vec![false; nu * nv];
         for l in face.loops.iter().filter(|l| l.vertex.is_none()) {
-            let n = l.uv.len();
+            let poly = l.outline();
+            let n = poly.len();
             for k in 0..n {
-                let a = l.uv[k];
-                let mut b = l.uv[(k + 1) % n];
+                let a = poly[k];
+                let mut b = poly[(k + 1) % n];
                 if k + 1 == n {
                     // The closing step of a loop that wraps around a period is short on the
                     // surface: go to the copy of the first point next to the last.

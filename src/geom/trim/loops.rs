@@ -95,7 +95,7 @@ impl Setup {
         let mut wrap_v = false;
         for l in face.loops.iter().filter(|l| is_edge_loop(l)) {
             any = true;
-            let (wu, wv) = wrapping(&l.uv, periods);
+            let (wu, wv) = wrapping(l.outline(), periods);
             wrap_u |= wu;
             wrap_v |= wv;
         }
@@ -222,7 +222,7 @@ fn segments(face: &Face, swap: bool) -> impl Iterator<Item = (DVec2, DVec2)> + '
         .iter()
         .filter(|l| is_edge_loop(l))
         .flat_map(move |l| {
-            let poly = &l.uv;
+            let poly = l.outline();
             let n = poly.len();
             let (wu, wv) = wrapping(poly, periods);
             (0..n).map(move |i| {
@@ -569,6 +569,7 @@ mod tests {
             vertex: None,
             uv: (0..n).map(|k| f(k as f64 / n as f64)).collect(),
             uv_counts: vec![],
+            outline: vec![],
         }
     }
 
@@ -625,6 +626,7 @@ mod tests {
             vertex: Some(0),
             uv: vec![DVec2::new(0.0, 40.0)],
             uv_counts: vec![],
+            outline: vec![],
         });
         face.domain.v = (-0.5, 40.0);
         assert!(contains(&face, DVec2::new(3.0, 20.0)));
@@ -743,7 +745,7 @@ mod tests {
             }
             // Exactly on loop points too (the half-open rule must pick the same side).
             for l in &face.loops {
-                for &p in &l.uv {
+                for &p in l.outline() {
                     if trim.contains(face, p) != contains(face, p) {
                         let st = Setup::new(face).unwrap();
                         let x = if st.swap { p.y } else { p.x };
@@ -843,14 +845,17 @@ mod tests {
                     face.loops.iter().filter(|l| is_edge_loop(l)).collect();
                 if edge_loops.is_empty()
                     || edge_loops.iter().any(|l| {
-                        let w = wrapping(&l.uv, periods);
+                        let w = wrapping(l.outline(), periods);
                         w.0 || w.1
                     })
                 {
                     continue;
                 }
                 let o = if face.same_sense { 1.0 } else { -1.0 };
-                let loops_area: f64 = edge_loops.iter().map(|l| o * signed_area(&l.uv)).sum();
+                let loops_area: f64 = edge_loops
+                    .iter()
+                    .map(|l| o * signed_area(l.outline()))
+                    .sum();
                 let d = face.domain;
                 let n = 200;
                 let (du, dv) = ((d.u.1 - d.u.0) / n as f64, (d.v.1 - d.v.0) / n as f64);

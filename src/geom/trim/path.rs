@@ -21,14 +21,15 @@ impl LoopChunks {
     pub fn new(face: &Face) -> LoopChunks {
         let mut runs = vec![];
         for (k, l) in face.loops.iter().enumerate() {
-            let n = l.uv.len();
+            let poly = l.outline();
+            let n = poly.len();
             let mut start = 0;
             while start < n {
                 let end = (start + Self::RUN).min(n);
                 let (mut lo, mut hi) =
                     (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
                 for i in start..=end {
-                    let p = l.uv[i % n];
+                    let p = poly[i % n];
                     lo = lo.min(p);
                     hi = hi.max(p);
                 }
@@ -58,7 +59,7 @@ pub fn path_crosses_loops(face: &Face, chunks: &LoopChunks, a: DVec2, b: DVec2) 
         if rhi.cmplt(lo).any() || rlo.cmpgt(hi).any() {
             continue;
         }
-        let uv = &face.loops[k].uv;
+        let uv = face.loops[k].outline();
         let n = uv.len();
         for i in start..end {
             let (p, q) = (uv[i], uv[(i + 1) % n]);

@@ -166,6 +166,7 @@ fn build_loop(
                 vertex: Some(v),
                 uv: vec![],
                 uv_counts: vec![],
+                outline: vec![],
             }),
             None => Err(ctx.err(de, "empty loop")),
         };
@@ -186,6 +187,7 @@ fn build_loop(
         vertex: None,
         uv: vec![],
         uv_counts: vec![],
+        outline: vec![],
     })
 }
 

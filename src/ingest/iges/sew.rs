@@ -253,6 +253,7 @@ fn push_faces(
                 vertex: None,
                 uv: vec![],
                 uv_counts: vec![],
+                outline: vec![],
             });
         }
         model.faces.push(Face {

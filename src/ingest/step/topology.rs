@@ -502,6 +502,7 @@ impl Walk<'_> {
                     vertex: Some(vi),
                     uv: vec![],
                     uv_counts: vec![],
+                    outline: vec![],
                 })
             }
             "EDGE_LOOP" => {
@@ -554,6 +555,7 @@ impl Walk<'_> {
                     vertex: None,
                     uv: vec![],
                     uv_counts: vec![],
+                    outline: vec![],
                 })
             }
             "POLY_LOOP" => Err(self
