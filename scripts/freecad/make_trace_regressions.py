@@ -3,7 +3,8 @@
 together, each provoking a seam event the tracer must locate and go on from: a fillet
 meeting a hole, a thin rib on a plate, a boss near an edge, a slot ending in a round, a
 chamfered pocket, a counterbore whose depth equals a channel's half-width, several small
-features touching, a boss whose rounded corners end seams at a curved reflex edge.
+features touching, a boss whose rounded corners end seams at a curved reflex edge, a
+spherical shell whose faces reach their poles.
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -212,6 +213,20 @@ def rounded_boss_corners():
     boss = Part.makeBox(10, 10, 6, V(10, 10, 4))
     boss = boss.makeFillet(0.6, [e for e in boss.Edges if abs(e.tangentAt(0).z) > 0.99])
     return Part.makeBox(30, 30, 4).fuse(boss).removeSplitter()
+
+
+@part("half_spherical_shell",
+      "Half of a spherical shell, outer radius 10 and inner 9, cut by a plane through the "
+      "spheres' axis: each sphere face is a lune from pole to pole.",
+      (2.0 / 3.0) * PI * (10 ** 3 - 9 ** 3),
+      "The sheet halfway between the spheres (radius 9.5) meets the cut plane's sheets along "
+      "one closed seam of r = 0.5 in the plane 0.5 from the cut, which passes next to both "
+      "poles: its touch points on the lunes run into the corners where each lune reaches a "
+      "pole.")
+def half_spherical_shell():
+    outer = Part.makeSphere(10, V(0, 0, 0), V(0, 0, 1), -90, 90, 180)
+    inner = Part.makeSphere(9, V(0, 0, 0), V(0, 0, 1), -90, 90, 180)
+    return outer.cut(inner)
 
 
 def main():
