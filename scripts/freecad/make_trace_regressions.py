@@ -4,7 +4,8 @@ together, each provoking a seam event the tracer must locate and go on from: a f
 meeting a hole, a thin rib on a plate, a boss near an edge, a slot ending in a round, a
 chamfered pocket, a counterbore whose depth equals a channel's half-width, several small
 features touching, a boss whose rounded corners end seams at a curved reflex edge, a
-spherical shell whose faces reach their poles.
+spherical shell whose faces reach their poles, a split blind hole whose seams run along the
+line between its halves onto its floor's rim.
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -227,6 +228,24 @@ def half_spherical_shell():
     outer = Part.makeSphere(10, V(0, 0, 0), V(0, 0, 1), -90, 90, 180)
     inner = Part.makeSphere(9, V(0, 0, 0), V(0, 0, 1), -90, 90, 180)
     return outer.cut(inner)
+
+
+@part("split_blind_hole",
+      "Block 40x20x20 with a blind hole r=4, 6 mm deep from the top, its axis 6 mm from the "
+      "side y=20, whose wall is two half cylinders meeting in the plane y=14 (as exporters "
+      "that split periodic faces write it).",
+      40 * 20 * 20 - PI * 16 * 6,
+      "A seam of the top, the side y=20 and the hole's wall passes r = 6 with its centre at "
+      "(30, 14, 14), level with the hole's floor: its touch point on the wall comes to the "
+      "vertex (24, 14, 14) where the wall's halves and the floor rim's two arcs meet, running "
+      "along the line between the halves, and goes on along the rim.")
+def split_blind_hole():
+    b = Part.makeBox(40, 20, 20)
+    for a in (0, 180):
+        half = Part.makeCylinder(4, 6, V(20, 14, 14), V(0, 0, 1), 180)
+        half.rotate(V(20, 14, 14), V(0, 0, 1), a)
+        b = b.cut(half)
+    return b
 
 
 def main():

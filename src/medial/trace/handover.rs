@@ -254,12 +254,21 @@ impl Tracer<'_> {
     ) -> Result<(Element, [f64; 2]), HandOverError> {
         let acc = self.opts.accuracy;
         let seg = Element::Face(f);
-        let (e, te) = self
-            .nearest_edge_of_face(f, ev.p)
-            .filter(|&(e, te)| {
-                let q = crate::geom::eval_curve(&self.model.edges[e].curve, te).p;
-                q.distance(ev.p) <= REACH_REL_ACCURACY * acc
-            })
+        let reaches = |&(e, te): &(usize, f64)| {
+            let q = crate::geom::eval_curve(&self.model.edges[e].curve, te).p;
+            q.distance(ev.p) <= REACH_REL_ACCURACY * acc
+        };
+        // A touch point running along a smooth edge of this face (`along`, kept on it after
+        // it was handed back and forth across) leaves where it reaches another edge at the
+        // edge's end: at that vertex the edge it runs along is as near, and is not crossed.
+        let running_along = match self.along {
+            Some((g, e)) if g == f => Some(e),
+            _ => None,
+        };
+        let (e, te) = running_along
+            .and_then(|e| self.nearest_edge_of_face_except(f, ev.p, e))
+            .filter(reaches)
+            .or_else(|| self.nearest_edge_of_face(f, ev.p).filter(reaches))
             .ok_or(OpenReason::LeftFaceAwayFromEdges { face: seg })?;
         let edge = &self.model.edges[e];
         // A mixed edge (convex along part of it, reflex or smooth along the rest) is what it

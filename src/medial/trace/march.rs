@@ -227,10 +227,13 @@ impl Tracer<'_> {
                 self.switch_to(m, i, v, xv)
             }
             None => {
-                // Two faces across a smooth edge: the touch point runs along the edge. Stay
-                // on this face, counting points within the accuracy past that edge as on it.
+                // Two faces across a smooth edge: the touch point runs along the edge (the
+                // one it is at: the halves of a split cylinder share two). Stay on this face,
+                // counting points within the accuracy past that edge as on it; where it
+                // leaves the face, it leaves across another edge (`next_from_face`).
                 if let (Element::Face(f), Element::Face(g), None) = (from, to, self.along) {
-                    if let Some(e) = self.smooth_edge_between(f, g) {
+                    let at = self.touches(&m.triplet, xc)[i];
+                    if let Some(e) = at.and_then(|p| self.smooth_edge_between_near(f, g, p)) {
                         self.along = Some((f, e));
                         return Flow::Next;
                     }

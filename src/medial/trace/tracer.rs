@@ -227,16 +227,30 @@ impl<'a> Tracer<'a> {
 
     /// The smooth edge between faces `f` and `g`, if any.
     pub(super) fn smooth_edge_between(&self, f: usize, g: usize) -> Option<usize> {
+        self.smooth_edges_between(f, g).next()
+    }
+
+    /// The smooth edges between faces `f` and `g` (two halves of a split cylinder share
+    /// two).
+    fn smooth_edges_between(&self, f: usize, g: usize) -> impl Iterator<Item = usize> + '_ {
         self.model.faces[f]
             .loops
             .iter()
             .flat_map(|l| l.edges.iter())
             .map(|oe| oe.edge)
-            .find(|&e| {
+            .filter(move |&e| {
                 f != g
                     && self.model.edges[e].faces.contains(&g)
                     && self.class.edges[e].kind == EdgeKind::Smooth
             })
+    }
+
+    /// The smooth edge between faces `f` and `g` nearest to `p`, if any.
+    pub(super) fn smooth_edge_between_near(&self, f: usize, g: usize, p: DVec3) -> Option<usize> {
+        self.smooth_edges_between(f, g).min_by(|&a, &b| {
+            let d = |e: usize| crate::geom::nearest_on_edge(self.model, e, p, None).2;
+            d(a).total_cmp(&d(b))
+        })
     }
 
     /// True when parameters `s` lie on segment `seg`: inside a face's trim, or on a reflex
@@ -285,10 +299,30 @@ impl<'a> Tracer<'a> {
 
     /// The edge of face `f` nearest to `p`, with the curve parameter of the nearest point.
     pub(super) fn nearest_edge_of_face(&self, f: usize, p: DVec3) -> Option<(usize, f64)> {
+        self.nearest_edge_of_face_where(f, p, |_| true)
+    }
+
+    /// [`Self::nearest_edge_of_face`] among the face's edges other than `except`.
+    pub(super) fn nearest_edge_of_face_except(
+        &self,
+        f: usize,
+        p: DVec3,
+        except: usize,
+    ) -> Option<(usize, f64)> {
+        self.nearest_edge_of_face_where(f, p, |e| e != except)
+    }
+
+    fn nearest_edge_of_face_where(
+        &self,
+        f: usize,
+        p: DVec3,
+        keep: impl Fn(usize) -> bool,
+    ) -> Option<(usize, f64)> {
         self.model.faces[f]
             .loops
             .iter()
             .flat_map(|l| l.edges.iter())
+            .filter(|oe| keep(oe.edge))
             .map(|oe| {
                 let (te, _, d) = crate::geom::nearest_on_edge(self.model, oe.edge, p, None);
                 (oe.edge, te, d)
