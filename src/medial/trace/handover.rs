@@ -488,13 +488,16 @@ impl Tracer<'_> {
         let acc = self.opts.accuracy;
         let seg = triplet[i];
         let xc = xc.clone();
-        // The ball osculates the next face (a fillet or a corner patch of its own radius):
-        // it touches it along a curve, and the seam ends there, at that centre of curvature.
+        // The ball osculates the next face or curved edge (a fillet or a corner patch of its
+        // own radius, a hole's rim): it touches it along a curve, and the seam ends there, at
+        // that centre of curvature. To the accuracy, as the curvature limit is located: a
+        // ball bigger by the accuracy would poke through (the system is singular there, and
+        // its corrector lands anywhere).
         if !curvature_allows(
             self.model,
             to,
             params,
-            xc[3] * (1.0 + OSCULATING_REL_RADIUS),
+            xc[3] * (1.0 + OSCULATING_REL_RADIUS) + acc,
         ) {
             return Err(HandOverError::Osculates(to));
         }
