@@ -236,10 +236,24 @@ impl Tracer<'_> {
         if self.class.edges[e].kind != EdgeKind::Smooth {
             return None;
         }
-        let th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)?;
+        let mut th = crate::medial::equations::edge_angle(self.model, e, te, ev.n)?;
         let to = Element::Edge(e);
+        // The face's normal where the touch point left it is the end of the edge's arc up to
+        // how far that point is from the edge's (the polygon's crossing is off the exact
+        // edge): an angle whose effect on the centre, r·angle, is within the accuracy is
+        // that end.
         if !self.on_segment(to, [te, th]) {
-            return None;
+            let fan = self.edge_fan(e, te)?;
+            let k = nearer_end(&fan, ev.n);
+            if ev.n.angle_between(fan[k]) * xc[3] > self.opts.accuracy {
+                return None;
+            }
+            let end = crate::medial::equations::edge_angle(self.model, e, te, fan[k])?;
+            let tau = std::f64::consts::TAU;
+            th = end + tau * ((th - end) / tau).round();
+            if !self.on_segment(to, [te, th]) {
+                return None;
+            }
         }
         self.polish_hand_over(triplet, i, xc, t, to, [te, th], ev.p)
             .ok()
