@@ -5,7 +5,8 @@ meeting a hole, a thin rib on a plate, a boss near an edge, a slot ending in a r
 chamfered pocket, a counterbore whose depth equals a channel's half-width, several small
 features touching, a boss whose rounded corners end seams at a curved reflex edge, a
 spherical shell whose faces reach their poles, a split blind hole whose seams run along the
-line between its halves onto its floor's rim.
+line between its halves onto its floor's rim, a tapered pocket whose floor rim comes closer
+than the junction with its wall.
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -246,6 +247,19 @@ def split_blind_hole():
         half.rotate(V(20, 14, 14), V(0, 0, 1), a)
         b = b.cut(half)
     return b
+
+
+@part("tapered_pocket",
+      "Block 24x24x16 with a tapered pocket in its top: 45 degree walls from radius 6 at "
+      "the top to a flat floor of radius 2, 4 mm deep, centred at (15, 8).",
+      24 * 24 * 16 - PI * 4 / 3 * (36 + 12 + 4),
+      "The pocket's floor rim is a reflex edge (225 degrees). Seams of the block's faces "
+      "growing towards the pocket come closer to that rim than r first, but the ball they "
+      "meet touches the pocket's conical wall next to it (its normal is outside the rim's "
+      "arc of normals): the junctions are with the cone.")
+def tapered_pocket():
+    b = Part.makeBox(24, 24, 16)
+    return b.cut(Part.makeCone(2, 6, 4, V(15, 8, 12), V(0, 0, 1)))
 
 
 def main():

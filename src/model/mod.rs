@@ -84,6 +84,25 @@ pub struct UvDomain {
     pub v_period: Option<f64>,
 }
 
+impl UvDomain {
+    /// True when `uv` lies in the rectangle (an angle taken modulo its period), to a
+    /// relative 1e-9 of the rectangle's size. A point of the surface outside it is not on
+    /// the face; one inside may still be outside the face's trim.
+    pub fn contains(&self, uv: (f64, f64)) -> bool {
+        let within = |x: f64, r: (f64, f64), period: Option<f64>| {
+            let tol = 1e-9 * (r.1 - r.0).abs().max(1.0);
+            match period {
+                Some(p) if p > 0.0 => {
+                    let x = r.0 + (x - r.0).rem_euclid(p);
+                    x <= r.1 + tol || x - p >= r.0 - tol
+                }
+                _ => x >= r.0 - tol && x <= r.1 + tol,
+            }
+        };
+        within(uv.0, self.u, self.u_period) && within(uv.1, self.v, self.v_period)
+    }
+}
+
 /// A face: an exact surface trimmed by loops.
 #[derive(Clone, Debug)]
 pub struct Face {

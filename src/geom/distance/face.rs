@@ -251,6 +251,33 @@ fn interior_foot(
                 );
             }
         }
+        // A cone's foot outside the face's domain may be on its other nappe, nearer than the
+        // face's own nappe but not on the face (the closed form takes the nearer of the
+        // two): the face's nearest point may still be a foot, on its own nappe, half a turn
+        // round. Descend from there and from the foot's own angle, with the line parameter
+        // brought into the face's range, and keep the nearest foot within the domain.
+        if let Some((uv, _, _)) = interior {
+            let cone = matches!(crate::geom::surface_kind(&face.surface), "cone");
+            if cone && !face.domain.contains(uv) {
+                let d = &face.domain;
+                let v = uv.1.clamp(d.v.0.min(d.v.1), d.v.0.max(d.v.1));
+                let half = 0.5 * d.u_period.unwrap_or(std::f64::consts::TAU);
+                let mut own: Option<Foot> = None;
+                for start in [
+                    (uv.0 + half, v),
+                    (uv.0, v),
+                    (uv.0 + half, 0.5 * (d.v.0 + d.v.1)),
+                ] {
+                    let cand = descend_wrapped(&face.surface, p, start, closed);
+                    if face.domain.contains(cand) {
+                        better(cand, &mut own);
+                    }
+                }
+                if own.is_some() {
+                    interior = own;
+                }
+            }
+        }
     }
     interior
 }
@@ -758,6 +785,43 @@ mod tests {
         // (see trim's known-bad list), so its trim is not the face.
         check_faces("cylinder_nurbs.step", &[1, 2], &["bspline"]);
         check_faces("box_nurbs.step", &[0, 3], &["bspline"]);
+    }
+
+    /// The tapered pocket's wall is one nappe of a cone. From a point inside the block
+    /// beside the pocket the other nappe (past the apex, above the pocket's floor) is nearer
+    /// than the wall, and its foot is what the closed form gives; the wall's own nearest
+    /// point is a foot on this nappe, 6.4355 mm away, not the floor rim 6.947 mm away (as
+    /// before: the corner seams' balls there were 0.26 mm too big and passed `verify`).
+    #[test]
+    fn face_distance_cone_nappe() {
+        let file = "trace/tapered_pocket.step";
+        let m = sample(file);
+        let cone = (0..m.faces.len())
+            .find(|&f| surface_kind(&m.faces[f].surface) == "cone")
+            .expect("the pocket's wall is a cone");
+        let p = DVec3::new(6.699792921823222, 6.699792921823222, 9.300207078176776);
+        // The wall's nearest point in the meridian plane of p: the generator from (6, 16)
+        // to (2, 12) about the axis (15, 8), 45 degrees.
+        let rho = (p.x - 15.0).hypot(p.y - 8.0);
+        let (a, dir) = (DVec2::new(6.0, 16.0), DVec2::new(-1.0, -1.0).normalize());
+        let ap = DVec2::new(rho, p.z) - a;
+        let exact = (ap - dir * ap.dot(dir)).length();
+        for (how, hit) in [
+            ("standalone", nearest_on_face(&m, cone, p, None)),
+            (
+                "cached",
+                Boundary::new(&m).nearest_on_face(&m, cone, p, None, f64::INFINITY),
+            ),
+        ] {
+            let hit = hit.unwrap();
+            assert!(
+                (hit.distance - exact).abs() < 1e-9 && hit.on == Element::Face(cone),
+                "{how}: {} on {:?}, exact {exact}",
+                hit.distance,
+                hit.on
+            );
+        }
+        check_faces(file, &[cone], &["cone"]);
     }
 
     #[test]
