@@ -87,16 +87,27 @@ impl Tracer<'_> {
         let located = self
             .locate_junction(triplet, x, fourth, s4)
             .map(|jx| (fourth, jx))
-            .or_else(|| {
-                let Element::Face(f) = fourth else {
-                    return None;
-                };
-                let (e, te) = self.nearest_edge_of_face(f, hit.point)?;
-                let edge = Element::Edge(e);
-                (self.is_reflex(e) && !triplet.contains(&edge))
-                    .then(|| self.locate_junction(triplet, x, edge, [te, 0.0]))
-                    .flatten()
-                    .map(|jx| (edge, jx))
+            .or_else(|| match fourth {
+                Element::Face(f) => {
+                    let (e, te) = self.nearest_edge_of_face(f, hit.point)?;
+                    let edge = Element::Edge(e);
+                    (self.is_reflex(e) && !triplet.contains(&edge))
+                        .then(|| self.locate_junction(triplet, x, edge, [te, 0.0]))
+                        .flatten()
+                        .map(|jx| (edge, jx))
+                }
+                // A hit on a reflex edge whose junction has the ball's normal outside the
+                // edge's arc: the ball touches one of the edge's faces next to it.
+                Element::Edge(e) => self.model.edges[e]
+                    .faces
+                    .iter()
+                    .map(|&g| Element::Face(g))
+                    .filter(|face| !triplet.contains(face))
+                    .find_map(|face| {
+                        self.locate_junction(triplet, x, face, [f64::NAN, f64::NAN])
+                            .map(|jx| (face, jx))
+                    }),
+                Element::Vertex(_) => None,
             });
         // The junction itself must be medial (nothing closer than its radius).
         let located = located.filter(|(_, jx)| {
@@ -194,7 +205,14 @@ impl Tracer<'_> {
         let uv = match fourth {
             Element::Face(f) => {
                 let hint = s4[0].is_finite().then_some((s4[0], s4[1]));
-                project_point(&self.model.faces[f].surface, b, hint).or(hint)?
+                let projected = project_point(&self.model.faces[f].surface, b, hint).or(hint)?;
+                // The projection onto the whole surface may land in another basin, off the
+                // face (a cone's other nappe): then start from the hit's parameters, the
+                // face's nearest point a step away.
+                match hint {
+                    Some(h) if !self.model.faces[f].domain.contains(projected) => h,
+                    _ => projected,
+                }
             }
             Element::Edge(e) => {
                 let (te, q, d) = crate::geom::nearest_on_edge(self.model, e, b, Some(s4[0]));
