@@ -195,7 +195,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:seam_ends", 16),
             ("occt:separated", 66),
             ("occt:touch_at_radius", 1),
-            ("occt:touch_on_boundary", 9),
+            ("occt:touch_on_boundary", 10),
             ("verify:distance", 6),
             ("verify:faces_touched", 4),
             ("verify:junction_seams", 9),
