@@ -44,6 +44,17 @@ def cyl(r, h, x, y, z=0.0):
     return Part.makeCylinder(r, h, V(x, y, z))
 
 
+def cut_split_hole(solid, r, h, x, y, z=0.0):
+    """`solid` with a vertical hole r, h from (x, y, z) cut as two half cylinders meeting in
+    the plane through its axis parallel to x, as exporters that split periodic faces write
+    a hole's wall."""
+    for a in (0, 180):
+        half = Part.makeCylinder(r, h, V(x, y, z), V(0, 0, 1), 180)
+        half.rotate(V(x, y, z), V(0, 0, 1), a)
+        solid = solid.cut(half)
+    return solid
+
+
 @part("fillet_meets_hole",
       "Plate 40x30x8 with its four vertical edges filleted r=4 and a through hole r=3 "
       "whose rim passes 1 mm from one fillet.",
@@ -179,12 +190,7 @@ def kinked_walls():
       "so their touch points on the hole run along the lines where its two halves meet. "
       "The medial axis has the solid's Euler characteristic, 0 (a block with a hole).")
 def split_hole():
-    b = Part.makeBox(40, 20, 10)
-    for a in (0, 180):
-        half = Part.makeCylinder(4, 10, V(20, 10, 0), V(0, 0, 1), 180)
-        half.rotate(V(20, 10, 0), V(0, 0, 1), a)
-        b = b.cut(half)
-    return b
+    return cut_split_hole(Part.makeBox(40, 20, 10), 4, 10, 20, 10)
 
 
 @part("elliptic_bar",
@@ -241,12 +247,7 @@ def half_spherical_shell():
       "vertex (24, 14, 14) where the wall's halves and the floor rim's two arcs meet, running "
       "along the line between the halves, and goes on along the rim.")
 def split_blind_hole():
-    b = Part.makeBox(40, 20, 20)
-    for a in (0, 180):
-        half = Part.makeCylinder(4, 6, V(20, 14, 14), V(0, 0, 1), 180)
-        half.rotate(V(20, 14, 14), V(0, 0, 1), a)
-        b = b.cut(half)
-    return b
+    return cut_split_hole(Part.makeBox(40, 20, 20), 4, 6, 20, 14, 14)
 
 
 @part("tapered_pocket",
