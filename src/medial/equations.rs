@@ -8,7 +8,7 @@
 //! frame of [`edge_frame`]) and reflex vertices (`(φ, ψ)` in [`vertex_frame`]) are segments
 //! with the same two-parameter interface ([`NormalField`]).
 
-use crate::geom::{eval_curve, eval_surface};
+use crate::geom::{eval_curve, eval_face};
 use crate::model::{Element, Model};
 use glam::DVec3;
 use nalgebra::{DMatrix, DVector};
@@ -86,7 +86,7 @@ impl NormalField for Element {
             }
             Element::Face(f) => {
                 let face = &model.faces[f];
-                let d = eval_surface(&face.surface, s[0], s[1]);
+                let d = eval_face(face, s[0], s[1]);
                 let m = (d.su.cross(d.sv)) * face.sign;
                 let len = m.length();
                 if !(len.is_finite() && len > 1e-12 * (d.su.length() * d.sv.length())) {

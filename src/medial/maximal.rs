@@ -25,7 +25,7 @@ pub fn curvature_allows(model: &Model, seg: Element, s: [f64; 2], r: f64) -> boo
     match seg {
         Element::Face(f) => {
             let face = &model.faces[f];
-            let d = crate::geom::eval_surface(&face.surface, s[0], s[1]);
+            let d = crate::geom::eval_face(face, s[0], s[1]);
             match crate::geom::principal_curvatures(&d, face.sign) {
                 Some(k) => r * k.k1 <= 1.0 + CURVATURE_ROUNDING_REL,
                 None => true,
