@@ -109,11 +109,11 @@ impl Tracer<'_> {
                     }),
                 Element::Vertex(_) => None,
             });
-        // The junction itself must be medial (nothing closer than its radius).
+        // The junction itself must be medial: nothing closer than its radius, to the
+        // accuracy `verify` holds every ball to.
         let located = located.filter(|(_, jx)| {
-            self.nearest_in(solid, v3(jx)).is_some_and(|(_, h)| {
-                h.distance >= jx[3] - SAME_PLACE_REL_ACCURACY * self.opts.accuracy
-            })
+            self.nearest_in(solid, v3(jx))
+                .is_some_and(|(_, h)| h.distance >= jx[3] - self.opts.accuracy)
         });
         let Some((fourth, jx)) = located else {
             let why = OpenReason::NoJunction { element: fourth };
@@ -273,16 +273,22 @@ impl Tracer<'_> {
         let r = jx[3];
         let solid = self.solid_of(fourth);
         let tol = SAME_PLACE_REL_ACCURACY * self.opts.accuracy;
-        if let Some(id) = self
-            .junctions
-            .iter()
-            .position(|j| j.solid == solid && DVec3::from_array(j.point).distance(p) <= tol)
-        {
-            return id;
-        }
         let mut segs = arriving.to_vec();
         segs.push(fourth);
         let mut params: Vec<(f64, f64)> = (0..4).map(|i| (jx[4 + 2 * i], jx[5 + 2 * i])).collect();
+        let places: Vec<DVec3> = (0..4)
+            .filter_map(|i| sys_point(self.model, segs[i], slot(jx, i)))
+            .collect();
+        // The same place to the accuracy, as verify counts places; never finer than the
+        // centres are compared (a touch point moves with the centre).
+        let sep = separation(r, self.opts.accuracy).max(tol);
+        if let Some(id) = self
+            .junctions
+            .iter()
+            .position(|j| j.solid == solid && same_junction(j, p, &places, tol, sep))
+        {
+            return id;
+        }
         // Other faces touching the same ball (non-generic junctions).
         for f in self.boundary.within(self.model, p, r + tol) {
             if self.face_solid[f] != solid {
@@ -389,5 +395,71 @@ impl Tracer<'_> {
             }
         }
         id
+    }
+}
+
+/// True when a junction found at `p`, touching the boundary at `touch`, is junction `j` found
+/// again: its centre within `tol` of `j`'s, and each of its touch points within `sep` of one of
+/// `j`'s (the same contact, though an arrival may name a face where another names its edge).
+/// Junctions of small features close together are distinct however near their centres: one
+/// of them touches a place the other does not.
+pub(super) fn same_junction(j: &Junction, p: DVec3, touch: &[DVec3], tol: f64, sep: f64) -> bool {
+    DVec3::from_array(j.point).distance(p) <= tol
+        && touch.iter().all(|t| {
+            j.touch
+                .iter()
+                .any(|q| DVec3::from_array(*q).distance(*t) <= sep)
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A junction at the origin, radius 1, touching the four places given.
+    fn junction(touch: [[f64; 3]; 4]) -> Junction {
+        Junction {
+            id: 0,
+            solid: 0,
+            point: [0.0; 3],
+            radius: 1.0,
+            segments: (0..4).map(Element::Face).collect(),
+            touch: touch.to_vec(),
+        }
+    }
+
+    const TOUCH: [[f64; 3]; 4] = [
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, -1.0],
+    ];
+
+    fn places(touch: [[f64; 3]; 4]) -> Vec<DVec3> {
+        touch.iter().map(|t| DVec3::from_array(*t)).collect()
+    }
+
+    /// Found again (from another seam, its centre a rounding away, one touch named by an edge
+    /// of its face: the same place) it is the same junction; a junction as near whose fourth
+    /// touch point is another place (a small feature next to the first) is another one, and
+    /// so is one whose centre is farther than the tolerance.
+    #[test]
+    fn close_junctions_of_different_places_stay_distinct() {
+        let j = junction(TOUCH);
+        let (tol, sep) = (1e-3, 1e-2);
+        let near = DVec3::new(2e-4, 0.0, 0.0);
+        let mut again = TOUCH;
+        again[3] = [0.0, 0.003, -1.0];
+        assert!(same_junction(&j, near, &places(again), tol, sep));
+        let mut other = TOUCH;
+        other[3] = [0.0, -1.0, 0.0];
+        assert!(!same_junction(&j, near, &places(other), tol, sep));
+        assert!(!same_junction(
+            &j,
+            DVec3::new(2e-3, 0.0, 0.0),
+            &places(TOUCH),
+            tol,
+            sep
+        ));
     }
 }
