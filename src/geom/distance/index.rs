@@ -443,14 +443,9 @@ impl Boundary {
         }
     }
 
-    /// Parameters on face `fi` of the point of edge `ei` at `t`, interpolated from the samples.
-    pub(super) fn edge_uv_hint(
-        &self,
-        model: &Model,
-        ei: usize,
-        fi: usize,
-        t: f64,
-    ) -> Option<(f64, f64)> {
+    /// Parameters on face `fi` of the point of edge `ei` at `t`, interpolated from the samples
+    /// (a start for projecting the point onto the face; `None` when `fi` is not the edge's).
+    pub fn edge_uv_hint(&self, model: &Model, ei: usize, fi: usize, t: f64) -> Option<(f64, f64)> {
         let e = &model.edges[ei];
         let slot = e.faces.iter().position(|&f| f == fi)?;
         let ec = &self.edges[ei];

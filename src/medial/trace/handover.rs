@@ -350,9 +350,10 @@ impl Tracer<'_> {
             .edge_fan(e, te)
             .ok_or(OpenReason::NoFaceNormals { edge: e })?;
         let g = edge.faces[nearer_end(&fan, ev.n)];
-        let uv = project_point(&self.model.faces[g].surface, ev.p, None)
+        let (uv, _) = self
+            .edge_face_normal(e, g, te, ev.p)
             .ok_or(OpenReason::NotFoundOnFace { face: g })?;
-        Ok((Element::Face(g), [uv.0, uv.1]))
+        Ok((Element::Face(g), uv))
     }
 
     /// Past the end of reflex edge `e` (at parameter `te`), with the same normal: along the
@@ -424,11 +425,17 @@ impl Tracer<'_> {
         // the ball's is.
         if self.class.edges[e].kind == EdgeKind::Smooth {
             let p = self.model.vertices[v].point;
-            if let Some((f, uv, _)) = self.model.edges[e]
+            let edge = &self.model.edges[e];
+            let t = if edge.vertices[0] == v {
+                edge.range.0
+            } else {
+                edge.range.1
+            };
+            if let Some((f, uv, _)) = edge
                 .faces
                 .iter()
                 .filter_map(|&f| {
-                    let (uv, n) = self.face_normal_at(f, p)?;
+                    let (uv, n) = self.edge_face_normal(e, f, t, p)?;
                     Some((f, uv, n.angle_between(ev.n)))
                 })
                 .min_by(|a, b| a.2.total_cmp(&b.2))

@@ -156,14 +156,23 @@ impl<'a> Tracer<'a> {
     pub(super) fn edge_fan(&self, e: usize, t: f64) -> Option<[DVec3; 2]> {
         let edge = &self.model.edges[e];
         let p = crate::geom::eval_curve(&edge.curve, t).p;
-        let normal = |f: usize| self.face_normal_at(f, p).map(|(_, n)| n);
+        let normal = |f: usize| self.edge_face_normal(e, f, t, p).map(|(_, n)| n);
         Some([normal(edge.faces[0])?, normal(edge.faces[1])?])
     }
 
-    /// The parameters of point `p` (on or next to face `f`) projected onto the face's
-    /// surface, and the face's outward normal there.
-    pub(super) fn face_normal_at(&self, f: usize, p: DVec3) -> Option<([f64; 2], DVec3)> {
-        let uv = project_point(&self.model.faces[f].surface, p, None)?;
+    /// The parameters on face `f` of the point `p` of its edge `e` at curve parameter `t`,
+    /// and the face's outward normal there: projected from the edge's samples on the face
+    /// (a few Newton steps where a projection from nothing searches the whole surface, most
+    /// of the trace's time on a screw's thread faces).
+    pub(super) fn edge_face_normal(
+        &self,
+        e: usize,
+        f: usize,
+        t: f64,
+        p: DVec3,
+    ) -> Option<([f64; 2], DVec3)> {
+        let hint = self.boundary.edge_uv_hint(self.model, e, f, t);
+        let uv = project_point(&self.model.faces[f].surface, p, hint)?;
         let n = Element::Face(f).eval(self.model, [uv.0, uv.1])?.n;
         Some(([uv.0, uv.1], n))
     }
