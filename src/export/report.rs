@@ -105,6 +105,9 @@ pub struct StatsReport {
     pub worst_residual: f64,
     pub newton_iterations: usize,
     pub corrector_failures: usize,
+    /// How long the tracer took over each seam (ms), by seam id: where its time goes, and how
+    /// evenly (a seam whose step collapses stands out).
+    pub seam_trace_ms: Vec<f64>,
     pub skipped_vertices: Vec<usize>,
     /// Present when the trace was verified (`trace --verify`).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -141,6 +144,7 @@ impl TraceReport {
                 worst_residual: mat.stats.worst_residual,
                 newton_iterations: mat.stats.newton_iterations,
                 corrector_failures: mat.stats.corrector_failures,
+                seam_trace_ms: mat.seams.iter().map(|s| 1e3 * s.trace_seconds).collect(),
                 skipped_vertices: mat.stats.skipped_vertices.clone(),
                 verification: None,
             },

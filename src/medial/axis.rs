@@ -258,6 +258,10 @@ pub struct Seam {
     pub points: Vec<SeamPoint>,
     /// Where a touch point moves to another element, in the order of the points.
     pub handovers: Vec<Handover>,
+    /// How long the tracer took over this seam (s): not part of the medial axis, so not in
+    /// the report's seam (the report's `stats.seam_trace_ms` lists them, by seam).
+    #[serde(skip)]
+    pub trace_seconds: f64,
 }
 
 impl Seam {

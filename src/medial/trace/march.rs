@@ -25,6 +25,8 @@ pub(super) struct Run {
     /// The elements at the end (after any hand-over).
     pub(super) triplet: [Element; 3],
     pub(super) handovers: Vec<Handover>,
+    /// How long the march took (s).
+    pub(super) seconds: f64,
 }
 
 /// The state of one march.
@@ -74,6 +76,7 @@ impl Tracer<'_> {
         dir0: DVec3,
         close_at: Option<&DVector<f64>>,
     ) -> Run {
+        let started = std::time::Instant::now();
         let sys = MedialSystem::new(triplet.to_vec());
         let points = vec![self.seam_point(&sys, &x0)];
         // The first tangent is oriented by the centre's direction alone (no weight on r).
@@ -87,6 +90,7 @@ impl Tracer<'_> {
                 end: SeamEnd::Open(OpenReason::SingularTangent),
                 triplet,
                 handovers: vec![],
+                seconds: started.elapsed().as_secs_f64(),
             };
         };
         let mut m = March {
@@ -115,6 +119,7 @@ impl Tracer<'_> {
             end,
             triplet: m.triplet,
             handovers: m.handovers,
+            seconds: started.elapsed().as_secs_f64(),
         }
     }
 

@@ -46,6 +46,7 @@ impl Tracer<'_> {
                 [start.from.into(), run.end],
                 run.points,
                 run.handovers,
+                run.seconds,
             );
         }
     }
@@ -98,6 +99,7 @@ impl Tracer<'_> {
         ends: [SeamEnd; 2],
         points: Vec<SeamPoint>,
         handovers: Vec<Handover>,
+        seconds: f64,
     ) {
         let id = self.seams.len();
         if let (Some(a), Some(b)) = (ends[0].node(), ends[1].node()) {
@@ -125,6 +127,7 @@ impl Tracer<'_> {
             end_segments: last.to_vec(),
             points,
             handovers,
+            trace_seconds: seconds,
         });
     }
 }

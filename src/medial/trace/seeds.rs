@@ -269,7 +269,14 @@ impl Tracer<'_> {
         let fwd = self.march(seed.triplet, x.clone(), dir, Some(&x));
         if fwd.end == SeamEnd::Closed {
             let ends = [SeamEnd::Closed, SeamEnd::Closed];
-            self.push_seam(seed.triplet, fwd.triplet, ends, fwd.points, fwd.handovers);
+            self.push_seam(
+                seed.triplet,
+                fwd.triplet,
+                ends,
+                fwd.points,
+                fwd.handovers,
+                fwd.seconds,
+            );
             return;
         }
         let back = self.march(seed.triplet, x, -dir, None);
@@ -298,6 +305,7 @@ impl Tracer<'_> {
             [back.end, fwd.end],
             points,
             handovers,
+            back.seconds + fwd.seconds,
         );
     }
 
