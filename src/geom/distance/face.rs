@@ -561,9 +561,15 @@ fn on_closed_border(surface: &Surface, uv: (f64, f64), closed: (bool, bool)) -> 
 /// width (at least 1).
 const RANGE_END_TOL_REL_WIDTH: f64 = 1e-12;
 
-/// True when `x` is at an end of the range `r` ([`RANGE_END_TOL_REL_WIDTH`]).
+/// True when `x` is at a finite end of the range `r` ([`RANGE_END_TOL_REL_WIDTH`]). An
+/// unbounded direction (a periodic angle, an extrusion's length: `clamp_ranges` gives it
+/// infinite ends) has no end to be at.
 fn at_range_end(x: f64, r: (f64, f64)) -> bool {
-    let tol = RANGE_END_TOL_REL_WIDTH * (r.1 - r.0).abs().max(1.0);
+    let width = r.1 - r.0;
+    if !width.is_finite() {
+        return false;
+    }
+    let tol = RANGE_END_TOL_REL_WIDTH * width.abs().max(1.0);
     (x - r.0).abs() <= tol || (x - r.1).abs() <= tol
 }
 
@@ -700,6 +706,23 @@ mod tests {
     use crate::geom::surface_kind;
     use crate::testing::distance::{assert_hit_on_face, brute_samples, query_points, Lcg};
     use crate::testing::sample;
+
+    /// A direction without finite ends (the sphere's periodic u, where `clamp_ranges` gives
+    /// infinite ends) has no border: an infinite width once made every parameter "at the
+    /// end", and every query on a sphere, cylinder or torus searched a grid of local minima
+    /// too. Its bounded v has ends at the poles.
+    #[test]
+    fn only_finite_ranges_have_borders() {
+        let inf = f64::INFINITY;
+        assert!(!at_range_end(0.3, (-inf, inf)));
+        assert!(at_range_end(1.0, (0.0, 1.0)));
+        assert!(at_range_end(0.0, (0.0, 1.0)));
+        assert!(!at_range_end(0.5, (0.0, 1.0)));
+        let m = sample("sphere.step");
+        let sphere = &m.faces[0].surface;
+        assert!(!on_range_border(sphere, (1.1, -0.2)));
+        assert!(on_range_border(sphere, (1.1, -std::f64::consts::FRAC_PI_2)));
+    }
 
     fn check_faces(file: &str, faces: &[usize], kinds: &[&str]) {
         let model = sample(file);
