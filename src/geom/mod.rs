@@ -22,7 +22,9 @@ pub use bbox::{edges_bounding_box, model_bounding_box, Aabb};
 pub use bvh::Bvh;
 pub use curvature::{principal_curvatures, unit_normal, Curvature};
 pub use distance::{nearest_on_edge, nearest_on_face, Boundary, FaceHit};
-pub use eval::{eval_curve, eval_face, eval_surface, surface_point, CurveDerivs, SurfaceDerivs};
+pub use eval::{eval_curve, eval_surface, surface_point, CurveDerivs, SurfaceDerivs};
 pub use project::project_point;
-pub use surface::{closed_periods, knot_vectors, parameter_range, surface_kind, surface_periods};
+pub use surface::{
+    closed_periods, eval_face, knot_vectors, parameter_range, surface_kind, surface_periods,
+};
 pub use volume::solid_volumes;

@@ -45,50 +45,6 @@ use glam::DVec3;
 use truck_geometry::prelude::{ParametricCurve, Point3, Vector4};
 use truck_stepio::r#in::alias::SweptCurve;
 
-/// Evaluates face `face`'s surface and its derivatives at `(u, v)`, taking a parameter past
-/// the end of a closed B-spline, NURBS or swept surface (a cylinder written as NURBS) round
-/// by its period ([`crate::model::UvDomain`]'s `u_period`/`v_period`). [`eval_surface`]
-/// extrapolates the end piece there instead, which leaves the surface: a touch point
-/// marching across the seam of a NURBS cylinder would run off along the extrapolated arc
-/// (a rational quadratic's conic tends to a fixed point as the parameter grows).
-pub fn eval_face(face: &crate::model::Face, u: f64, v: f64) -> SurfaceDerivs {
-    let d = face.domain;
-    if matches!(face.surface, Surface::ElementarySurface(_))
-        || (d.u_period.is_none() && d.v_period.is_none())
-    {
-        return eval_surface(&face.surface, u, v);
-    }
-    let (ru, rv) = crate::geom::surface::parameter_range(&face.surface);
-    eval_surface(
-        &face.surface,
-        wrap_closed(u, d.u_period, ru),
-        wrap_closed(v, d.v_period, rv),
-    )
-}
-
-/// `x` moved by whole periods into `range` when it lies outside and the range is one period
-/// long (a surface that closes on itself); otherwise `x`.
-fn wrap_closed(x: f64, period: Option<f64>, range: truck_geometry::prelude::ParameterRange) -> f64 {
-    use std::ops::Bound::{Excluded, Included};
-    let (Included(a) | Excluded(a), Included(b) | Excluded(b)) = range else {
-        return x;
-    };
-    match period {
-        Some(p)
-            if p > 0.0
-                && (x < a || x > b)
-                && ((b - a) - p).abs() <= CLOSED_RANGE_REL_PERIOD * p =>
-        {
-            a + (x - a).rem_euclid(p)
-        }
-        _ => x,
-    }
-}
-
-/// How near a closed surface's parameter range must be to its period, relative to it, to
-/// wrap parameters by the period (both come from the same knots; rounding only).
-const CLOSED_RANGE_REL_PERIOD: f64 = 1e-9;
-
 /// Evaluates `surface` and its derivatives at `(u, v)`.
 pub fn eval_surface(surface: &Surface, u: f64, v: f64) -> SurfaceDerivs {
     match surface {
@@ -238,45 +194,6 @@ mod tests {
         ExtrudedCurve, Invertible, ParametricSurface, Processor, RevolutedCurve, Transformed,
         Vector3,
     };
-
-    /// The regression plate written as NURBS (`samples/trace/nurbs_hole_plate.step`): its
-    /// hole's wall is a closed rational surface over one turn. Past the end of its range,
-    /// `eval_face` goes round by the period (the point stays on the wall, radius 5 about the
-    /// axis x = y = 20, with the same derivatives as one period back), where `eval_surface`
-    /// extrapolates the end piece to another place.
-    #[test]
-    fn eval_face_goes_round_a_closed_nurbs_surface() {
-        let path = crate::testing::root().join("samples/trace/nurbs_hole_plate.step");
-        let m = crate::ingest::read_model(&path).unwrap_or_else(|e| panic!("{e}"));
-        let face = m
-            .faces
-            .iter()
-            .find(|f| {
-                f.domain.u_period.is_some() && !matches!(f.surface, Surface::ElementarySurface(_))
-            })
-            .expect("the hole's wall is closed in u");
-        let p = face.domain.u_period.unwrap();
-        let radius = |q: DVec3| ((q.x - 20.0).powi(2) + (q.y - 20.0).powi(2)).sqrt();
-        for (u, v) in [
-            (face.domain.u.0 - 0.2 * p, 3.0),
-            (face.domain.u.1 + 1.7 * p, 6.0),
-        ] {
-            let wrapped = face.domain.u.0 + (u - face.domain.u.0).rem_euclid(p);
-            let a = eval_face(face, u, v);
-            let b = eval_surface(&face.surface, wrapped, v);
-            assert!((radius(a.p) - 5.0).abs() < 1e-9, "{u}: {:?}", a.p);
-            for (x, y) in [(a.p, b.p), (a.su, b.su), (a.sv, b.sv), (a.suu, b.suu)] {
-                assert!((x - y).length() < 1e-9, "{u}: {x:?} vs {y:?}");
-            }
-            // Extrapolated, a rational quadratic arc runs on along its conic (the circle),
-            // but not by the period: another place, tending to a fixed point.
-            let off = eval_surface(&face.surface, u, v);
-            assert!(
-                (off.p - b.p).length() > 1e-3,
-                "{u}: extrapolation went round"
-            );
-        }
-    }
 
     fn extrusion(profile: Curve3D) -> Surface {
         let ex = ExtrudedCurve::by_extrusion(profile, Vector3::new(0.3, -0.4, 2.0));
