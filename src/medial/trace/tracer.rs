@@ -171,8 +171,18 @@ impl<'a> Tracer<'a> {
         t: f64,
         p: DVec3,
     ) -> Option<([f64; 2], DVec3)> {
-        let hint = self.boundary.edge_uv_hint(self.model, e, f, t);
-        let uv = project_point(&self.model.faces[f].surface, p, hint)?;
+        let surface = &self.model.faces[f].surface;
+        // Newton from the samples' parameters lands on the exact foot (the point is on the
+        // face, up to the file's gaps); truck's search from a hint stops within its 1e-6,
+        // enough to turn the normal by more than the arc test's rounding on a small fillet.
+        let periodic = {
+            use truck_geometry::prelude::ParametricSurface;
+            surface.u_period().is_some() || surface.v_period().is_some()
+        };
+        let uv = match self.boundary.edge_uv_hint(self.model, e, f, t) {
+            Some(h) => crate::geom::project::project_point_along(surface, p, h, periodic)?,
+            None => project_point(surface, p, None)?,
+        };
         let n = Element::Face(f).eval(self.model, [uv.0, uv.1])?.n;
         Some(([uv.0, uv.1], n))
     }
