@@ -116,6 +116,22 @@ impl Tracer<'_> {
                 .is_some_and(|(_, h)| h.distance >= jx[3] - self.opts.accuracy)
         });
         let Some((fourth, jx)) = located else {
+            // A touched face met again, with no junction: where the ball pokes through that
+            // face by its curvature at its touch point, it is the face's own curvature limit
+            // coming (the nearest point runs away from the touch point as the ball nears
+            // osculating it), which the curvature criterion locates.
+            let osculating = (0..3).any(|i| {
+                triplet[i] == fourth
+                    && !crate::medial::maximal::curvature_allows(
+                        self.model,
+                        fourth,
+                        slot(xn, i),
+                        xn[3],
+                    )
+            });
+            if osculating {
+                return None;
+            }
             let why = OpenReason::NoJunction { element: fourth };
             return Some(Meeting::End(SeamEnd::Open(why), None));
         };
