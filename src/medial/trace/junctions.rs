@@ -116,10 +116,11 @@ impl Tracer<'_> {
                 .is_some_and(|(_, h)| h.distance >= jx[3] - self.opts.accuracy)
         });
         let Some((fourth, jx)) = located else {
-            // A touched face met again, with no junction: where the ball pokes through that
-            // face by its curvature at its touch point, it is the face's own curvature limit
-            // coming (the nearest point runs away from the touch point as the ball nears
-            // osculating it), which the curvature criterion locates.
+            // A touched element (a face, a curved reflex edge) met again, with no junction:
+            // where the ball pokes through it by its curvature at its touch point, that is
+            // its own curvature limit coming (the nearest point runs away from the touch
+            // point as the ball nears osculating it), which the curvature check after this
+            // one locates.
             let osculating = (0..3).any(|i| {
                 triplet[i] == fourth
                     && !crate::medial::maximal::curvature_allows(
