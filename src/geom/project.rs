@@ -75,9 +75,9 @@ pub fn project_point(surface: &Surface, p: DVec3, hint: Option<(f64, f64)>) -> O
 /// normals, from the edge's samples there). Edge classification and the tracer's other
 /// projections keep [`project_point`]: there a different foot changed results (measured on
 /// the trimesh part: skipping truck's search for B-splines without a hint in classification
-/// gave 249 seams with 30 open ends instead of 268 with 22). The loops' feet are exact to 1e-12 instead of truck's 1e-6; even that moves
-/// a few open seam ends on the two real parts that have them in degenerate spots (trimesh 22
-/// → 20, M6 screw 7 → 8).
+/// gave 249 seams with 30 open ends instead of 268 with 22). The loops' feet are exact to
+/// 1e-12 instead of truck's 1e-6; even that moves a few open seam ends on the two real parts
+/// that have them in degenerate spots (trimesh 22 → 20, M6 screw 7 → 8).
 ///
 /// `periodic` is whether the surface has an angle parameter (truck's `u_period` or
 /// `v_period`: spheres, tori, cylinders, cones, revolutions), where our Newton would leave
