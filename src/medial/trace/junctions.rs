@@ -293,16 +293,20 @@ impl Tracer<'_> {
         let mut segs = arriving.to_vec();
         segs.push(fourth);
         let mut params: Vec<(f64, f64)> = (0..4).map(|i| (jx[4 + 2 * i], jx[5 + 2 * i])).collect();
-        let places: Vec<DVec3> = (0..4)
-            .filter_map(|i| sys_point(self.model, segs[i], slot(jx, i)))
-            .collect();
+        // The touch points, one per segment (kept alongside `segs` and `params`).
+        let Some(mut touch) = (0..4)
+            .map(|i| sys_point(self.model, segs[i], slot(jx, i)))
+            .collect::<Option<Vec<DVec3>>>()
+        else {
+            return usize::MAX;
+        };
         // The same place to the accuracy, as verify counts places; never finer than the
         // centres are compared (a touch point moves with the centre).
         let sep = separation(r, self.opts.accuracy).max(tol);
         if let Some(id) = self
             .junctions
             .iter()
-            .position(|j| j.solid == solid && same_junction(j, p, &places, tol, sep))
+            .position(|j| j.solid == solid && same_junction(j, p, &touch, tol, sep))
         {
             return id;
         }
@@ -340,32 +344,22 @@ impl Tracer<'_> {
             // edge just past where the ball touches the face) is the same contact, not
             // another place (verify counts places at the same separation): triplets with
             // both would be one contact twice.
-            let another_place = |seg: Element, uv: (f64, f64)| {
-                sys_point(self.model, seg, [uv.0, uv.1]).is_some_and(|q| {
-                    segs.iter().zip(&params).all(|(s, st)| {
-                        sys_point(self.model, *s, [st.0, st.1])
-                            .is_none_or(|t| t.distance(q) > separation(r, self.opts.accuracy))
-                    })
-                })
+            let another_place = |q: DVec3| {
+                touch
+                    .iter()
+                    .all(|t| t.distance(q) > separation(r, self.opts.accuracy))
             };
             if let Some((seg, uv)) = seg {
-                if !segs.contains(&seg)
-                    && uv.0.is_finite()
-                    && fits(seg, uv)
-                    && another_place(seg, uv)
-                {
-                    segs.push(seg);
-                    params.push(uv);
+                if !segs.contains(&seg) && uv.0.is_finite() && fits(seg, uv) {
+                    if let Some(q) =
+                        sys_point(self.model, seg, [uv.0, uv.1]).filter(|&q| another_place(q))
+                    {
+                        segs.push(seg);
+                        params.push(uv);
+                        touch.push(q);
+                    }
                 }
             }
-        }
-        let touch: Vec<DVec3> = segs
-            .iter()
-            .zip(&params)
-            .filter_map(|(s, uv)| sys_point(self.model, *s, [uv.0, uv.1]))
-            .collect();
-        if touch.len() != segs.len() {
-            return usize::MAX;
         }
         let id = self.junctions.len();
         self.junctions.push(Junction {
