@@ -19,8 +19,9 @@ boundary points are at distance r, and there are at least two of them in separat
                      farther apart than sqrt(8 r tol), the chord over which a sphere of radius r
                      and a surface tangent to it stay within tol of each other, so that one
                      smooth contact cannot pass for two. Seam points need 3 (2 at a seam end at
-                     a curvature limit, where the ball osculates a face), junctions 4,
-                     degenerate balls 2. Exempt: r <= tol.
+                     a curvature limit, where the ball osculates a face, or at a pinch, where
+                     two touch points meet at a vertex), junctions 4, degenerate balls 2.
+                     Exempt: r <= tol.
 
 With --mesh, K distinct vertices of the sheet mesh (default 200, spread over the file) are checked too:
 `inside`, and `mesh_contacts` -- the ball of radius r = distance to the boundary has a second
@@ -32,7 +33,8 @@ could grow away from its only contact is not on the medial axis.
 The report must describe a medial axis, not merely hold no wrong point:
   nonempty           the report has balls;
   faces_touched      every face of the part is touched by some ball (a touch point on it);
-  seam_ends          no seam end is open;
+  seam_ends          no seam end is open, and at a seam end at a pinch two of the touch points
+                     are at a vertex of the part;
   junction_seams     every junction with 4 segments has 4 seam ends, and every junction a seam
                      ends at exists.
   accuracy           the accuracy the report claims is positive and at most 1e-3 x the
@@ -73,6 +75,7 @@ from OCP.collections import (
 
 SEAM_PLACES = 3
 CURVATURE_END_PLACES = 2
+PINCH_END_PLACES = 2
 JUNCTION_PLACES = 4
 DEGENERATE_PLACES = 2
 # Steps of the growth test, as fractions of r.
@@ -157,6 +160,10 @@ class Part:
         TopExp.MapShapesAndAncestors_s(self.shape, TopAbs_EDGE, TopAbs_FACE, self.edge_faces)
         self.vertex_faces = ShapeListMap()
         TopExp.MapShapesAndAncestors_s(self.shape, TopAbs_VERTEX, TopAbs_FACE, self.vertex_faces)
+        self.vertex_points = []
+        for i in range(1, self.vertex_faces.Extent() + 1):
+            q = BRep_Tool.Pnt_s(TopoDS.Vertex(self.vertex_faces.FindKey(i)))
+            self.vertex_points.append((q.X(), q.Y(), q.Z()))
         # Several solids (an assembly's parts often touch): a ball is checked against the
         # solid its centre is in, not against its neighbours' faces.
         self.solids = collect(self.shape, TopAbs_SOLID)
@@ -414,6 +421,15 @@ def mesh_vertices(path, k):
     return vs[::stride][:k]
 
 
+def check_pinch(part, checks, what, touch, tol):
+    """A seam end at a pinch: two of the touch points meet at a vertex of the part (each within
+    tol of it)."""
+    pts = [t for t in touch if t is not None and finite(t)]
+    met = any(sum(1 for t in pts if dist3(t, q) <= tol) >= 2 for q in part.vertex_points)
+    checks.record("seam_ends", met, lambda: f"{what}: a pinch, but no two touch points are at a vertex "
+                  f"of the part (within {tol:.3e} mm)")
+
+
 def check_graph(mat, checks, touched, n_faces):
     seams, junctions = mat.get("seams", []), mat.get("junctions", [])
     n_balls = sum(len(s.get("points", [])) for s in seams) + len(junctions) + sum(
@@ -486,7 +502,12 @@ def main():
         for k in picks:
             p = pts[k]
             end = s["ends"][0] if k == 0 else s["ends"][1] if k == len(pts) - 1 else None
-            need = CURVATURE_END_PLACES if isinstance(end, dict) and "curvature_limit" in end else SEAM_PLACES
+            need = SEAM_PLACES
+            if isinstance(end, dict) and "curvature_limit" in end:
+                need = CURVATURE_END_PLACES
+            elif isinstance(end, dict) and "pinch" in end:
+                need = PINCH_END_PLACES
+                check_pinch(part, checks, f"seam {s['id']} point {k}", p["touch"], tol)
             check_ball(part, checks, touched, f"seam {s['id']} point {k}", p["point"][:3], p["point"][3],
                        p["touch"], need)
     check_graph(mat, checks, touched, part.faces.Extent())

@@ -40,6 +40,15 @@ pub enum SeamEnd {
     /// The last point is where that happens to the output accuracy; a skeletal edge (the
     /// sheet's edge of centres of curvature) starts there.
     CurvatureLimit { segment: Element },
+    /// Two touch points meet at vertex `vertex` of the boundary, which both their elements
+    /// `segments` reach (a hole tangent to a slot's wall, a face running into an edge
+    /// there): the sheet between those two elements pinches off at this ball (`r > 0`, and
+    /// the ball touches two places), and the seam ends. The seam on the elements past the
+    /// vertex ends at the same ball.
+    Pinch {
+        segments: [Element; 2],
+        vertex: usize,
+    },
     /// The tracer stopped without a proper end, for the reason given.
     Open(OpenReason),
 }

@@ -446,6 +446,11 @@ fn withheld(
         Some("seams end at curvature limits, where untraced skeletal edges begin".into())
     } else if seams_of_solid
         .clone()
+        .any(|s| s.ends.iter().any(|e| matches!(e, SeamEnd::Pinch { .. })))
+    {
+        Some("seams end at pinches, which are not nodes of the graph yet".into())
+    } else if seams_of_solid
+        .clone()
         .any(|s| s.ends.iter().any(|e| matches!(e, SeamEnd::Open(_))))
     {
         Some("seams end open".into())

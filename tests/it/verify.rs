@@ -4,8 +4,9 @@
 //! one face (its three touch points clustered within 0.01 mm), a fake junction with four
 //! clustered touch points, degenerate balls moved off a torus's core circle (with touch points
 //! that agree with the move, and with clustered ones), a seam removed, a junction moved by
-//! 1 mm, a NaN radius, a junction 0.5 mm off in a report claiming an accuracy of 1 mm. Each
-//! wrong report must fail the check it breaks, in both checkers.
+//! 1 mm, a seam's end relabelled a pinch away from any vertex, a NaN radius, a junction 0.5 mm
+//! off in a report claiming an accuracy of 1 mm. Each wrong report must fail the check it
+//! breaks, in both checkers.
 
 use crate::common::{matrace, root, sample};
 use crate::tools::{occt_python, require, Tool};
@@ -189,6 +190,18 @@ fn wrong_reports(
     let z = jmoved["mat"]["junctions"][0]["point"][2].as_f64().unwrap();
     jmoved["mat"]["junctions"][0]["point"][2] = json!(z + 1.0);
     out.push(("box.step", "moved_junction", jmoved, &["distance"][..]));
+
+    // An inner seam's end at a junction relabelled a pinch at a corner of the box: its touch
+    // points are on the faces' middles, nowhere near that vertex (nor any other).
+    let mut pinch = boxr.clone();
+    let seams = pinch["mat"]["seams"].as_array_mut().unwrap();
+    let inner = seams
+        .iter_mut()
+        .find(|s| s["ends"][0].get("junction").is_some() && s["ends"][1].get("junction").is_some())
+        .expect("an inner seam");
+    let segments = json!([inner["end_segments"][0], inner["end_segments"][1]]);
+    inner["ends"][1] = json!({"pinch": {"segments": segments, "vertex": 0}});
+    out.push(("box.step", "fake_pinch", pinch, &["seam_ends"][..]));
 
     let mut nan = boxr.clone();
     nan["mat"]["seams"][0]["points"][2]["point"][3] = Value::Null;

@@ -299,10 +299,17 @@ impl Tracer<'_> {
                 m.points.push(self.seam_point(&m.sys, crossing));
                 SeamEnd::CurvatureLimit { segment: to }
             }
-            None => SeamEnd::Open(OpenReason::CoincideAfterHandover {
-                from: m.triplet[i],
-                to,
-            }),
+            // Elsewhere they meet at the vertex the touch point was handed over at: a pinch.
+            None => match self.pinch(&m.sys, &m.triplet, crossing) {
+                Some((end, y)) => {
+                    m.points.push(self.seam_point(&m.sys, &y));
+                    end
+                }
+                None => SeamEnd::Open(OpenReason::CoincideAfterHandover {
+                    from: m.triplet[i],
+                    to,
+                }),
+            },
         }
     }
 
@@ -337,6 +344,13 @@ impl Tracer<'_> {
     fn end_at_crossing(&mut self, m: &mut March, e: HandOverError, xc: &DVector<f64>) -> Flow {
         if let Some(flow) = self.junction_end(m, xc) {
             return flow;
+        }
+        // Where two touch points meet at a vertex, the seam ends at that pinch.
+        if let HandOverError::Stop(_) = e {
+            if let Some((end, y)) = self.pinch(&m.sys, &m.triplet, xc) {
+                m.points.push(self.seam_point(&m.sys, &y));
+                return Flow::End(end);
+            }
         }
         // The crossing point itself is a seam point when it is medial.
         if self.is_medial(&m.triplet, xc) {
@@ -384,6 +398,10 @@ impl Tracer<'_> {
     fn curvature_end(&mut self, m: &mut March, xn: &DVector<f64>) -> Option<SeamEnd> {
         let before = self.touches(&m.triplet, &m.x);
         if self.coincident(&m.triplet, xn, false) {
+            if let Some((end, y)) = self.pinch(&m.sys, &m.triplet, xn) {
+                m.points.push(self.seam_point(&m.sys, &y));
+                return Some(end);
+            }
             return Some(SeamEnd::Open(OpenReason::TouchPointsCoincide));
         }
         let i = self.poked(&m.triplet, &before, xn)?;
@@ -409,7 +427,7 @@ impl Tracer<'_> {
     }
 
     /// The touch points of `y` on `triplet`.
-    fn touches(&self, triplet: &[Element; 3], y: &DVector<f64>) -> [Option<DVec3>; 3] {
+    pub(super) fn touches(&self, triplet: &[Element; 3], y: &DVector<f64>) -> [Option<DVec3>; 3] {
         std::array::from_fn(|i| sys_point(self.model, triplet[i], slot(y, i)))
     }
 

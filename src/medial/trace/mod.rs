@@ -20,6 +20,8 @@
 //! - at a convex vertex, when `r` returns to 0;
 //! - at a curvature limit, where the ball osculates a face (two touch points on one face
 //!   meet, or the curvature criterion fails): a skeletal edge starts there;
+//! - at a pinch, where two touch points on different segments meet at a vertex both reach
+//!   (a hole tangent to a slot's wall): located exactly on the normal line there (`pinch`);
 //! - closed, back at its seed;
 //! - or open, with the reason, where none of these is reached.
 //!
@@ -29,13 +31,14 @@
 //!
 //! The files: [`options`] (options and budgets), `entry` (the public functions), `tracer`
 //! (state and model queries), `unknowns` (the layout of the unknowns), `queue`, `starts`,
-//! `seeds`, `march`, `handover`, `junctions`.
+//! `seeds`, `march`, `handover`, `junctions`, `pinch`.
 
 mod entry;
 mod handover;
 mod junctions;
 mod march;
 pub mod options;
+mod pinch;
 mod queue;
 mod seeds;
 mod starts;

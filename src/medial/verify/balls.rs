@@ -12,6 +12,9 @@ pub const SEAM_PLACES: usize = 3;
 /// Places a seam point's ball touches where the seam ends at a curvature limit: there two
 /// touch points on one face have merged as the ball osculates it.
 pub const CURVATURE_END_PLACES: usize = 2;
+/// Places a seam point's ball touches where the seam ends at a pinch: there two touch points
+/// on different elements have met at a vertex.
+pub const PINCH_END_PLACES: usize = 2;
 /// Places a junction's ball touches (at least; a non-generic junction touches more).
 pub const JUNCTION_PLACES: usize = 4;
 /// Places a degenerate ball touches (at least: it touches a continuum).
@@ -71,6 +74,7 @@ pub(super) fn check_balls(
             };
             let places = match end {
                 Some(SeamEnd::CurvatureLimit { .. }) => CURVATURE_END_PLACES,
+                Some(SeamEnd::Pinch { .. }) => PINCH_END_PLACES,
                 _ => SEAM_PLACES,
             };
             let at = || format!("seam {} point {k}", s.id);

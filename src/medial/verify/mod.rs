@@ -15,11 +15,13 @@
 //!   separate when they are farther apart than `√(8·r·a)`, the chord over which a sphere of
 //!   radius `r` and a surface tangent to it stay within `a` of each other, so that one smooth
 //!   contact cannot pass for two. Seam points need 3 places (2 at a curvature-limit end,
-//!   where the ball osculates a face), junctions 4, degenerate balls 2. A ball with `r ≤ a`
-//!   (a seam's end at a convex vertex) is a point and is exempt from this and from `inside`.
+//!   where the ball osculates a face, and at a pinch, where two touch points meet at a
+//!   vertex), junctions 4, degenerate balls 2. A ball with `r ≤ a` (a seam's end at a convex
+//!   vertex) is a point and is exempt from this and from `inside`.
 //!
 //! Then the graph ([`topology`]): every seam end is proper (a convex vertex, a junction, a
-//! closed loop or a curvature limit; an open end is a failure), every generic junction has
+//! closed loop, a curvature limit, or a pinch whose two touch points are at its vertex to
+//! `a`; an open end is a failure), every generic junction has
 //! four seam ends and every junction a seam names exists, every sheet's boundary closes,
 //! where the Euler characteristic of a solid's medial axis is counted it equals the solid's
 //! (where it is withheld, that is listed), every face of every solid is touched by some ball,

@@ -4,7 +4,7 @@
 use super::outcome::Verification;
 use crate::classify::{Classification, VertexKind};
 use crate::geom::Boundary;
-use crate::medial::axis::{MedialAxis, SeamEnd};
+use crate::medial::axis::{MedialAxis, Seam, SeamEnd};
 use crate::medial::sheets::{Sheets, SolidEuler};
 use crate::model::{Element, Model};
 use glam::DVec3;
@@ -18,7 +18,8 @@ pub struct Topology {
     pub graph_nodes: usize,
     /// Seams (a closed seam counts as one edge with one node of its own).
     pub graph_edges: usize,
-    /// Seam ends that are not a vertex, a junction, a closed loop or a curvature limit.
+    /// Seam ends that are not a vertex, a junction, a closed loop, a curvature limit or a
+    /// pinch.
     pub open_ends: usize,
     /// Generic junctions (4 segments) that do not have exactly 4 seam ends, and seam ends
     /// naming a junction that does not exist: both would be tracer bugs.
@@ -49,7 +50,7 @@ pub fn check_topology(mat: &MedialAxis, sheets: &Sheets) -> Topology {
                 }
                 SeamEnd::Open(_) => open_ends += 1,
                 SeamEnd::Closed => closed += 1,
-                SeamEnd::CurvatureLimit { .. } => {}
+                SeamEnd::CurvatureLimit { .. } | SeamEnd::Pinch { .. } => {}
             }
         }
     }
@@ -87,9 +88,10 @@ pub(super) fn check_elements(model: &Model, axis: &MedialAxis, v: &mut Verificat
             .iter()
             .chain(&s.end_segments)
             .chain(s.handovers.iter().flat_map(|h| [&h.from, &h.to]))
-            .chain(s.ends.iter().filter_map(|e| match e {
-                SeamEnd::CurvatureLimit { segment } => Some(segment),
-                _ => None,
+            .chain(s.ends.iter().flat_map(|e| match e {
+                SeamEnd::CurvatureLimit { segment } => std::slice::from_ref(segment),
+                SeamEnd::Pinch { segments, .. } => &segments[..],
+                _ => &[],
             }));
         for e in named {
             check(v, exists(e), &|| {
@@ -97,7 +99,7 @@ pub(super) fn check_elements(model: &Model, axis: &MedialAxis, v: &mut Verificat
             });
         }
         for e in &s.ends {
-            if let SeamEnd::Vertex(k) = e {
+            if let SeamEnd::Vertex(k) | SeamEnd::Pinch { vertex: k, .. } = e {
                 let ok = *k < model.vertices.len();
                 check(v, ok, &|| {
                     format!("seam {} ends at vertex V{k}, which the part lacks", s.id)
@@ -144,6 +146,40 @@ pub(super) fn check_elements(model: &Model, axis: &MedialAxis, v: &mut Verificat
     all
 }
 
+/// True when end `k` of seam `s`, a pinch of `segments` at vertex `vertex`, has the touch
+/// points on those two elements at the vertex, to the accuracy.
+fn pinch_at_vertex(
+    model: &Model,
+    s: &Seam,
+    k: usize,
+    segments: &[Element; 2],
+    vertex: usize,
+    accuracy: f64,
+) -> bool {
+    let (elements, point) = match k {
+        0 => (&s.segments, s.points.first()),
+        _ => (&s.end_segments, s.points.last()),
+    };
+    let (Some(point), Some(at)) = (point, model.vertices.get(vertex)) else {
+        return false;
+    };
+    let slot_of = |e: &Element, not: Option<usize>| {
+        (0..elements.len()).find(|&i| elements[i] == *e && Some(i) != not)
+    };
+    let Some(a) = slot_of(&segments[0], None) else {
+        return false;
+    };
+    let Some(b) = slot_of(&segments[1], Some(a)) else {
+        return false;
+    };
+    [a, b].iter().all(|&i| {
+        point
+            .touch
+            .get(i)
+            .is_some_and(|t| DVec3::from_array(*t).distance(at.point) <= accuracy)
+    })
+}
+
 /// Checks the graph of `axis` into `v`: proper seam ends, junctions with their seams, the
 /// Euler characteristics where they are counted (the sheets found afresh), every face of every
 /// solid touched by some ball, every convex vertex the end of a seam.
@@ -156,9 +192,20 @@ pub(super) fn check_graph(
 ) {
     for s in &axis.seams {
         for (k, e) in s.ends.iter().enumerate() {
-            let proper = !matches!(e, SeamEnd::Open(_));
+            let proper = match e {
+                SeamEnd::Open(_) => false,
+                SeamEnd::Pinch { segments, vertex } => {
+                    pinch_at_vertex(model, s, k, segments, *vertex, v.accuracy)
+                }
+                _ => true,
+            };
             v.record("seam_ends", proper, || match e {
                 SeamEnd::Open(why) => format!("seam {} end {k} is open: {why}", s.id),
+                SeamEnd::Pinch { segments, vertex } => format!(
+                    "seam {} end {k}: a pinch of {} and {} at V{vertex}, but their touch \
+                     points are not there",
+                    s.id, segments[0], segments[1]
+                ),
                 _ => String::new(),
             });
         }
@@ -252,7 +299,7 @@ fn check_convex_vertices(
     let mut ends = vec![false; model.vertices.len()];
     for s in &axis.seams {
         for e in &s.ends {
-            if let SeamEnd::Vertex(k) = e {
+            if let SeamEnd::Vertex(k) | SeamEnd::Pinch { vertex: k, .. } = e {
                 if let Some(x) = ends.get_mut(*k) {
                     *x = true;
                 }

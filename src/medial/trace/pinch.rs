@@ -1,0 +1,260 @@
+//! Pinches: two touch points of a seam that meet at a vertex of the boundary both their
+//! elements reach — a hole's wall and a slot's edge where the hole is tangent to the slot, a
+//! face and an edge that runs into it there. The sheet between those two elements pinches off
+//! at that ball (`r > 0`, the ball touches two places) and the seam ends; the seam on the
+//! elements past the vertex ends at the same ball ([`SeamEnd::Pinch`]).
+
+use super::options::{REACH_REL_ACCURACY, UNIT_ROUNDING};
+use super::tracer::Tracer;
+use super::unknowns::{slot, v3};
+use crate::geom::project_point;
+use crate::medial::axis::SeamEnd;
+use crate::medial::equations::{edge_angle, vertex_angles, MedialSystem, NormalField};
+use crate::medial::maximal::curvature_allows;
+use crate::medial::solver::{solve, SolveStatus};
+use crate::model::Element;
+use glam::DVec3;
+use nalgebra::{DMatrix, DVector};
+
+impl Tracer<'_> {
+    /// Where two touch points of the seam point `x` (of `sys` on `triplet`) are about to meet
+    /// at a vertex that both their elements reach (each within [`REACH_REL_ACCURACY`] × the
+    /// accuracy of it), the seam point where they meet there, when it is medial: the seam
+    /// ends there, at a pinch.
+    pub(super) fn pinch(
+        &self,
+        sys: &MedialSystem,
+        triplet: &[Element; 3],
+        x: &DVector<f64>,
+    ) -> Option<(SeamEnd, DVector<f64>)> {
+        let near = REACH_REL_ACCURACY * self.opts.accuracy;
+        let at = self.touches(triplet, x);
+        for (i, k) in [(0, 1), (0, 2), (1, 2)] {
+            let (Some(a), Some(b)) = (at[i], at[k]) else {
+                continue;
+            };
+            if triplet[i] == triplet[k] {
+                continue;
+            }
+            let candidates = (0..self.model.vertices.len()).filter(|&v| {
+                let p = self.model.vertices[v].point;
+                p.distance(a) <= near
+                    && p.distance(b) <= near
+                    && self.reaches(triplet[i], v)
+                    && self.reaches(triplet[k], v)
+            });
+            for v in candidates {
+                let y = self
+                    .pinch_on_normal(sys, triplet, x, [i, k], v)
+                    .or_else(|| self.pinch_held(sys, triplet, x, [i, k], v));
+                if let Some(y) = y.filter(|y| self.pinch_is_medial(triplet, y, 3 - i - k)) {
+                    let end = SeamEnd::Pinch {
+                        segments: [triplet[i], triplet[k]],
+                        vertex: v,
+                    };
+                    return Some((end, y));
+                }
+            }
+        }
+        None
+    }
+
+    /// True when element `e` reaches vertex `v` (is it, ends there, or is bounded by an edge
+    /// that does).
+    fn reaches(&self, e: Element, v: usize) -> bool {
+        match e {
+            Element::Vertex(w) => w == v,
+            Element::Edge(g) => self.model.edges[g].vertices.contains(&v),
+            Element::Face(f) => self.vertex_edges[v]
+                .iter()
+                .any(|&(g, _)| self.model.edges[g].faces.contains(&f)),
+        }
+    }
+
+    /// The pinch exactly, where one of the two elements `pair` is a face: there the ball
+    /// touches the vertex along that face's normal, so its centre is on the normal line
+    /// `V − r·n` and only its radius and the third element's touch point are unknown (the
+    /// two-element system of the vertex and the third element, with the vertex's normal
+    /// held). The seam point is that ball when both elements of the pair take it at the
+    /// vertex (the system of `triplet` holds there to a tenth of the accuracy: a file's
+    /// vertex may lie a little off its edges' ends), as where they meet tangentially;
+    /// otherwise `None`.
+    fn pinch_on_normal(
+        &self,
+        sys: &MedialSystem,
+        triplet: &[Element; 3],
+        x: &DVector<f64>,
+        pair: [usize; 2],
+        v: usize,
+    ) -> Option<DVector<f64>> {
+        let acc = self.opts.accuracy;
+        let third = 3 - pair[0] - pair[1];
+        let n = self.pinch_normal(triplet, x, pair, v)?;
+        let held = vertex_angles(n);
+        let two = MedialSystem::new(vec![Element::Vertex(v), triplet[third]]);
+        let mut z0 = DVector::zeros(8);
+        z0.rows_mut(0, 4).copy_from(&x.rows(0, 4));
+        z0[4] = held[0];
+        z0[5] = held[1];
+        z0[6] = slot(x, third)[0];
+        z0[7] = slot(x, third)[1];
+        let sol = solve(
+            |z| {
+                let (f, j) = two.eval(self.model, z)?;
+                let mut fa = DVector::zeros(8);
+                let mut ja = DMatrix::zeros(8, 8);
+                fa.rows_mut(0, 6).copy_from(&f);
+                ja.view_mut((0, 0), (6, 8)).copy_from(&j);
+                for (row, c) in [(6, 4), (7, 5)] {
+                    fa[row] = z[c] - held[c - 4];
+                    ja[(row, c)] = 1.0;
+                }
+                Some((fa, ja))
+            },
+            z0,
+            &self.solve_opts(),
+        );
+        if sol.status != SolveStatus::Converged
+            || v3(&sol.x).distance(v3(x)) > REACH_REL_ACCURACY * acc
+        {
+            return None;
+        }
+        let mut y = x.clone();
+        y.rows_mut(0, 4).copy_from(&sol.x.rows(0, 4));
+        y[4 + 2 * third] = sol.x[6];
+        y[5 + 2 * third] = sol.x[7];
+        for s in pair {
+            let [a, b] = self.params_at_vertex(triplet[s], v, n, slot(x, s))?;
+            y[4 + 2 * s] = a;
+            y[5 + 2 * s] = b;
+        }
+        let residual = sys.residual(self.model, &y)?.amax();
+        (residual <= 0.1 * acc).then_some(y)
+    }
+
+    /// The outward normal of a ball that touches both elements of `pair` at vertex `v`, where
+    /// they fix it: a face's normal there; for two edges that meet at an angle, the normal of
+    /// the plane of their tangents there (on the side of the touch point's normal at `x`).
+    fn pinch_normal(
+        &self,
+        triplet: &[Element; 3],
+        x: &DVector<f64>,
+        pair: [usize; 2],
+        v: usize,
+    ) -> Option<DVec3> {
+        let p = self.model.vertices[v].point;
+        if let Some(f) = pair.iter().find_map(|&s| match triplet[s] {
+            Element::Face(f) => Some(f),
+            _ => None,
+        }) {
+            let uv = project_point(&self.model.faces[f].surface, p, None)?;
+            return Some(Element::Face(f).eval(self.model, [uv.0, uv.1])?.n);
+        }
+        let tangent = |s: usize| match triplet[s] {
+            Element::Edge(g) => {
+                let t = self.edge_end_at(g, v, slot(x, s)[0])?;
+                Some(crate::geom::eval_curve(&self.model.edges[g].curve, t).d1)
+            }
+            _ => None,
+        };
+        let (a, b) = (
+            tangent(pair[0])?.try_normalize()?,
+            tangent(pair[1])?.try_normalize()?,
+        );
+        // Edges that run on in one line leave the plane undefined.
+        if a.dot(b).abs() > 1.0 - 1e-6 {
+            return None;
+        }
+        let n = a.cross(b).normalize();
+        let now = triplet[pair[0]].eval(self.model, slot(x, pair[0]))?.n;
+        Some(if n.dot(now) < 0.0 { -n } else { n })
+    }
+
+    /// The parameters of element `e` at vertex `v` with the normal `n`, on the branch of the
+    /// angles nearest `now` (the element's parameters at the seam point).
+    fn params_at_vertex(&self, e: Element, v: usize, n: DVec3, now: [f64; 2]) -> Option<[f64; 2]> {
+        let tau = std::f64::consts::TAU;
+        let branch = |a: f64, near: f64| a + tau * ((near - a) / tau).round();
+        let p = self.model.vertices[v].point;
+        match e {
+            Element::Face(f) => {
+                let uv = project_point(&self.model.faces[f].surface, p, Some((now[0], now[1])))?;
+                Some([uv.0, uv.1])
+            }
+            Element::Edge(g) => {
+                let t = self.edge_end_at(g, v, now[0])?;
+                let th = edge_angle(self.model, g, t, n)?;
+                Some([t, branch(th, now[1])])
+            }
+            Element::Vertex(_) => {
+                let [a, b] = vertex_angles(n);
+                Some([branch(a, now[0]), b])
+            }
+        }
+    }
+
+    /// The parameter of edge `g`'s end at vertex `v` (of the two, on a closed edge, the one
+    /// nearer `t`).
+    fn edge_end_at(&self, g: usize, v: usize, t: f64) -> Option<f64> {
+        let edge = &self.model.edges[g];
+        [
+            (edge.vertices[0], edge.range.0),
+            (edge.vertices[1], edge.range.1),
+        ]
+        .into_iter()
+        .filter(|&(w, _)| w == v)
+        .map(|(_, te)| te)
+        .min_by(|a, b| (a - t).abs().total_cmp(&(b - t).abs()))
+    }
+
+    /// The pinch where the elements of `pair` do not fix the ball's normal at the vertex (a
+    /// vertex and an edge that ends there, edges that run on in one line): the seam point with
+    /// the touch point on an edge that ends at the vertex held at that end, when the other
+    /// touch point is at the vertex too (to the accuracy).
+    fn pinch_held(
+        &self,
+        sys: &MedialSystem,
+        triplet: &[Element; 3],
+        x: &DVector<f64>,
+        pair: [usize; 2],
+        v: usize,
+    ) -> Option<DVector<f64>> {
+        let acc = self.opts.accuracy;
+        let (s, e) = pair.into_iter().find_map(|s| match triplet[s] {
+            Element::Edge(e) if self.model.edges[e].vertices.contains(&v) => Some((s, e)),
+            _ => None,
+        })?;
+        let end = self.edge_end_at(e, v, slot(x, s)[0])?;
+        let mut row = DVector::zeros(10);
+        row[4 + 2 * s] = 1.0;
+        let sol = solve(
+            |z| sys.eval_with_row(self.model, z, &row, end),
+            x.clone(),
+            &self.solve_opts(),
+        );
+        if sol.status != SolveStatus::Converged
+            || v3(&sol.x).distance(v3(x)) > REACH_REL_ACCURACY * acc
+        {
+            return None;
+        }
+        let p = self.model.vertices[v].point;
+        let t = self.touches(triplet, &sol.x);
+        pair.iter()
+            .all(|&k| t[k].is_some_and(|q| q.distance(p) <= acc))
+            .then_some(sol.x)
+    }
+
+    /// True when the pinch `y` is medial: the third touch point on its element, nothing of
+    /// the boundary closer than `r`, and no touched face curving into the ball. (The two
+    /// touch points at the vertex are on their elements there: rounding may put one a hair
+    /// past a face's boundary, which `is_medial` would refuse.)
+    fn pinch_is_medial(&self, triplet: &[Element; 3], y: &DVector<f64>, third: usize) -> bool {
+        let r = y[3];
+        r > UNIT_ROUNDING
+            && self.on_segment(triplet[third], slot(y, third))
+            && self
+                .nearest_in(self.solid_of(triplet[third]), v3(y))
+                .is_some_and(|(_, h)| h.distance >= r - self.opts.accuracy)
+            && (0..3).all(|s| curvature_allows(self.model, triplet[s], slot(y, s), r))
+    }
+}
