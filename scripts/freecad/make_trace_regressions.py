@@ -7,7 +7,7 @@ features touching, a boss whose rounded corners end seams at a curved reflex edg
 spherical shell whose faces reach their poles, a split blind hole whose seams run along the
 line between its halves onto its floor's rim, a tapered pocket whose floor rim comes closer
 than the junction with its wall, a plate written as NURBS whose hole's seam circles the
-wall's parameter seam.
+wall's parameter seam, a hole inscribed in a square pocket (seams that end at pinches).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -279,6 +279,24 @@ def nurbs_hole_plate():
     plate = Part.makeBox(40, 40, 10).cut(cyl(5, 10, 20, 20))
     L.check_volume("nurbs_hole_plate (analytic)", plate, 40 * 40 * 10 - PI * 25 * 10, rel=1e-9)
     return plate.toNurbs()
+
+
+@part("hole_tangent_to_pocket",
+      "Block 20x20x12 with a square pocket 6x6, 4 deep, in its bottom and a hole r=3 from the "
+      "pocket's ceiling through the top, both centred at (10, 10): the hole's circle is "
+      "inscribed in the pocket's square, so the ceiling is four corner pieces that meet the "
+      "hole's wall and the pocket's walls at the four points where the circle touches the "
+      "square.",
+      20 * 20 * 12 - 6 * 6 * 4 - PI * 9 * 8,
+      "At each tangent point the hole's wall and the pocket's reflex ceiling edges meet "
+      "tangentially. The seam of an outer wall, the hole's wall and a ceiling edge comes down "
+      "to the ceiling's plane there (r = 3.5 at (10, 16.5, 4) for the wall y=20), where the "
+      "touch points on the hole's wall and on the edge meet at the tangent point: it ends at "
+      "a pinch, and so does the seam of the same wall, the hole's wall and the ceiling edge "
+      "on the other side, at the same ball.")
+def hole_tangent_to_pocket():
+    b = Part.makeBox(20, 20, 12).cut(Part.makeBox(6, 6, 4, V(7, 7, 0)))
+    return b.cut(cyl(3, 8, 10, 10, 4)).removeSplitter()
 
 
 def main():

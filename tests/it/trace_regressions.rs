@@ -93,3 +93,88 @@ fn every_regression_part_traces_with_no_seam_end_open() {
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+/// The hole inscribed in the square pocket: at each of the four points where the hole's circle
+/// touches the pocket's square, two seams come down to the ceiling's plane and end at a pinch
+/// of the hole's wall and a ceiling edge, at one ball: the one touching the outer wall
+/// 7 mm away and the tangent point, r = 3.5, centred 3.5 mm from the tangent point in the
+/// ceiling's plane z = 4 (e.g. (10, 16.5, 4) for the point (10, 13, 4)).
+#[test]
+fn seams_end_in_pairs_at_the_pinches_of_a_hole_tangent_to_a_pocket() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = root().join("samples/trace/hole_tangent_to_pocket.step");
+    let out = matrace(
+        &[
+            "trace",
+            path.to_str().unwrap(),
+            "-o",
+            dir.path().to_str().unwrap(),
+            "--no-svg",
+            "--no-mesh",
+            "--verify",
+        ],
+        &root(),
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(dir.path().join("hole_tangent_to_pocket.mat.json")).unwrap();
+    let report: Value = serde_json::from_str(&text).unwrap();
+    let vertices = report["model"]["vertices"].as_array().unwrap();
+    let mut balls: Vec<[f64; 4]> = vec![];
+    for s in report["mat"]["seams"].as_array().unwrap() {
+        for (k, end) in s["ends"].as_array().unwrap().iter().enumerate() {
+            let Some(pinch) = end.get("pinch") else {
+                continue;
+            };
+            let points = s["points"].as_array().unwrap();
+            let p = if k == 0 {
+                &points[0]
+            } else {
+                points.last().unwrap()
+            };
+            let b: Vec<f64> = p["point"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|c| c.as_f64().unwrap())
+                .collect();
+            let v = &vertices[pinch["vertex"].as_u64().unwrap() as usize]["point"];
+            let v: Vec<f64> = v
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|c| c.as_f64().unwrap())
+                .collect();
+            // The tangent point: on the ceiling's plane, 3 from the axis (10, 10).
+            assert!((v[2] - 4.0).abs() < 1e-9, "{v:?}");
+            assert!(
+                ((v[0] - 10.0).hypot(v[1] - 10.0) - 3.0).abs() < 1e-9,
+                "{v:?}"
+            );
+            // The ball: r = 3.5, in the plane z = 4, 3.5 beyond the tangent point from the axis.
+            let (ox, oy) = ((v[0] - 10.0) / 3.0, (v[1] - 10.0) / 3.0);
+            let want = [v[0] + 3.5 * ox, v[1] + 3.5 * oy, 4.0, 3.5];
+            for c in 0..4 {
+                assert!(
+                    (b[c] - want[c]).abs() < 1e-9,
+                    "seam {}: {b:?}, want {want:?}",
+                    s["id"]
+                );
+            }
+            balls.push([b[0], b[1], b[2], b[3]]);
+        }
+    }
+    assert_eq!(balls.len(), 8, "{balls:?}");
+    // In pairs: every pinch ball is another seam's too.
+    for b in &balls {
+        let same = balls
+            .iter()
+            .filter(|c| (0..4).all(|i| (b[i] - c[i]).abs() < 1e-4))
+            .count();
+        assert_eq!(same, 2, "{b:?} in {balls:?}");
+    }
+}
