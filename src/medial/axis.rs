@@ -267,6 +267,12 @@ pub struct Seam {
     pub points: Vec<SeamPoint>,
     /// Where a touch point moves to another element, in the order of the points.
     pub handovers: Vec<Handover>,
+    /// The points whose touch points make fewer separate places than a seam point needs at
+    /// the accuracy (see [`crate::medial::verify::unresolved_points`]): exact seam points whose
+    /// third contact the accuracy cannot tell from another (a shallow crease, a sliver face,
+    /// a face near its curvature limit). Verification holds them to two places.
+    #[serde(default)]
+    pub unresolved: Vec<usize>,
     /// How long the tracer took over this seam (s): not part of the medial axis, so not in
     /// the report's seam (the report's `stats.seam_trace_ms` lists them, by seam).
     #[serde(skip)]
@@ -303,6 +309,10 @@ pub struct Junction {
     pub segments: Vec<Element>,
     #[serde(deserialize_with = "nullable::points")]
     pub touch: Vec<[f64; 3]>,
+    /// True when the touch points make fewer than four separate places at the accuracy (two
+    /// of them on elements that meet, closer than `√(8·r·a)`): verification holds it to three.
+    #[serde(default)]
+    pub unresolved: bool,
 }
 
 /// What a degenerate piece's centres form.

@@ -12,7 +12,7 @@ use crate::geom::{project_point, FaceHit};
 use crate::medial::axis::{Junction, Node, OpenReason, SeamEnd};
 use crate::medial::equations::{vertex_angles, MedialSystem, NormalField};
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
-use crate::medial::verify::separation;
+use crate::medial::verify::{junction_unresolved, separation};
 use crate::model::Element;
 use glam::DVec3;
 use nalgebra::DVector;
@@ -362,14 +362,17 @@ impl Tracer<'_> {
             }
         }
         let id = self.junctions.len();
-        self.junctions.push(Junction {
+        let mut junction = Junction {
             id,
             solid,
             point: p.to_array(),
             radius: r,
             segments: segs.clone(),
             touch: touch.iter().map(|t| t.to_array()).collect(),
-        });
+            unresolved: false,
+        };
+        junction.unresolved = junction_unresolved(&junction, self.opts.accuracy);
+        self.junctions.push(junction);
         self.arrivals.push(vec![]);
         let k = segs.len();
         let mut dirs: Vec<DVec3> = vec![];
@@ -436,6 +439,7 @@ mod tests {
             radius: 1.0,
             segments: (0..4).map(Element::Face).collect(),
             touch: touch.to_vec(),
+            unresolved: false,
         }
     }
 

@@ -6,6 +6,7 @@ use super::options::{MAX_SEAMS, SAME_BRANCH};
 use super::tracer::Tracer;
 use super::unknowns::sorted;
 use crate::medial::axis::{Handover, Node, Seam, SeamEnd, SeamPoint};
+use crate::medial::verify::unresolved_points;
 use crate::model::Element;
 use std::collections::HashSet;
 
@@ -119,7 +120,7 @@ impl Tracer<'_> {
             same.push(id);
         }
         self.stats.points += points.len();
-        self.seams.push(Seam {
+        let mut seam = Seam {
             id,
             solid: self.solid_of(triplet[0]),
             segments: triplet.to_vec(),
@@ -127,8 +128,11 @@ impl Tracer<'_> {
             end_segments: last.to_vec(),
             points,
             handovers,
+            unresolved: vec![],
             trace_seconds: seconds,
-        });
+        };
+        seam.unresolved = unresolved_points(&seam, self.opts.accuracy);
+        self.seams.push(seam);
     }
 }
 

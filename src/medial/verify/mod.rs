@@ -17,7 +17,11 @@
 //!   contact cannot pass for two. Seam points need 3 places (2 at a curvature-limit end,
 //!   where the ball osculates a face, and at a pinch, where two touch points meet at a
 //!   vertex), junctions 4, degenerate balls 2. A ball with `r ≤ a` (a seam's end at a convex
-//!   vertex) is a point and is exempt from this and from `inside`.
+//!   vertex) is a point and is exempt from this and from `inside`. A seam point the seam lists
+//!   as `unresolved` (a junction marked so) needs one place fewer where the geometry explains
+//!   the shortfall: the touch points closer than the separation are on faces that meet (a
+//!   shallow crease, a sliver face), found from where they are, or on the face of the
+//!   element where the seam ends at its curvature limit or a pinch.
 //!
 //! Then the graph ([`topology`]): every seam end is proper (a convex vertex, a junction, a
 //! closed loop, a curvature limit, or a pinch whose two touch points are at its vertex to
@@ -35,7 +39,7 @@ mod balls;
 mod outcome;
 pub mod topology;
 
-pub use balls::separation;
+pub use balls::{junction_unresolved, separation, unresolved_points};
 pub use outcome::{nan_max, CheckCount, Verification, MAX_FAILURES_KEPT};
 pub use topology::{check_topology, Topology};
 
