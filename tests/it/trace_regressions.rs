@@ -178,3 +178,63 @@ fn seams_end_in_pairs_at_the_pinches_of_a_hole_tangent_to_a_pocket() {
         assert_eq!(same, 2, "{b:?} in {balls:?}");
     }
 }
+
+/// The block with a shallow roof: the seams leaving the ridge's ends between the two roof
+/// planes have points, near those vertices, whose touch points on the planes are closer than
+/// `√(8·r·a)`. They are listed as unresolved, each one's two close touch points on the two
+/// roof planes (either side of the ridge x = 20), and `--verify` passes with them held to two
+/// places.
+#[test]
+fn points_the_accuracy_cannot_separate_are_marked_unresolved_and_verified() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = root().join("samples/trace/shallow_roof.step");
+    let out = matrace(
+        &[
+            "trace",
+            path.to_str().unwrap(),
+            "-o",
+            dir.path().to_str().unwrap(),
+            "--no-svg",
+            "--no-mesh",
+            "--verify",
+        ],
+        &root(),
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(dir.path().join("shallow_roof.mat.json")).unwrap();
+    let report: Value = serde_json::from_str(&text).unwrap();
+    let accuracy = report["options"]["accuracy"].as_f64().unwrap();
+    let mut marked = 0;
+    for s in report["mat"]["seams"].as_array().unwrap() {
+        for k in s["unresolved"].as_array().unwrap() {
+            let p = &s["points"][k.as_u64().unwrap() as usize];
+            let r = p["point"][3].as_f64().unwrap();
+            let t: Vec<[f64; 3]> = (0..3)
+                .map(|i| std::array::from_fn(|c| p["touch"][i][c].as_f64().unwrap()))
+                .collect();
+            let d = |a: &[f64; 3], b: &[f64; 3]| {
+                (0..3).map(|c| (a[c] - b[c]).powi(2)).sum::<f64>().sqrt()
+            };
+            let sep = (8.0 * r * accuracy).sqrt();
+            let close: Vec<(usize, usize)> = [(0, 1), (0, 2), (1, 2)]
+                .into_iter()
+                .filter(|&(i, j)| d(&t[i], &t[j]) <= sep)
+                .collect();
+            assert_eq!(close.len(), 1, "seam {} point {k}: {t:?}, r = {r}", s["id"]);
+            let (i, j) = close[0];
+            // Either side of the ridge, near it.
+            assert!((t[i][0] - 20.0) * (t[j][0] - 20.0) < 0.0, "{t:?}");
+            assert!(
+                (t[i][0] - 20.0).abs() < sep && (t[j][0] - 20.0).abs() < sep,
+                "{t:?}"
+            );
+            marked += 1;
+        }
+    }
+    assert!(marked >= 2, "{marked} points marked unresolved");
+}
