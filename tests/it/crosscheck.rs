@@ -19,37 +19,35 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// Open seam ends at hand-overs near vertices (the system there singular, or the corrector
-/// converging to another ball), and seam points near shallow creases whose touch points the
-/// accuracy cannot separate; with them, junctions missing a seam end, sheets that do not
+/// converging to another ball); with them, junctions missing a seam end, sheets that do not
 /// close and, in OCCT, a few sheet-mesh vertices past a sheet's boundary.
 const VOIDS_TURNED: &str = "its ten voids, which the file orients into the material, are \
     turned by their geometry on reading (the readers agree since: OCCT put 1242 centres \
-    outside before); no seam ends open, but as SHALLOW_FACETS (`separated`, \
-    `sheets_closed`), and one face reached by no ball";
+    outside before); no seam ends open, but as SHALLOW_FACETS (`sheets_closed`), and one face \
+    reached by no ball";
 
 const OPEN_AND_SHALLOW: &str = "seams end open where a touch point is handed to the next \
     element near a vertex (a junction with the vertex or edge, not located yet); seams leaving \
     a vertex between faces at a shallow angle have points whose touch points on those faces \
-    lie closer than √(8·r·accuracy) (`separated`); a junction whose seam ended open misses \
-    that seam end (`junction_seams`); sheet boundaries stay open where seams end open and at \
-    mixed vertices, where a convex edge's rim meets no seam (on the LCD knob all 36 are at \
-    mixed vertices: `sheets_closed`, issue 20)";
+    lie closer than √(8·r·accuracy), listed as unresolved and verified as such; where a seam \
+    ends open, a point may hold two touch points on one face or edge that nothing explains \
+    (`separated`); a junction whose seam ended open misses that seam end \
+    (`junction_seams`); sheet boundaries stay open where seams end open and at mixed \
+    vertices, where a convex edge's rim meets no seam (on the LCD knob all 36 are at mixed \
+    vertices: `sheets_closed`, issue 20)";
 
 /// No seam end open any more: the seams under holes tangent to a pocket's walls end at pinches.
 const PINCHED: &str = "no seams end open: the seams under its holes, each inscribed in a \
     square pocket, end in pairs at pinches where the hole's wall meets the pocket's ceiling \
-    edges (docs/design.md, Pinches); seams leaving a vertex between faces at a shallow angle \
-    have points whose touch points lie closer than √(8·r·accuracy) (`separated`); sheet \
-    boundaries stay open at mixed vertices, where a convex edge's rim meets no seam \
-    (`sheets_closed`, issue 20)";
+    edges (docs/design.md, Pinches); sheet boundaries stay open at mixed vertices, where a \
+    convex edge's rim meets no seam (`sheets_closed`, issue 20)";
 
 /// No seam end open any more, but faceted walls above the angle tolerance.
 const SHALLOW_FACETS: &str = "no seam ends open; seams leaving a vertex between faces at a \
     shallow angle (above the tolerance) have points whose touch points on those faces lie \
-    closer than √(8·r·accuracy) (`separated`); some junctions miss a seam end \
-    (`junction_seams`) and sheet boundaries stay open at mixed vertices (`sheets_closed`, \
-    issue 20); on the Dragon one sheet-mesh ball lies in a trim polygon's sliver \
-    (`occt:inside`, `occt:mesh_contacts`)";
+    closer than √(8·r·accuracy), listed as unresolved and verified as such; some junctions \
+    miss a seam end (`junction_seams`) and sheet boundaries stay open at mixed vertices \
+    (`sheets_closed`, issue 20)";
 
 /// The apex of a square pyramid is a non-generic point: four faces meet symmetrically, so the
 /// seam from it is where four sheets meet, which the sheet pairing does not handle yet.
@@ -75,9 +73,10 @@ const SLOT_CORNERS: &str = "no seam ends open: the seams under its slots' rounde
 const MESH_PAST_BOUNDARY: &str = "sheet-mesh vertices next to a sheet's boundary lie past \
     it, where the ball has one contact (`occt:mesh_contacts`); the seams themselves pass";
 
-const SCREW: &str = "seams end open at hand-overs; 25 seam balls touch only two places \
-    farther apart than the separation √(8·r·a) (`separated`, not yet looked into); two \
-    sheet-mesh vertices lie past a sheet's boundary (`occt:mesh_contacts`)";
+const SCREW: &str = "a seam ends open at a touch point handed back and forth between a \
+    vertex and an edge; the balls next to the thread's creases touch two places at the \
+    accuracy and are listed as unresolved; two sheet-mesh vertices lie past a sheet's \
+    boundary (`occt:mesh_contacts`)";
 
 const MOTOR_PLATE: &str = "a few touch points lie up to 5.7e-4 mm off the boundary and a few \
     balls' nearest boundary is up to 1.4e-4 mm closer than r (the accuracy is 7.4e-5 mm); \
@@ -120,9 +119,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
         &[
             ("occt:mesh_contacts", 2),
             ("occt:seam_ends", 1),
-            ("occt:separated", 24),
             ("verify:seam_ends", 1),
-            ("verify:separated", 24),
             ("verify:sheets_closed", 17),
         ],
         SCREW,
@@ -154,11 +151,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
     ),
     (
         "prusa_LCD-knob.stp",
-        &[
-            ("occt:separated", 12),
-            ("verify:separated", 12),
-            ("verify:sheets_closed", 36),
-        ],
+        &[("verify:sheets_closed", 36)],
         OPEN_AND_SHALLOW,
     ),
     (
@@ -168,11 +161,10 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:junction_seams", 1),
             ("occt:mesh_contacts", 3),
             ("occt:seam_ends", 16),
-            ("occt:separated", 3),
+            ("occt:separated", 1),
             ("occt:touch_on_boundary", 4),
             ("verify:junction_seams", 1),
             ("verify:seam_ends", 16),
-            ("verify:separated", 3),
             ("verify:sheets_closed", 10),
         ],
         GAPS_ACCEPTED,
@@ -181,10 +173,9 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "prusa_extruder-idler.stp",
         &[
             ("occt:seam_ends", 1),
-            ("occt:separated", 12),
             ("occt:touch_on_boundary", 1),
             ("verify:seam_ends", 1),
-            ("verify:separated", 12),
+            ("verify:separated", 1),
             ("verify:sheets_closed", 72),
             ("verify:touch_on_boundary", 1),
         ],
@@ -199,14 +190,13 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:junction_seams", 9),
             ("occt:mesh_contacts", 1),
             ("occt:seam_ends", 13),
-            ("occt:separated", 64),
             ("occt:touch_at_radius", 1),
             ("occt:touch_on_boundary", 10),
             ("verify:distance", 6),
             ("verify:faces_touched", 4),
             ("verify:junction_seams", 9),
             ("verify:seam_ends", 13),
-            ("verify:separated", 64),
+            ("verify:separated", 1),
             ("verify:sheets_closed", 67),
             ("verify:touch_at_radius", 1),
             ("verify:touch_on_boundary", 3),
@@ -215,11 +205,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
     ),
     (
         "prusa_fs-lever.stp",
-        &[
-            ("occt:separated", 3),
-            ("verify:separated", 3),
-            ("verify:sheets_closed", 26),
-        ],
+        &[("verify:sheets_closed", 26)],
         SHALLOW_FACETS,
     ),
     (
@@ -227,20 +213,14 @@ const EXPECTED_FAILURES: &[Expected] = &[
         &[
             ("occt:faces_touched", 1),
             ("occt:mesh_contacts", 1),
-            ("occt:separated", 13),
             ("verify:faces_touched", 1),
-            ("verify:separated", 13),
             ("verify:sheets_closed", 12),
         ],
         VOIDS_TURNED,
     ),
     (
         "prusa_y-rod-holder.stp",
-        &[
-            ("occt:separated", 4),
-            ("verify:separated", 4),
-            ("verify:sheets_closed", 79),
-        ],
+        &[("verify:sheets_closed", 79)],
         PINCHED,
     ),
     (
@@ -275,9 +255,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "stepswift_nist_ctc_01_asme1_rd.stp",
         &[
             ("occt:seam_ends", 4),
-            ("occt:separated", 32),
             ("verify:seam_ends", 4),
-            ("verify:separated", 32),
             ("verify:sheets_closed", 56),
         ],
         OPEN_AND_SHALLOW,
@@ -288,22 +266,16 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:faces_touched", 6),
             ("occt:mesh_contacts", 3),
             ("occt:seam_ends", 4),
-            ("occt:separated", 33),
             ("verify:convex_vertices", 2),
             ("verify:faces_touched", 6),
             ("verify:seam_ends", 4),
-            ("verify:separated", 33),
             ("verify:sheets_closed", 22),
         ],
         FTC06,
     ),
     (
         "stepswift_nist_ftc_09_asme1_rd.stp",
-        &[
-            ("occt:separated", 14),
-            ("verify:separated", 14),
-            ("verify:sheets_closed", 6),
-        ],
+        &[("verify:sheets_closed", 6)],
         SHALLOW_FACETS,
     ),
     (
@@ -313,12 +285,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
     ),
     (
         "trimesh_featuretype.STEP",
-        &[
-            ("occt:mesh_contacts", 2),
-            ("occt:separated", 2),
-            ("verify:separated", 2),
-            ("verify:sheets_closed", 20),
-        ],
+        &[("occt:mesh_contacts", 2), ("verify:sheets_closed", 20)],
         SHALLOW_FACETS,
     ),
     (
@@ -330,9 +297,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "voron0_Hotend_Mount_Dragon.step",
         &[
             ("occt:junction_seams", 5),
-            ("occt:separated", 116),
             ("verify:junction_seams", 5),
-            ("verify:separated", 116),
             ("verify:sheets_closed", 145),
         ],
         SHALLOW_FACETS,
@@ -342,10 +307,8 @@ const EXPECTED_FAILURES: &[Expected] = &[
         &[
             ("occt:junction_seams", 1),
             ("occt:seam_ends", 5),
-            ("occt:separated", 156),
             ("verify:junction_seams", 1),
             ("verify:seam_ends", 5),
-            ("verify:separated", 153),
             ("verify:sheets_closed", 103),
         ],
         OPEN_AND_SHALLOW,
@@ -356,11 +319,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:junction_seams", 10),
             ("occt:mesh_contacts", 1),
             ("occt:seam_ends", 9),
-            ("occt:separated", 134),
+            ("occt:separated", 2),
             ("occt:touch_on_boundary", 6),
             ("verify:junction_seams", 10),
             ("verify:seam_ends", 9),
-            ("verify:separated", 134),
+            ("verify:separated", 2),
             ("verify:sheets_closed", 129),
         ],
         OPEN_AND_SHALLOW,
