@@ -71,14 +71,13 @@ impl Tracer<'_> {
         }
     }
 
-    /// The pinch exactly, where one of the two elements `pair` is a face: there the ball
-    /// touches the vertex along that face's normal, so its centre is on the normal line
-    /// `V − r·n` and only its radius and the third element's touch point are unknown (the
-    /// two-element system of the vertex and the third element, with the vertex's normal
-    /// held). The seam point is that ball when both elements of the pair take it at the
-    /// vertex (the system of `triplet` holds there to a tenth of the accuracy: a file's
-    /// vertex may lie a little off its edges' ends), as where they meet tangentially;
-    /// otherwise `None`.
+    /// The pinch exactly, where the two elements `pair` fix the ball's normal at the vertex
+    /// (see [`Self::pinch_normal`]): its centre is then on the normal line `V − r·n` and only
+    /// its radius and the third element's touch point are unknown (the two-element system of
+    /// the vertex and the third element, with the vertex's normal held). The seam point is
+    /// that ball when both elements of the pair take it at the vertex (the system of `triplet`
+    /// holds there to a tenth of the accuracy: a file's vertex may lie a little off its
+    /// edges' ends), as where they meet tangentially; otherwise `None`.
     fn pinch_on_normal(
         &self,
         sys: &MedialSystem,
