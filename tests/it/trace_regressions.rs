@@ -94,15 +94,11 @@ fn every_regression_part_traces_with_no_seam_end_open() {
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 
-/// The hole inscribed in the square pocket: at each of the four points where the hole's circle
-/// touches the pocket's square, two seams come down to the ceiling's plane and end at a pinch
-/// of the hole's wall and a ceiling edge, at one ball: the one touching the outer wall
-/// 7 mm away and the tangent point, r = 3.5, centred 3.5 mm from the tangent point in the
-/// ceiling's plane z = 4 (e.g. (10, 16.5, 4) for the point (10, 13, 4)).
-#[test]
-fn seams_end_in_pairs_at_the_pinches_of_a_hole_tangent_to_a_pocket() {
+/// The report of `trace --verify` on regression part `name` (`samples/trace/<name>.step`),
+/// which must pass.
+fn traced_and_verified(name: &str) -> Value {
     let dir = tempfile::tempdir().unwrap();
-    let path = root().join("samples/trace/hole_tangent_to_pocket.step");
+    let path = root().join("samples/trace").join(format!("{name}.step"));
     let out = matrace(
         &[
             "trace",
@@ -118,11 +114,21 @@ fn seams_end_in_pairs_at_the_pinches_of_a_hole_tangent_to_a_pocket() {
     assert_eq!(
         out.status.code(),
         Some(0),
-        "{}",
+        "{name}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let text = std::fs::read_to_string(dir.path().join("hole_tangent_to_pocket.mat.json")).unwrap();
-    let report: Value = serde_json::from_str(&text).unwrap();
+    let text = std::fs::read_to_string(dir.path().join(format!("{name}.mat.json"))).unwrap();
+    serde_json::from_str(&text).unwrap()
+}
+
+/// The hole inscribed in the square pocket: at each of the four points where the hole's circle
+/// touches the pocket's square, two seams come down to the ceiling's plane and end at a pinch
+/// of the hole's wall and a ceiling edge, at one ball: the one touching the outer wall
+/// 7 mm away and the tangent point, r = 3.5, centred 3.5 mm from the tangent point in the
+/// ceiling's plane z = 4 (e.g. (10, 16.5, 4) for the point (10, 13, 4)).
+#[test]
+fn seams_end_in_pairs_at_the_pinches_of_a_hole_tangent_to_a_pocket() {
+    let report = traced_and_verified("hole_tangent_to_pocket");
     let vertices = report["model"]["vertices"].as_array().unwrap();
     let mut balls: Vec<[f64; 4]> = vec![];
     for s in report["mat"]["seams"].as_array().unwrap() {
@@ -186,28 +192,7 @@ fn seams_end_in_pairs_at_the_pinches_of_a_hole_tangent_to_a_pocket() {
 /// places.
 #[test]
 fn points_the_accuracy_cannot_separate_are_marked_unresolved_and_verified() {
-    let dir = tempfile::tempdir().unwrap();
-    let path = root().join("samples/trace/shallow_roof.step");
-    let out = matrace(
-        &[
-            "trace",
-            path.to_str().unwrap(),
-            "-o",
-            dir.path().to_str().unwrap(),
-            "--no-svg",
-            "--no-mesh",
-            "--verify",
-        ],
-        &root(),
-    );
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = std::fs::read_to_string(dir.path().join("shallow_roof.mat.json")).unwrap();
-    let report: Value = serde_json::from_str(&text).unwrap();
+    let report = traced_and_verified("shallow_roof");
     let accuracy = report["options"]["accuracy"].as_f64().unwrap();
     let mut marked = 0;
     for s in report["mat"]["seams"].as_array().unwrap() {

@@ -106,17 +106,11 @@ impl Tracer<'_> {
             let (lo, hi) = self.model.edges[e].range;
             let te = slot(&xc, i)[0];
             let end = if te - lo < hi - te { lo } else { hi };
-            let mut row = DVector::zeros(10);
-            row[4 + 2 * i] = 1.0;
-            let sol = solve(
-                |z| sys.eval_with_row(self.model, z, &row, end),
-                xc.clone(),
-                &self.solve_opts(),
-            );
-            if sol.status == SolveStatus::Converged
-                && v3(&sol.x).distance(v3(&xc)) <= SAME_PLACE_REL_ACCURACY * acc
+            if let Some(y) = self
+                .solve_holding(&sys, &xc, 4 + 2 * i, end)
+                .filter(|y| v3(y).distance(v3(&xc)) <= SAME_PLACE_REL_ACCURACY * acc)
             {
-                xc = sol.x;
+                xc = y;
             }
         }
         match self.hand_over_at(triplet, i, &xc, t, exit) {
@@ -145,8 +139,6 @@ impl Tracer<'_> {
         xc: &DVector<f64>,
     ) -> Option<DVector<f64>> {
         let acc = self.opts.accuracy;
-        let mut row = DVector::zeros(10);
-        row[5 + 2 * i] = 1.0;
         let mut y = xc.clone();
         for _ in 0..4 {
             let s = slot(&y, i);
@@ -160,15 +152,7 @@ impl Tracer<'_> {
             if (end - s[1]).abs() <= 1e-12 {
                 break;
             }
-            let sol = solve(
-                |z| sys.eval_with_row(self.model, z, &row, end),
-                y.clone(),
-                &self.solve_opts(),
-            );
-            if sol.status != SolveStatus::Converged {
-                return None;
-            }
-            y = sol.x;
+            y = self.solve_holding(sys, &y, 5 + 2 * i, end)?;
         }
         (v3(&y).distance(v3(xc)) <= SAME_PLACE_REL_ACCURACY * acc).then_some(y)
     }

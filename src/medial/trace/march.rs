@@ -559,18 +559,7 @@ impl Tracer<'_> {
         sys: &MedialSystem,
         xn: DVector<f64>,
     ) -> (DVector<f64>, Option<usize>) {
-        let mut r_row = DVector::zeros(xn.len());
-        r_row[3] = 1.0;
-        let xe = solve(
-            |y| sys.eval_with_row(self.model, y, &r_row, 0.0),
-            xn.clone(),
-            &self.solve_opts(),
-        );
-        let xe = if xe.status == SolveStatus::Converged {
-            xe.x
-        } else {
-            xn
-        };
+        let xe = self.solve_holding(sys, &xn, 3, 0.0).unwrap_or(xn);
         let b = v3(&xe);
         let v = (0..self.model.vertices.len())
             .min_by(|&a, &c| {

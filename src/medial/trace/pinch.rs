@@ -224,23 +224,14 @@ impl Tracer<'_> {
             _ => None,
         })?;
         let end = self.edge_end_at(e, v, slot(x, s)[0])?;
-        let mut row = DVector::zeros(10);
-        row[4 + 2 * s] = 1.0;
-        let sol = solve(
-            |z| sys.eval_with_row(self.model, z, &row, end),
-            x.clone(),
-            &self.solve_opts(),
-        );
-        if sol.status != SolveStatus::Converged
-            || v3(&sol.x).distance(v3(x)) > REACH_REL_ACCURACY * acc
-        {
-            return None;
-        }
+        let y = self
+            .solve_holding(sys, x, 4 + 2 * s, end)
+            .filter(|y| v3(y).distance(v3(x)) <= REACH_REL_ACCURACY * acc)?;
         let p = self.model.vertices[v].point;
-        let t = self.touches(triplet, &sol.x);
+        let t = self.touches(triplet, &y);
         pair.iter()
             .all(|&k| t[k].is_some_and(|q| q.distance(p) <= acc))
-            .then_some(sol.x)
+            .then_some(y)
     }
 
     /// True when the pinch `y` is medial: the third touch point on its element, nothing of

@@ -8,7 +8,7 @@ use crate::geom::{project_point, Boundary, FaceHit};
 use crate::medial::axis::{Degenerate, Junction, MedialAxis, Node, Seam, SeamPoint, TraceStats};
 use crate::medial::equations::{vertex_angles, MedialSystem, NormalField};
 use crate::medial::segments::SegmentGroups;
-use crate::medial::solver::SolveOptions;
+use crate::medial::solver::{solve, SolveOptions, SolveStatus};
 use crate::model::{Element, Model};
 use glam::DVec3;
 use nalgebra::DVector;
@@ -115,6 +115,26 @@ impl<'a> Tracer<'a> {
             tol: self.opts.solver_tol,
             max_iter: MAX_CORRECTOR_ITER,
         }
+    }
+
+    /// The point of `sys` near `x0` with unknown `k` held at `value` (an edge's parameter at
+    /// its end, a normal's angle at its arc's end, `r = 0`): the seam's system made square by
+    /// that one equation and solved by Newton from `x0`; `None` unless it converges.
+    pub(super) fn solve_holding(
+        &self,
+        sys: &MedialSystem,
+        x0: &DVector<f64>,
+        k: usize,
+        value: f64,
+    ) -> Option<DVector<f64>> {
+        let mut row = DVector::zeros(x0.len());
+        row[k] = 1.0;
+        let sol = solve(
+            |z| sys.eval_with_row(self.model, z, &row, value),
+            x0.clone(),
+            &self.solve_opts(),
+        );
+        (sol.status == SolveStatus::Converged).then_some(sol.x)
     }
 
     pub(super) fn solid_of(&self, seg: Element) -> usize {
