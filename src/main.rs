@@ -218,6 +218,14 @@ fn verification_text(what: &str, v: &matrace::medial::Verification) -> String {
         .map(|(k, c)| format!("{k} {}/{}", c.checked - c.failed, c.checked))
         .collect();
     let _ = writeln!(s, "  checks passed: {}", checks.join(", "));
+    if v.held_to_gap > 0 {
+        let _ = writeln!(
+            s,
+            "  {} errors beyond the accuracy, up to {:.2e} mm, are within the file's own gaps \
+             (edges written off their faces' surfaces) and passed",
+            v.held_to_gap, v.largest_gap_held
+        );
+    }
     for w in &v.euler_withheld {
         let _ = writeln!(s, "  Euler characteristic not compared: {w}");
     }

@@ -278,6 +278,10 @@ fn write_outputs(
         verify: opts.part.verify,
     };
     let mut report = TraceReport::new(model, class, axis, sheets, options);
+    report
+        .input
+        .warnings
+        .extend(crate::model::warnings::gaps_beyond(model, tol.accuracy));
     let mut written = vec![];
     // The seams as B-splines in STEP, beside the part (optionally with it).
     let fit_opts = crate::fit::FitOptions { tol: tol.fit };

@@ -262,23 +262,14 @@ struct Sample {
     seam_dir: Option<DVec3>,
 }
 
-/// The UV polygon of one loop of `face` (see the module docs), within `tol_mm` of the
-/// loop's edges where the file allows it ([`LoopPolygon`]). A vertex loop gives one point.
-pub fn loop_uv(
-    model: &Model,
-    face_index: usize,
-    lp: &Loop,
-    tol_mm: f64,
-) -> Result<LoopPolygon, String> {
-    loop_uv_and_gap(model, face_index, lp, tol_mm).map(|(poly, _)| poly)
-}
-
 /// The largest distance of a loop's points from its face's surface: in mm, and relative to
 /// the coordinates' size `1 + |p|∞` there.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SurfaceGap {
     pub mm: f64,
     pub rel: f64,
+    /// The largest distance in mm (of any point, whatever its coordinates' size).
+    pub largest_mm: f64,
 }
 
 /// How far a loop's UV polygon may stray from the loop's exact edges (measured on the
@@ -340,7 +331,9 @@ pub struct LoopPolygon {
     pub worst_mm: f64,
 }
 
-/// [`loop_uv`], and how far the loop's sampled points are from the face's surface.
+/// The UV polygon of one loop of `face` (see the module docs), within `tol_mm` of the
+/// loop's edges where the file allows it ([`LoopPolygon`]), and how far the loop's sampled
+/// points are from the face's surface. A vertex loop gives one point.
 pub fn loop_uv_and_gap(
     model: &Model,
     face_index: usize,
@@ -366,7 +359,14 @@ pub fn loop_uv_and_gap(
             counts: Vec::new(),
             worst_mm: 0.0,
         };
-        return Ok((poly, SurfaceGap { mm, rel }));
+        return Ok((
+            poly,
+            SurfaceGap {
+                mm,
+                rel,
+                largest_mm: mm,
+            },
+        ));
     }
     let mut counts: Vec<usize> = lp
         .edges
@@ -556,8 +556,10 @@ fn project_samples(face: &Face, periodic: bool, samples: &[Sample]) -> Projected
         if let Some((_, _, mm)) = found {
             let rel = mm / (1.0 + s.p.abs().max_element());
             if rel > gap.rel {
-                gap = SurfaceGap { mm, rel };
+                gap.mm = mm;
+                gap.rel = rel;
             }
+            gap.largest_mm = gap.largest_mm.max(mm);
         }
         if let (Some(uv), false) = (uv, pole) {
             before = hint;

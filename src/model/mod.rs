@@ -141,6 +141,19 @@ pub struct Loop {
     /// one point there one of the two chords would cut across the face (see
     /// [`crate::ingest::domain::pole_outline`]).
     pub outline: Vec<glam::DVec2>,
+    /// The largest distance (mm) of the loop's edge curves and vertices from the face's
+    /// surface, as the reader measured it while sampling `uv` (0 for a vertex loop on it):
+    /// where exporters write edges that follow one face and not the other, the face's
+    /// boundary is defined only to this.
+    pub gap_mm: f64,
+}
+
+impl Face {
+    /// The largest distance (mm) of the face's edges and vertices from its surface
+    /// ([`Loop::gap_mm`] over its loops).
+    pub fn gap_mm(&self) -> f64 {
+        self.loops.iter().map(|l| l.gap_mm).fold(0.0, f64::max)
+    }
 }
 
 impl Loop {

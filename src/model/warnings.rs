@@ -124,6 +124,37 @@ pub fn summary_line(warnings: &[ReadWarning]) -> String {
         .join("; ")
 }
 
+/// What [`gaps_beyond`] says of faces whose edges lie off their surfaces.
+pub const GAP_BEYOND_ACCURACY_PROBLEM: &str =
+    "face's edges lie off its surface by more than the accuracy (the file's own gap)";
+
+/// What is done about it.
+pub const GAP_BEYOND_ACCURACY_ACTION: &str =
+    "traced on the surfaces; balls near those faces are verified to the accuracy plus the gap";
+
+/// A warning (kind `gap`) when some face's edges lie off its surface by more than `accuracy`
+/// ([`Face::gap_mm`](super::Face::gap_mm), measured on reading): the first such face, how
+/// many there are and the largest gap. Exporters write edges that follow one of their faces
+/// and not the other, within the file's declared uncertainty; near them the boundary is
+/// defined only to that gap, whatever accuracy is asked for.
+pub fn gaps_beyond(model: &super::Model, accuracy: f64) -> Option<ReadWarning> {
+    let over: Vec<(usize, &super::Face)> = model
+        .faces
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| f.gap_mm() > accuracy)
+        .collect();
+    let &(i, first) = over.first()?;
+    Some(ReadWarning {
+        kind: "gap",
+        entity: format!("face F{i} (entity {})", first.source_id),
+        count: over.len(),
+        problem: GAP_BEYOND_ACCURACY_PROBLEM.into(),
+        action: GAP_BEYOND_ACCURACY_ACTION.into(),
+        largest_gap_mm: Some(over.iter().map(|(_, f)| f.gap_mm()).fold(0.0, f64::max)),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -570,6 +570,7 @@ mod tests {
             uv: (0..n).map(|k| f(k as f64 / n as f64)).collect(),
             uv_counts: vec![],
             outline: vec![],
+            gap_mm: 0.0,
         }
     }
 
@@ -627,6 +628,7 @@ mod tests {
             uv: vec![DVec2::new(0.0, 40.0)],
             uv_counts: vec![],
             outline: vec![],
+            gap_mm: 0.0,
         });
         face.domain.v = (-0.5, 40.0);
         assert!(contains(&face, DVec2::new(3.0, 20.0)));

@@ -167,6 +167,7 @@ fn build_loop(
                 uv: vec![],
                 uv_counts: vec![],
                 outline: vec![],
+                gap_mm: 0.0,
             }),
             None => Err(ctx.err(de, "empty loop")),
         };
@@ -188,6 +189,7 @@ fn build_loop(
         uv: vec![],
         uv_counts: vec![],
         outline: vec![],
+        gap_mm: 0.0,
     })
 }
 

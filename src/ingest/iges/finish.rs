@@ -26,7 +26,7 @@
 use super::ctx::Ctx;
 use crate::error::Result;
 use crate::ingest::domain::{
-    align_loops, face_domain, loop_polygon_tolerance, loop_uv, signed_area,
+    align_loops, face_domain, loop_polygon_tolerance, loop_uv_and_gap, signed_area,
 };
 use crate::model::*;
 use glam::DVec3;
@@ -232,8 +232,8 @@ fn face_loops(
     let mut loops = std::mem::take(&mut model.faces[f].loops);
     let mut failed = None;
     for l in &mut loops {
-        match loop_uv(model, f, l, tol) {
-            Ok(poly) => {
+        match loop_uv_and_gap(model, f, l, tol) {
+            Ok((poly, gap)) => {
                 if poly.worst_mm > tol {
                     ctx.warn(
                         "coarse_trim",
@@ -248,6 +248,7 @@ fn face_loops(
                 }
                 l.uv = poly.uv;
                 l.uv_counts = poly.counts;
+                l.gap_mm = gap.largest_mm;
             }
             Err(reason) => {
                 failed = Some((l.source_id, reason));

@@ -254,6 +254,7 @@ fn push_faces(
                 uv: vec![],
                 uv_counts: vec![],
                 outline: vec![],
+                gap_mm: 0.0,
             });
         }
         model.faces.push(Face {

@@ -128,6 +128,7 @@ fn compute_domains(src: &Source, model: &mut Model) -> Result<()> {
         for (l, (poly, gap)) in m.faces[fi].loops.iter_mut().zip(uv) {
             l.uv = poly.uv;
             l.uv_counts = poly.counts;
+            l.gap_mm = gap.largest_mm;
             if poly.worst_mm > tol {
                 src.warn_gap(
                     "coarse_trim",

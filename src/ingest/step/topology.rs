@@ -503,6 +503,7 @@ impl Walk<'_> {
                     uv: vec![],
                     uv_counts: vec![],
                     outline: vec![],
+                    gap_mm: 0.0,
                 })
             }
             "EDGE_LOOP" => {
@@ -556,6 +557,7 @@ impl Walk<'_> {
                     uv: vec![],
                     uv_counts: vec![],
                     outline: vec![],
+                    gap_mm: 0.0,
                 })
             }
             "POLY_LOOP" => Err(self

@@ -547,12 +547,16 @@ impl Tracer<'_> {
             0.0
         };
         let (slide, sink) = (xc[3] * kink.sin(), xc[3] * (1.0 - kink.cos()));
+        // Where the file's edge between the two follows one surface and not the other, the
+        // ball moves by up to that gap as it passes from one to the other.
+        let file_gap = self.element_gap(seg).max(self.element_gap(to));
         let same = sol.status == SolveStatus::Converged
-            && v3(&sol.x).distance(v3(&xc)) <= 2.0 * acc + 10.0 * gap + sink
+            && v3(&sol.x).distance(v3(&xc)) <= 2.0 * acc + 10.0 * gap + sink + file_gap
             && sys_point(self.model, to, slot(&sol.x, i)).is_some_and(|q| {
                 let d = q.distance(p);
-                d <= 2.0 * acc + 2.0 * gap
-                    || (d <= 2.0 * acc + 2.0 * gap + slide && self.on_segment(to, slot(&sol.x, i)))
+                d <= 2.0 * acc + 2.0 * gap + file_gap
+                    || (d <= 2.0 * acc + 2.0 * gap + file_gap + slide
+                        && self.on_segment(to, slot(&sol.x, i)))
             });
         if !same {
             return Err(HandOverError::Stop(OpenReason::NoSeamPointAfterHandover {

@@ -148,8 +148,10 @@ impl Tracer<'_> {
         }
         // A touch point that leaves its element is handed over to the next one across the
         // edge it crossed (xn itself, off the element, is not output).
-        if let Some(i) = (0..3).find(|&i| !self.stays_on(m.triplet[i], slot(&m.x, i), slot(&xn, i)))
-        {
+        if let Some(i) = (0..3).find(|&i| {
+            !self.stays_on(m.triplet[i], slot(&m.x, i), slot(&xn, i))
+                && !self.beyond_convex_edge_within_gap(m.triplet[i], slot(&xn, i))
+        }) {
             return self.cross_over(m, i);
         }
         // Another part of the boundary closer than r: a junction between x and xn.

@@ -56,6 +56,9 @@ pub(super) struct Tracer<'a> {
     /// In the current march: a face and a smooth edge of it along which a touch point runs
     /// (see [`Tracer::stays_on`]).
     pub(super) along: Option<(usize, usize)>,
+    /// Each face's gap ([`crate::model::Face::gap_mm`]) where it is more than the accuracy,
+    /// else 0 (see [`Tracer::on_boundary_within_gap`]).
+    pub(super) face_gap: Vec<f64>,
 }
 
 impl<'a> Tracer<'a> {
@@ -98,6 +101,12 @@ impl<'a> Tracer<'a> {
             queue: VecDeque::new(),
             stats: TraceStats::default(),
             along: None,
+            face_gap: model
+                .faces
+                .iter()
+                .map(|f| f.gap_mm())
+                .map(|g| if g > opts.accuracy { g } else { 0.0 })
+                .collect(),
         }
     }
 
@@ -315,6 +324,75 @@ impl<'a> Tracer<'a> {
                     .all(|(_, d)| ev.n.dot(*d) >= -UNIT_ROUNDING)
             }
         }
+    }
+
+    /// True when the point at `s` of face `f`'s surface, outside the face's trim, is on the
+    /// solid's boundary to the accuracy plus the file's gap there: on `f` or a face next to
+    /// it (sharing an edge), one of the two with edges off its surface by more than the
+    /// accuracy. Where an exporter wrote a face's edges along its neighbour's surface, the
+    /// corner of the two surfaces lies off the trim by the gap over the sine of the angle
+    /// between them, and a seam reaching that corner touches the surface there.
+    pub(super) fn on_boundary_within_gap(&self, f: usize, s: [f64; 2]) -> bool {
+        let gap_f = self.face_gap[f];
+        if gap_f == 0.0 && !self.face_gap.iter().any(|&g| g > 0.0) {
+            return false;
+        }
+        let Some(p) = sys_point(self.model, Element::Face(f), s) else {
+            return false;
+        };
+        let Some((g, hit)) = self.nearest_in(self.face_solid[f], p) else {
+            return false;
+        };
+        let gap = gap_f.max(self.face_gap[g]);
+        let next_to = g == f
+            || self.model.faces[f]
+                .loops
+                .iter()
+                .flat_map(|l| &l.edges)
+                .any(|oe| self.model.edges[oe.edge].faces.contains(&g));
+        gap > 0.0 && next_to && hit.distance <= self.opts.accuracy + gap
+    }
+
+    /// The file's gap at element `e` (see [`Self::face_gap`]): a face's, or the largest of
+    /// the faces an edge or vertex bounds.
+    pub(super) fn element_gap(&self, e: Element) -> f64 {
+        match e {
+            Element::Face(f) => self.face_gap[f],
+            Element::Edge(g) => self.model.edges[g]
+                .faces
+                .iter()
+                .map(|&f| self.face_gap[f])
+                .fold(0.0, f64::max),
+            Element::Vertex(v) => self.vertex_edges[v]
+                .iter()
+                .flat_map(|&(g, _)| &self.model.edges[g].faces)
+                .map(|&f| self.face_gap[f])
+                .fold(0.0, f64::max),
+        }
+    }
+
+    /// True when the point at `s` of face `seg`, outside its trim, is past a convex edge of it
+    /// (which no touch point crosses) but on the boundary within the file's gap there
+    /// ([`Self::on_boundary_within_gap`]): the touch point stays on the face's surface.
+    pub(super) fn beyond_convex_edge_within_gap(&self, seg: Element, s: [f64; 2]) -> bool {
+        let Element::Face(f) = seg else {
+            return false;
+        };
+        if !self.on_boundary_within_gap(f, s) {
+            return false;
+        }
+        let Some(p) = sys_point(self.model, seg, s) else {
+            return false;
+        };
+        self.nearest_edge_of_face(f, p).is_some_and(|(e, te)| {
+            let kind = match self.class.edges[e].kind {
+                EdgeKind::Mixed => {
+                    crate::classify::edge_kind_at(self.model, e, te, self.opts.tangent_angle_rad).0
+                }
+                kind => kind,
+            };
+            kind == EdgeKind::Convex
+        })
     }
 
     pub(super) fn seam_point(&mut self, sys: &MedialSystem, x: &DVector<f64>) -> SeamPoint {

@@ -33,6 +33,11 @@ pub struct Verification {
     pub checks: BTreeMap<&'static str, CheckCount>,
     /// The first [`MAX_FAILURES_KEPT`] failures, each saying where and what.
     pub failures: Vec<String>,
+    /// Ball errors beyond the accuracy that were held to the accuracy plus the file's own
+    /// gap there (edges written off their faces' surfaces, `Face::gap_mm`), and the largest
+    /// such error (mm; 0 when none).
+    pub held_to_gap: usize,
+    pub largest_gap_held: f64,
     /// Solids whose medial axis's Euler characteristic is not counted, with why.
     pub euler_withheld: Vec<String>,
     /// True when no check failed.
