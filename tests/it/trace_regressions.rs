@@ -224,3 +224,57 @@ fn points_the_accuracy_cannot_separate_are_marked_unresolved_and_verified() {
     }
     assert!(marked >= 2, "{marked} points marked unresolved");
 }
+
+/// The shallow roof with one roof plane moved 3e-4 mm off its edges (six times the accuracy),
+/// as exporters whose edges follow one face and not the other write: the report warns of that
+/// face's gap, measured at 3e-4 mm; no seam end is open (the seams from the ridge's ends start
+/// at the vertices, though the corner of the planes is 4.3e-3 mm past the ridge), `--verify`
+/// passes with the balls near the face held to the accuracy plus the gap (`verify.rs` shows it
+/// holds them to no more), and the medial axis is the unmoved roof's: as many seams and
+/// junctions, each junction within 0.01 mm (the corner's shift, 4.3e-3 mm, and the gap).
+#[test]
+fn a_faces_gap_beyond_the_accuracy_is_reported_and_traced_across() {
+    let report = traced_and_verified("roof_off_its_ridge");
+    let clean = traced_and_verified("shallow_roof");
+    let gaps: Vec<&Value> = report["input"]["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|w| w["kind"] == "gap")
+        .collect();
+    assert_eq!(gaps.len(), 1, "{:?}", report["input"]["warnings"]);
+    assert_eq!(gaps[0]["count"], 1, "{:?}", gaps[0]);
+    let largest = gaps[0]["largest_gap_mm"].as_f64().unwrap();
+    assert!((largest - 3e-4).abs() < 1e-9, "largest gap {largest}");
+    assert!(
+        clean["input"]["warnings"].as_array().unwrap().is_empty(),
+        "{:?}",
+        clean["input"]["warnings"]
+    );
+    assert_eq!(report["stats"]["open_ends"], 0);
+    for k in ["seams", "junctions"] {
+        assert_eq!(
+            report["mat"][k].as_array().unwrap().len(),
+            clean["mat"][k].as_array().unwrap().len(),
+            "{k}"
+        );
+    }
+    let ball = |j: &Value| -> Vec<f64> {
+        let mut b: Vec<f64> = (0..3).map(|c| j["point"][c].as_f64().unwrap()).collect();
+        b.push(j["radius"].as_f64().unwrap());
+        b
+    };
+    for j in clean["mat"]["junctions"].as_array().unwrap() {
+        let want = ball(j);
+        let nearest = report["mat"]["junctions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|k| {
+                let b = ball(k);
+                (0..4).map(|c| (b[c] - want[c]).abs()).fold(0.0, f64::max)
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(nearest < 0.01, "junction {want:?}: nearest {nearest}");
+    }
+}

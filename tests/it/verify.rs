@@ -7,7 +7,8 @@
 //! 1 mm, a seam's end relabelled a pinch away from any vertex, a seam point with two touch
 //! points on one face marked unresolved, a NaN radius, a junction 0.5 mm off in a report
 //! claiming an accuracy of 1 mm. Each wrong report must fail the check it
-//! breaks, in both checkers.
+//! breaks, in both checkers. Near a file's own gap (a face whose edges lie off its surface)
+//! both hold a touch point to the accuracy plus the gap, and no more.
 
 use crate::common::{matrace, root, sample};
 use crate::tools::{occt_python, require, Tool};
@@ -340,4 +341,100 @@ fn verify_refuses_what_is_not_a_report() {
             "{err}"
         );
     }
+}
+
+/// Near a face whose edges lie off its surface by 3e-4 mm (`samples/trace/roof_off_its_ridge`,
+/// six times the accuracy), both checkers hold a touch point to the accuracy plus that gap and
+/// no more: a seam point's touch point on the moved face, moved 1.5e-4 mm off it along its
+/// normal, passes there and fails on the same block without the gap (`shallow_roof`); moved by
+/// the gap and three times the accuracy, it fails on both.
+#[test]
+fn touch_points_near_a_files_gap_are_held_to_the_gap_and_no_more() {
+    let dir = tempfile::tempdir().unwrap();
+    let occt_present = require(
+        "verify::touch_points_near_a_files_gap_are_held_to_the_gap_and_no_more (OCCT half)",
+        &[Tool::Occt],
+    );
+    let part = |name: &str| root().join("samples/trace").join(format!("{name}.step"));
+    let traced = |name: &str| -> Value {
+        let out = matrace(
+            &[
+                "trace",
+                part(name).to_str().unwrap(),
+                "-o",
+                dir.path().to_str().unwrap(),
+                "--no-svg",
+                "--no-mesh",
+            ],
+            &root(),
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = std::fs::read(dir.path().join(format!("{name}.mat.json"))).unwrap();
+        serde_json::from_slice(&text).unwrap()
+    };
+    // The moved roof plane's outward normal (it rises 2 degrees from x = 40 towards the ridge).
+    let (s2, c2) = 2f64.to_radians().sin_cos();
+    let normal = [s2, 0.0, c2];
+    // The middle point of the seam of the bottom, the end wall x = 40 and the moved roof plane
+    // (F0, F1, F2), its roof touch point moved `by` along the roof's normal.
+    let moved = |report: &Value, by: f64| -> Value {
+        let mut r = report.clone();
+        let seams = r["mat"]["seams"].as_array_mut().unwrap();
+        let s = seams
+            .iter_mut()
+            .find(|s| s["segments"] == json!(["F0", "F1", "F2"]))
+            .expect("the seam of F0, F1 and F2");
+        let k = s["points"].as_array().unwrap().len() / 2;
+        let t = &mut s["points"][k]["touch"][2];
+        for c in 0..3 {
+            t[c] = json!(t[c].as_f64().unwrap() + by * normal[c]);
+        }
+        r
+    };
+    let gap = traced("roof_off_its_ridge");
+    let clean = traced("shallow_roof");
+    let accuracy = gap["options"]["accuracy"].as_f64().unwrap();
+    let mut problems = vec![];
+    for (name, report, stem, must_pass) in [
+        (
+            "within the gap",
+            moved(&gap, 1.5e-4),
+            "roof_off_its_ridge",
+            true,
+        ),
+        (
+            "within, no gap",
+            moved(&clean, 1.5e-4),
+            "shallow_roof",
+            false,
+        ),
+        (
+            "beyond the gap",
+            moved(&gap, 3e-4 + 3.0 * accuracy),
+            "roof_off_its_ridge",
+            false,
+        ),
+    ] {
+        let path = write(dir.path(), &name.replace([' ', ','], "_"), &report);
+        let mut checkers = vec![("verify", verify(&part(stem), &path))];
+        if occt_present {
+            checkers.push(("OCCT", occt(&part(stem), &path)));
+        }
+        for (who, (code, failed)) in checkers {
+            println!("{who} {name}: exit {code}, failed {failed:?}");
+            if must_pass && code != 0 {
+                problems.push(format!("{who} rejects the touch point {name}: {failed:?}"));
+            }
+            if !must_pass && !(code == 1 && failed.iter().any(|f| f == "touch_on_boundary")) {
+                problems.push(format!(
+                    "{who} accepts the touch point {name}: exit {code}, {failed:?}"
+                ));
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
