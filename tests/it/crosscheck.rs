@@ -78,18 +78,20 @@ const SCREW: &str = "a seam ends open at a touch point handed back and forth bet
     accuracy and are listed as unresolved; two sheet-mesh vertices lie past a sheet's \
     boundary (`occt:mesh_contacts`)";
 
-const MOTOR_PLATE: &str = "a few touch points lie up to 5.7e-4 mm off the boundary and a few \
-    balls' nearest boundary is up to 1.4e-4 mm closer than r (the accuracy is 7.4e-5 mm); \
-    seams end open at hand-overs; faces reached by no ball";
+const MOTOR_PLATE: &str = "22 faces whose edges lie off their surfaces by up to 3.9e-3 mm (the \
+    accuracy is 7.4e-5 mm; the file declares 0.01 mm): both checkers hold the balls near them to \
+    the gap (ten errors up to 5.7e-4 mm); OCCT puts one touch point on the top plane 0.83 mm off \
+    the boundary where matrace's trim has it inside, and one centre outside; seams end open at \
+    hand-overs; faces reached by no ball";
 
 const FTC06: &str = "seams end open at hand-overs; two convex vertices start no seam (they \
     are in `stats.skipped_vertices`); faces only degenerate pieces reach are touched by no \
     ball";
 
 const GAPS_ACCEPTED: &str = "a vertex 8.7e-3 mm off its curve, accepted within the file's \
-    uncertainty (0.01 mm): near it the two readers' boundaries differ by about that much, so \
-    a few touch points and balls are off by more than the accuracy (2e-5 mm); seams end open \
-    at hand-overs (issue 19)";
+    uncertainty (0.01 mm), and 12 faces whose edges lie off their surfaces by up to 2.2e-3 mm \
+    (the accuracy is 2e-5 mm): both checkers hold the balls near them to the gap; OCCT puts one \
+    touch point off the boundary; seams end open at hand-overs (issue 19)";
 
 const CURVATURE_LIMITS_AND_CYLINDERS: &str = "CATIA V5 (directions normalised on reading): \
     faces only degenerate pieces reach are touched by no ball, and two sheets end at \
@@ -157,14 +159,13 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "prusa_adapter-printer.stp",
         &[
-            ("occt:distance", 1),
             ("occt:junction_seams", 1),
             ("occt:mesh_contacts", 3),
-            ("occt:seam_ends", 16),
+            ("occt:seam_ends", 11),
             ("occt:separated", 1),
-            ("occt:touch_on_boundary", 4),
+            ("occt:touch_on_boundary", 1),
             ("verify:junction_seams", 1),
-            ("verify:seam_ends", 16),
+            ("verify:seam_ends", 11),
             ("verify:sheets_closed", 10),
         ],
         GAPS_ACCEPTED,
@@ -184,22 +185,17 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "prusa_extruder-motor-plate.stp",
         &[
-            ("occt:distance", 6),
             ("occt:faces_touched", 4),
             ("occt:inside", 1),
             ("occt:junction_seams", 9),
             ("occt:mesh_contacts", 1),
             ("occt:seam_ends", 13),
-            ("occt:touch_at_radius", 1),
-            ("occt:touch_on_boundary", 10),
-            ("verify:distance", 6),
+            ("occt:touch_on_boundary", 1),
             ("verify:faces_touched", 4),
             ("verify:junction_seams", 9),
             ("verify:seam_ends", 13),
             ("verify:separated", 1),
             ("verify:sheets_closed", 67),
-            ("verify:touch_at_radius", 1),
-            ("verify:touch_on_boundary", 3),
         ],
         MOTOR_PLATE,
     ),
@@ -320,7 +316,6 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:mesh_contacts", 1),
             ("occt:seam_ends", 9),
             ("occt:separated", 2),
-            ("occt:touch_on_boundary", 6),
             ("verify:junction_seams", 10),
             ("verify:seam_ends", 9),
             ("verify:separated", 2),

@@ -59,6 +59,8 @@ pub(super) struct Tracer<'a> {
     /// Each face's gap ([`crate::model::Face::gap_mm`]) where it is more than the accuracy,
     /// else 0 (see [`Tracer::on_boundary_within_gap`]).
     pub(super) face_gap: Vec<f64>,
+    /// Some face has a gap beyond the accuracy.
+    pub(super) any_gap: bool,
 }
 
 impl<'a> Tracer<'a> {
@@ -107,6 +109,7 @@ impl<'a> Tracer<'a> {
                 .map(|f| f.gap_mm())
                 .map(|g| if g > opts.accuracy { g } else { 0.0 })
                 .collect(),
+            any_gap: model.faces.iter().any(|f| f.gap_mm() > opts.accuracy),
         }
     }
 
@@ -333,10 +336,10 @@ impl<'a> Tracer<'a> {
     /// corner of the two surfaces lies off the trim by the gap over the sine of the angle
     /// between them, and a seam reaching that corner touches the surface there.
     pub(super) fn on_boundary_within_gap(&self, f: usize, s: [f64; 2]) -> bool {
-        let gap_f = self.face_gap[f];
-        if gap_f == 0.0 && !self.face_gap.iter().any(|&g| g > 0.0) {
+        if !self.any_gap {
             return false;
         }
+        let gap_f = self.face_gap[f];
         let Some(p) = sys_point(self.model, Element::Face(f), s) else {
             return false;
         };
