@@ -159,6 +159,26 @@ pub fn gaps_beyond(model: &super::Model, accuracy: f64) -> Option<ReadWarning> {
 mod tests {
     use super::*;
 
+    /// The roof whose plane F2 was moved 3e-4 mm off its edges: the reader measures that face's
+    /// gap (and no other), and `gaps_beyond` warns of it at an accuracy finer than the gap
+    /// only; the same block without the gap has none.
+    #[test]
+    fn a_faces_gap_is_measured_on_reading_and_warned_of_beyond_the_accuracy() {
+        let gapped = crate::testing::sample("trace/roof_off_its_ridge.step");
+        let gaps: Vec<f64> = gapped.faces.iter().map(|f| f.gap_mm()).collect();
+        assert!((gaps[2] - 3e-4).abs() < 1e-9, "{gaps:?}");
+        for (i, g) in gaps.iter().enumerate() {
+            assert!(i == 2 || *g < 1e-9, "{gaps:?}");
+        }
+        let w = gaps_beyond(&gapped, 5e-5).expect("a warning at 5e-5 mm");
+        assert_eq!((w.kind, w.count), ("gap", 1));
+        assert!(w.entity.starts_with("face F2 "), "{}", w.entity);
+        assert!(gaps_beyond(&gapped, 1e-3).is_none());
+        let clean = crate::testing::sample("trace/shallow_roof.step");
+        assert!(clean.faces.iter().all(|f| f.gap_mm() < 1e-9));
+        assert!(gaps_beyond(&clean, 1e-9).is_none());
+    }
+
     #[test]
     fn similar_warnings_are_counted_once_with_the_first_entity_and_the_largest_gap() {
         let mut w = Warnings::default();

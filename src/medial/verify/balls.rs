@@ -270,8 +270,9 @@ struct Checker<'a> {
 const GAP_FACES_NEAR: usize = 8;
 
 impl Checker<'_> {
-    /// The largest gap between the surface and the edges of a face of `solid` within
-    /// `reach` + the model's largest gap of `p` (0 when the file has none beyond the accuracy):
+    /// The largest gap between the surface and the edges of a face of `solid` within `reach`
+    /// plus the model's largest gap and the accuracy of `p` (0 when the file has no gap
+    /// beyond the accuracy):
     /// where an exporter wrote edges that follow one face and not the other, the boundary
     /// there is defined only to that gap, and an error within it is the file's, not the
     /// ball's.
@@ -319,8 +320,9 @@ impl Checker<'_> {
             .map_or(f64::INFINITY, |(_, h)| h.distance)
     }
 
-    /// The faces of `solid` within the accuracy (plus the file's gap there) of `p` (at most
-    /// four: a point on an edge is on two faces, at a vertex on more).
+    /// The faces of `solid` within the accuracy of `p` (at most four: a point on an edge is on
+    /// two faces, at a vertex on more); for a point on none within a file's gap, the faces
+    /// next to it on whose surfaces it lies.
     fn faces_near(&self, solid: usize, p: DVec3) -> Vec<usize> {
         let mut found = self.faces_within(solid, p, self.accuracy);
         // On none, where the file has a gap there: the faces on whose surface `p` lies, next
