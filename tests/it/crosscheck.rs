@@ -82,8 +82,8 @@ const MOTOR_PLATE: &str = "22 faces whose edges lie off their surfaces by up to 
     accuracy is 7.4e-5 mm; the file declares 0.01 mm): both checkers hold the balls near them to \
     the gap (ten errors up to 5.7e-4 mm); OCCT puts one touch point on the top plane F6 0.83 mm \
     off the face, which is its distance to the face's one-edge circular hole: the point is inside \
-    the outer loop and outside both holes (the loops sampled), so OCCT reads that loop as \
-    bounding the face from inside; one centre outside; seams end open at hand-overs; faces \
+    the outer loop and outside both holes (the loops sampled): OCCT takes that loop for an \
+    outer one; one centre outside; seams end open at hand-overs; faces \
     reached by no ball";
 
 const FTC06: &str = "seams end open at hand-overs; two convex vertices start no seam (they \
