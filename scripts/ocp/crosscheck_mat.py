@@ -234,7 +234,11 @@ class Part:
 
     def faces_within(self, p, reach, solid=None):
         """The faces (indices from 1) of that solid within `reach` of `p`."""
-        out = []
+        return [i for i, _ in self.face_distances(p, reach, solid)]
+
+    def face_distances(self, p, reach, solid=None):
+        """(index from 1, BRepExtrema_DistShapeShape from p) of every face (of that solid, if
+        not None) within `reach` of `p`."""
         v = vertex(p)
         for i in range(1, self.faces.Extent() + 1):
             if solid is not None and i not in self.solid_faces[solid]:
@@ -245,8 +249,7 @@ class Part:
             d = BRepExtrema_DistShapeShape(v, self.faces.FindKey(i))
             d.Perform()
             if d.IsDone() and d.NbSolution() > 0 and d.Value() <= reach:
-                out.append(i)
-        return out
+                yield i, d
 
     def gap_near(self, p, reach, solid=None):
         """The largest gap of the faces within `reach` of `p`."""
@@ -292,19 +295,10 @@ class Part:
     def face_contacts(self, p, reach, solid=None):
         """The nearest point of every face (of that solid, if not None) within `reach` of `p`."""
         out = []
-        v = vertex(p)
-        for i in range(1, self.faces.Extent() + 1):
-            if solid is not None and i not in self.solid_faces[solid]:
-                continue
-            box = self.face_boxes[i - 1]
-            if box.IsOut(gp_Pnt(*p)) and box_distance(box, p) > reach:
-                continue
-            d = BRepExtrema_DistShapeShape(v, self.faces.FindKey(i))
-            d.Perform()
-            if d.IsDone() and d.NbSolution() > 0 and d.Value() <= reach:
-                for k in range(1, d.NbSolution() + 1):
-                    q = d.PointOnShape2(k)
-                    out.append((q.X(), q.Y(), q.Z()))
+        for _, d in self.face_distances(p, reach, solid):
+            for k in range(1, d.NbSolution() + 1):
+                q = d.PointOnShape2(k)
+                out.append((q.X(), q.Y(), q.Z()))
         return out
 
     def inside(self, p, clearance=0.0):
