@@ -15,7 +15,8 @@ use crate::tools::{occt_python, require, Tool};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
-/// Traces `name` into `dir` and returns its report.
+/// Traces sample `name` (`samples/<name>`, which may be in a subfolder) into `dir` and returns
+/// its report.
 fn genuine(name: &str, dir: &Path) -> Value {
     let out = matrace(
         &[
@@ -31,7 +32,7 @@ fn genuine(name: &str, dir: &Path) -> Value {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let stem = name.trim_end_matches(".step");
+    let stem = Path::new(name).file_stem().unwrap().to_str().unwrap();
     serde_json::from_slice(&std::fs::read(dir.join(format!("{stem}.mat.json"))).unwrap()).unwrap()
 }
 
@@ -355,27 +356,8 @@ fn touch_points_near_a_files_gap_are_held_to_the_gap_and_no_more() {
         "verify::touch_points_near_a_files_gap_are_held_to_the_gap_and_no_more (OCCT half)",
         &[Tool::Occt],
     );
-    let part = |name: &str| root().join("samples/trace").join(format!("{name}.step"));
-    let traced = |name: &str| -> Value {
-        let out = matrace(
-            &[
-                "trace",
-                part(name).to_str().unwrap(),
-                "-o",
-                dir.path().to_str().unwrap(),
-                "--no-svg",
-                "--no-mesh",
-            ],
-            &root(),
-        );
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let text = std::fs::read(dir.path().join(format!("{name}.mat.json"))).unwrap();
-        serde_json::from_slice(&text).unwrap()
-    };
+    let part = |name: &str| sample(&format!("trace/{name}.step"));
+    let traced = |name: &str| genuine(&format!("trace/{name}.step"), dir.path());
     // The moved roof plane's outward normal (it rises 2 degrees from x = 40 towards the ridge).
     let (s2, c2) = 2f64.to_radians().sin_cos();
     let normal = [s2, 0.0, c2];

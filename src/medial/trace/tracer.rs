@@ -71,6 +71,13 @@ impl<'a> Tracer<'a> {
         class: &'a Classification,
         opts: &'a TraceOptions,
     ) -> Tracer<'a> {
+        let face_gap: Vec<f64> = model
+            .faces
+            .iter()
+            .map(|f| f.gap_mm())
+            .map(|g| if g > opts.accuracy { g } else { 0.0 })
+            .collect();
+        let any_gap = face_gap.iter().any(|&g| g > 0.0);
         Tracer {
             model,
             boundary,
@@ -103,13 +110,8 @@ impl<'a> Tracer<'a> {
             queue: VecDeque::new(),
             stats: TraceStats::default(),
             along: None,
-            face_gap: model
-                .faces
-                .iter()
-                .map(|f| f.gap_mm())
-                .map(|g| if g > opts.accuracy { g } else { 0.0 })
-                .collect(),
-            any_gap: model.faces.iter().any(|f| f.gap_mm() > opts.accuracy),
+            face_gap,
+            any_gap,
         }
     }
 
@@ -329,20 +331,14 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// True when the point at `s` of face `f`'s surface, outside the face's trim, is on the
+    /// True when the point `p` of face `f`'s surface, outside the face's trim, is on the
     /// solid's boundary to the accuracy plus the file's gap there: on `f` or a face next to
     /// it (sharing an edge), one of the two with edges off its surface by more than the
     /// accuracy. Where an exporter wrote a face's edges along its neighbour's surface, the
     /// corner of the two surfaces lies off the trim by the gap over the sine of the angle
     /// between them, and a seam reaching that corner touches the surface there.
-    pub(super) fn on_boundary_within_gap(&self, f: usize, s: [f64; 2]) -> bool {
-        if !self.any_gap {
-            return false;
-        }
+    fn on_boundary_within_gap(&self, f: usize, p: DVec3) -> bool {
         let gap_f = self.face_gap[f];
-        let Some(p) = sys_point(self.model, Element::Face(f), s) else {
-            return false;
-        };
         let Some((g, hit)) = self.nearest_in(self.face_solid[f], p) else {
             return false;
         };
@@ -381,12 +377,15 @@ impl<'a> Tracer<'a> {
         let Element::Face(f) = seg else {
             return false;
         };
-        if !self.on_boundary_within_gap(f, s) {
+        if !self.any_gap {
             return false;
         }
         let Some(p) = sys_point(self.model, seg, s) else {
             return false;
         };
+        if !self.on_boundary_within_gap(f, p) {
+            return false;
+        }
         self.nearest_edge_of_face(f, p).is_some_and(|(e, te)| {
             let kind = match self.class.edges[e].kind {
                 EdgeKind::Mixed => {

@@ -281,21 +281,10 @@ impl Checker<'_> {
             return 0.0;
         }
         let reach = reach + self.largest_gap + self.accuracy;
-        let mut found: Vec<usize> = vec![];
-        let mut gap: f64 = 0.0;
-        while found.len() < GAP_FACES_NEAR {
-            let next = self.boundary.nearest_face_where(self.model, p, |f| {
-                self.model.solid_of_face(f) == solid && !found.contains(&f)
-            });
-            match next {
-                Some((f, h)) if h.distance <= reach => {
-                    gap = gap.max(self.model.faces[f].gap_mm());
-                    found.push(f);
-                }
-                _ => break,
-            }
-        }
-        gap
+        self.faces_within(solid, p, reach, GAP_FACES_NEAR)
+            .into_iter()
+            .map(|f| self.model.faces[f].gap_mm())
+            .fold(0.0, f64::max)
     }
 
     /// `error` ≤ the accuracy, or ≤ the accuracy plus the file's gap near `p` (`reach` as
@@ -324,7 +313,7 @@ impl Checker<'_> {
     /// two faces, at a vertex on more); for a point on none within a file's gap, the faces
     /// next to it on whose surfaces it lies.
     fn faces_near(&self, solid: usize, p: DVec3) -> Vec<usize> {
-        let mut found = self.faces_within(solid, p, self.accuracy);
+        let mut found = self.faces_within(solid, p, self.accuracy, 4);
         // On none, where the file has a gap there: the faces on whose surface `p` lies, next
         // to a face within the gap. The corner of two surfaces, one of which the edge between
         // them does not follow, is off the other face's trim by the gap over the sine of
@@ -334,7 +323,7 @@ impl Checker<'_> {
             if gap <= self.accuracy {
                 return found;
             }
-            for f in self.faces_within(solid, p, self.accuracy + gap) {
+            for f in self.faces_within(solid, p, self.accuracy + gap, 4) {
                 for g in neighbours(self.model, f) {
                     if found.len() < 4 && !found.contains(&g) && self.on_surface(g, p) {
                         found.push(g);
@@ -353,10 +342,10 @@ impl Checker<'_> {
         })
     }
 
-    /// The faces of `solid` within `reach` of `p`, nearest first (at most four).
-    fn faces_within(&self, solid: usize, p: DVec3, reach: f64) -> Vec<usize> {
+    /// The faces of `solid` within `reach` of `p`, nearest first (at most `most`).
+    fn faces_within(&self, solid: usize, p: DVec3, reach: f64, most: usize) -> Vec<usize> {
         let mut found: Vec<usize> = vec![];
-        while found.len() < 4 {
+        while found.len() < most {
             let next = self.boundary.nearest_face_where(self.model, p, |f| {
                 self.model.solid_of_face(f) == solid && !found.contains(&f)
             });
