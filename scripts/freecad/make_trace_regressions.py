@@ -374,6 +374,32 @@ def roof_off_its_ridge():
     return shallow_roof()
 
 
+@part("chamfered_rib_end",
+      "Plate 60x40x10 with a rib 16 mm wide and 6 mm high along y, its foot filleted r=2 "
+      "(concave), its end at the plate's side y=40 chamfered by a plane rising 2 in 1 from "
+      "the plate's top edge: the chamfer meets the side y=40 in the line of the plate's top "
+      "face, so at the two ends of that edge the fillets' tangent lines meet it too, and "
+      "the line is tangent to each fillet there.",
+      None,
+      "The seams of a fillet, the side y=40 and the chamfer come down to r = 0 at the "
+      "convex vertices where the fillets' tangent lines meet the chamfer's edge. The three "
+      "surfaces meet there tangentially (the chamfer's edge is tangent to the fillet), so r "
+      "has a minimum of 0 at the vertex instead of crossing it: a step passes the vertex, "
+      "the touch point on the fillet leaves it across its edge with the chamfer, and the "
+      "seam must end at the vertex, not open at that edge.")
+def chamfered_rib_end():
+    b = Part.makeBox(60, 40, 10, V(-30, 0, -10)).fuse(Part.makeBox(16, 40, 6, V(-8, 0, 0)))
+    b = b.removeSplitter()
+    foot = [e for e in b.Edges
+            if abs(e.tangentAt(0).y) > 0.99 and abs(e.BoundBox.ZMax) < 1e-9
+            and abs(abs(e.BoundBox.XMin) - 8) < 1e-9]
+    assert len(foot) == 2, foot
+    b = b.makeFillet(2, foot)
+    pts = [V(-20, 40, 0), V(-20, 36, 8), V(-20, 45, 8), V(-20, 45, 0), V(-20, 40, 0)]
+    tool = Part.Face(Part.makePolygon(pts)).extrude(V(40, 0, 0))
+    return b.cut(tool).removeSplitter()
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

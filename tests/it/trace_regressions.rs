@@ -225,6 +225,59 @@ fn points_the_accuracy_cannot_separate_are_marked_unresolved_and_verified() {
     assert!(marked >= 2, "{marked} points marked unresolved");
 }
 
+/// The rib whose chamfered end meets the plate's side in the line of the plate's top: at the
+/// two vertices where that line meets the fillets' tangent lines, the line is tangent to each
+/// fillet, so along the seam of a fillet, the side and the chamfer `r` comes down to a minimum
+/// of 0 at the vertex instead of crossing 0 there. The step passes the vertex and the touch
+/// point on the fillet leaves it across its edge with the chamfer, where `r` is already below
+/// the accuracy: the seam ends at the vertex, and nowhere else.
+#[test]
+fn a_seam_whose_faces_meet_tangentially_at_a_convex_vertex_ends_there() {
+    let report = traced_and_verified("chamfered_rib_end");
+    let accuracy = report["stats"]["accuracy"].as_f64().unwrap();
+    let vertices = report["model"]["vertices"].as_array().unwrap();
+    let tangent: Vec<u64> = vertices
+        .iter()
+        .filter(|v| {
+            let p: Vec<f64> = (0..3).map(|c| v["point"][c].as_f64().unwrap()).collect();
+            (p[0].abs() - 10.0).abs() < 1e-9 && (p[1] - 40.0).abs() < 1e-9 && p[2].abs() < 1e-9
+        })
+        .map(|v| v["id"].as_u64().unwrap())
+        .collect();
+    assert_eq!(tangent.len(), 2, "{vertices:?}");
+    for v in tangent {
+        let ending: Vec<&Value> = report["mat"]["seams"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|s| {
+                s["ends"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .any(|e| e["vertex"] == v)
+            })
+            .collect();
+        assert_eq!(ending.len(), 1, "seams ending at V{v}");
+        let s = ending[0];
+        let last = s["points"].as_array().unwrap().last().unwrap();
+        let r = last["point"][3].as_f64().unwrap();
+        assert!(r <= accuracy, "seam {} ends at V{v} with r = {r}", s["id"]);
+        let at = &vertices[v as usize]["point"];
+        let off = (0..3)
+            .map(|c| (last["point"][c].as_f64().unwrap() - at[c].as_f64().unwrap()).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        // The surfaces are within the accuracy of each other for sqrt(2 · 2 · acc) either
+        // side of the vertex along the line (the fillet's radius is 2).
+        assert!(
+            off <= (4.0 * accuracy).sqrt(),
+            "seam {} ends {off} mm from V{v}",
+            s["id"]
+        );
+    }
+}
+
 /// The shallow roof with one roof plane moved 3e-4 mm off its edges (six times the accuracy),
 /// as exporters whose edges follow one face and not the other write: the report warns of that
 /// face's gap, measured at 3e-4 mm; no seam end is open (the seams from the ridge's ends start

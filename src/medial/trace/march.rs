@@ -354,6 +354,15 @@ impl Tracer<'_> {
                 return Flow::End(end);
             }
         }
+        // A crossing where the ball has shrunk to nothing: back at a convex vertex whose
+        // faces meet there at a small angle (r has its minimum, about 0, at the vertex, and the
+        // step passed it).
+        if xc[3] <= self.opts.accuracy {
+            if let (xe, Some(v)) = self.land_at_vertex(&m.sys, xc.clone()) {
+                m.points.push(self.seam_point(&m.sys, &xe));
+                return Flow::End(SeamEnd::Vertex(v));
+            }
+        }
         // The crossing point itself is a seam point when it is medial.
         if self.is_medial(&m.triplet, xc) {
             m.points.push(self.seam_point(&m.sys, xc));
