@@ -400,6 +400,83 @@ def chamfered_rib_end():
     return b.cut(tool).removeSplitter()
 
 
+@part("drilled_blind_hole",
+      "Plate 40x30x10 with a blind hole r=2 drilled along y from the side y=0 at mid-height "
+      "(axis at x=20, z=5), 14 mm deep to the shoulder, ending in a 118 degree drill point "
+      "(a cone whose apex is a vertex of its face alone, 2/tan 59 deg = 1.20 mm further).",
+      40 * 30 * 10 - PI * 4 * 14 - PI * 4 * (2 / math.tan(math.radians(59))) / 3,
+      "The seams of the top, the bottom and the hole's wall run along the hole at mid-height, "
+      "onto the drill point's cone and down it to the apex (r = 5). There the touch point "
+      "passes onto the apex, a reflex point of the boundary: the ball touches it while its "
+      "normal turns about the hole's axis (the centre on the circle of radius 5 about the "
+      "apex in the mid-plane) and leaves onto the cone's other side: one seam around the "
+      "hole's end.")
+def drilled_blind_hole():
+    tip = 2 / math.tan(math.radians(59))
+    drill = Part.makeCylinder(2, 14, V(20, 0, 5), V(0, 1, 0)).fuse(
+        Part.makeCone(2, 0, tip, V(20, 14, 5), V(0, 1, 0)))
+    return Part.makeBox(40, 30, 10).cut(drill).removeSplitter()
+
+
+def apex_as_vertex_loop(text):
+    """Writes the drill point's cone as some exporters do: its seam edge, from the rim to the
+    apex, left out, and the apex a `VERTEX_LOOP` of the face (the rim's loop alone bounds it
+    otherwise)."""
+    import re
+    ents = dict(re.findall(r"^(#\d+) = (.*);$", text, re.M))
+    seams = {ref for ref, e in ents.items() if e.startswith("SEAM_CURVE(")}
+    edges = {ref: re.match(r"EDGE_CURVE\('',(#\d+),(#\d+),(#\d+),", e).groups()
+             for ref, e in ents.items() if e.startswith("EDGE_CURVE(")}
+
+    def alone(seam):
+        """The seam edge's vertices no other edge has (the cone's apex)."""
+        used = [v for ref, (a, b, _) in edges.items() if ref != seam for v in (a, b)]
+        return [v for v in edges[seam][:2] if v not in used]
+
+    tips = [(ref, alone(ref)) for ref, (_, _, c) in edges.items() if c in seams]
+    tips = [(ref, a) for ref, a in tips if len(a) == 1]
+    if len(tips) != 1:
+        raise SystemExit(f"drilled_blind_hole_vertex_loop: {len(tips)} seam edges to an apex, "
+                         "not 1")
+    seam, apex = tips[0]
+    oriented = {ref for ref, e in ents.items()
+                if re.match(rf"ORIENTED_EDGE\('',\*,\*,{seam},", e)}
+    loops = [ref for ref, e in ents.items()
+             if e.startswith("EDGE_LOOP(") and oriented & set(re.findall(r"#\d+", e))]
+    if len(loops) != 1:
+        raise SystemExit(f"drilled_blind_hole_vertex_loop: {len(loops)} loops, not 1")
+    loop = loops[0]
+    kept = [r for r in re.findall(r"#\d+", ents[loop]) if r not in oriented]
+    text = re.sub(rf"^{loop} = EDGE_LOOP\(.*\);$",
+                  f"{loop} = EDGE_LOOP('',({','.join(kept)}));", text, count=1, flags=re.M)
+    bound = [ref for ref, e in ents.items()
+             if re.match(rf"FACE_(OUTER_)?BOUND\('',{loop},", e)][0]
+    face = [ref for ref, e in ents.items()
+            if e.startswith("ADVANCED_FACE(") and re.search(rf"[(,]{bound}[,)]", e)][0]
+    # The seam edge and its uses go (a reader may warn of an edge no face uses).
+    for ref in sorted(oriented) + [seam]:
+        text = re.sub(rf"^{ref} = .*;\n", "", text, count=1, flags=re.M)
+    top = max(int(r[1:]) for r in ents)
+    vb, vl = f"#{top + 1}", f"#{top + 2}"
+    text = re.sub(rf"^{face} = ADVANCED_FACE\('',\(([^)]*)\)",
+                  lambda m: f"{face} = ADVANCED_FACE('',({m.group(1)},{vb})",
+                  text, count=1, flags=re.M)
+    extra = f"{vb} = FACE_BOUND('',{vl},.T.);\n{vl} = VERTEX_LOOP('',{apex[0]});\n"
+    return text.replace("\nENDSEC;\nEND-ISO", f"\n{extra}ENDSEC;\nEND-ISO", 1)
+
+
+@part("drilled_blind_hole_vertex_loop",
+      "The drilled blind hole (plate 40x30x10, hole r=2 along y at mid-height, 14 mm deep "
+      "with a 118 degree drill point) with the cone written as some exporters do: no seam "
+      "edge, the apex a VERTEX_LOOP of the cone's face, the rim's loop the face's only edges.",
+      40 * 30 * 10 - PI * 4 * 14 - PI * 4 * (2 / math.tan(math.radians(59))) / 3,
+      "As the drilled blind hole's: the touch point passes from the cone onto the apex, a "
+      "vertex with no edges, and back onto the cone's other side.",
+      edit=apex_as_vertex_loop)
+def drilled_blind_hole_vertex_loop():
+    return drilled_blind_hole()
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)
@@ -425,6 +502,10 @@ def main():
                 text = p["edit"](f.read())
             with open(path, "w") as f:
                 f.write(text)
+            # The counts are the edited file's, as OCCT reads it.
+            edited = Part.read(path)
+            entry.update(faces=len(edited.Faces), edges=len(edited.Edges),
+                         vertices=len(edited.Vertexes))
         # Where OCCT's volume is only checked loosely (a NURBS solid), the manifest gives the
         # exact one.
         if p["volume"] is not None and p["volume_rel"] > 1e-9:

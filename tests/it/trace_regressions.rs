@@ -278,6 +278,102 @@ fn a_seam_whose_faces_meet_tangentially_at_a_convex_vertex_ends_there() {
     }
 }
 
+/// The blind hole drilled along y at the plate's mid-height, its end a 118° drill point,
+/// written with the cone's seam edge running to the apex (as FreeCAD writes it) and with the
+/// apex a `VERTEX_LOOP` of the cone alone (as some exporters do): the seams of the top, the
+/// bottom and the hole's wall come along the hole, over the shoulder's rim, down the cone to
+/// the apex; there the touch point passes onto the apex and the ball, touching it, turns
+/// about the hole's axis (centre on the circle of radius 5 about the apex in the mid-plane)
+/// until its normal is the cone's on the other side, and passes back onto the cone: one
+/// seam around the hole's end, from junction to junction.
+#[test]
+fn a_drill_points_apex_is_touched_while_the_ball_turns_about_the_holes_axis() {
+    let tip = 2.0 / 59f64.to_radians().tan();
+    let apex = [20.0, 14.0 + tip, 5.0];
+    for name in ["drilled_blind_hole", "drilled_blind_hole_vertex_loop"] {
+        let report = traced_and_verified(name);
+        assert_eq!(report["stats"]["open_ends"], 0, "{name}");
+        let accuracy = report["stats"]["accuracy"].as_f64().unwrap();
+        let dist = |p: &Value, q: [f64; 3]| {
+            (0..3)
+                .map(|c| (p[c].as_f64().unwrap() - q[c]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
+        let v = report["model"]["vertices"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|v| dist(&v["point"], apex) < 1e-9)
+            .unwrap_or_else(|| panic!("{name}: no vertex at the apex"))["id"]
+            .as_u64()
+            .unwrap();
+        let at_apex = format!("V{v}");
+        let around: Vec<&Value> = report["mat"]["seams"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|s| {
+                s["handovers"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .any(|h| h["to"] == at_apex)
+            })
+            .collect();
+        assert_eq!(around.len(), 1, "{name}: seams onto the apex");
+        let s = around[0];
+        let handovers = s["handovers"].as_array().unwrap();
+        assert!(
+            handovers.iter().any(|h| h["from"] == at_apex),
+            "{name}: the touch point never leaves the apex: {handovers:?}"
+        );
+        assert!(
+            s["ends"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .all(|e| e.get("junction").is_some()),
+            "{name}: {:?}",
+            s["ends"]
+        );
+        // The balls touching the apex: radius 5, centre in the mid-plane 5 from the apex,
+        // turning about the axis from one side of the hole to the other.
+        let mut xs = vec![];
+        // (The point where it leaves the apex touches the cone 10× the accuracy down the
+        // generator, where the cone's normal is defined.)
+        for p in s["points"].as_array().unwrap() {
+            let touches_apex = p["touch"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|t| dist(t, apex) <= 11.0 * accuracy);
+            if !touches_apex {
+                continue;
+            }
+            let c = &p["point"];
+            let r = c[3].as_f64().unwrap();
+            assert!((r - 5.0).abs() <= accuracy, "{name}: r = {r}");
+            assert!(
+                (c[2].as_f64().unwrap() - 5.0).abs() <= accuracy,
+                "{name}: {c}"
+            );
+            assert!((dist(c, apex) - 5.0).abs() <= accuracy, "{name}: {c}");
+            xs.push(c[0].as_f64().unwrap());
+        }
+        let (lo, hi) = xs
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+        // From the cone's normal on one side to the other: x − 20 = ∓5·cos 59°.
+        let side = 5.0 * 59f64.to_radians().cos();
+        assert!(xs.len() >= 5, "{name}: {} balls touch the apex", xs.len());
+        assert!(
+            (lo - (20.0 - side)).abs() < 1e-3 && (hi - (20.0 + side)).abs() < 1e-3,
+            "{name}: the centre turns from x = {lo} to {hi}"
+        );
+    }
+}
+
 /// The shallow roof with one roof plane moved 3e-4 mm off its edges (six times the accuracy),
 /// as exporters whose edges follow one face and not the other write: the report warns of that
 /// face's gap, measured at 3e-4 mm; no seam end is open (the seams from the ridge's ends start

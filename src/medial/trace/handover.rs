@@ -177,6 +177,20 @@ impl Tracer<'_> {
             Element::Edge(e) => self.next_from_edge(e, slot(&xc, i)[0], exit, &ev)?,
             Element::Vertex(v) => self.next_from_vertex(v, &ev)?,
         };
+        // Off a cone's apex, the exact crossing touches the cone at the apex, where its normal
+        // is undefined: the ball moves on with its touch point along the generator, to where
+        // `next_from_vertex` put it.
+        let xc = match (seg, to) {
+            (Element::Vertex(_), Element::Face(_)) => {
+                let mut y = xc;
+                if let Some(q) = sys_point(self.model, to, params) {
+                    let moved = v3(&y) + (q - ev.p);
+                    y.rows_mut(0, 3).copy_from_slice(&moved.to_array());
+                }
+                y
+            }
+            _ => xc,
+        };
         let mut handed = self.polish_hand_over(triplet, i, &xc, t, to, params, ev.p);
         // Across a smooth edge where the next face bends slightly towards the ball (a
         // reflex kink within the tangent tolerance), the same ball's touch point on it lies
@@ -252,6 +266,11 @@ impl Tracer<'_> {
     ) -> Result<(Element, [f64; 2]), HandOverError> {
         let acc = self.opts.accuracy;
         let seg = Element::Face(f);
+        // At a cone's apex (a drill point's tip) the touch point passes onto the apex, which
+        // the ball touches while its normal turns about the cone's axis.
+        if let Some(v) = self.apex_reached(f, ev.p) {
+            return Ok((Element::Vertex(v), vertex_angles(ev.n)));
+        }
         let reaches = |&(e, te): &(usize, f64)| {
             let q = crate::geom::eval_curve(&self.model.edges[e].curve, te).p;
             q.distance(ev.p) <= REACH_REL_ACCURACY * acc
@@ -392,13 +411,45 @@ impl Tracer<'_> {
         Ok((Element::Vertex(v), vertex_angles(ev.n)))
     }
 
-    /// Where a touch point at `ev` leaves vertex `v`: onto the reflex edge whose direction the
-    /// normal turned away from.
+    /// The apex of face `f`'s cone within [`SAME_PLACE_REL_ACCURACY`] × the accuracy of `p`.
+    fn apex_reached(&self, f: usize, p: DVec3) -> Option<usize> {
+        let near = SAME_PLACE_REL_ACCURACY * self.opts.accuracy;
+        (0..self.model.vertices.len()).find(|&v| {
+            self.apexes[v]
+                .iter()
+                .any(|a| a.face == f && a.point.distance(p) <= near)
+        })
+    }
+
+    /// Where a touch point at `ev` leaves vertex `v`: onto the cone whose apex it is, when
+    /// the normal left the normals the apex admits (along the generator where the cone's
+    /// normal is the ball's, a rounding from the apex, where the face's normal is defined);
+    /// otherwise onto the reflex edge whose direction the normal turned away from.
     fn next_from_vertex(
         &self,
         v: usize,
         ev: &FieldEval,
     ) -> Result<(Element, [f64; 2]), HandOverError> {
+        // The bound the normal is nearest to breaking (the crossing is the last point that
+        // keeps them all): a cone's generators, or an edge's direction.
+        let edge_margin = self
+            .vertex_tangents(v)
+            .iter()
+            .map(|(_, d)| ev.n.dot(*d))
+            .fold(f64::INFINITY, f64::min);
+        if let Some(a) = self.apexes[v]
+            .iter()
+            .min_by(|a, b| a.margin(ev.n).total_cmp(&b.margin(ev.n)))
+            .filter(|a| a.margin(ev.n) <= edge_margin)
+        {
+            let d = a.generator_for(ev.n).ok_or(OpenReason::UndefinedNormal {
+                element: Element::Vertex(v),
+            })?;
+            let off = a.point + SAME_PLACE_REL_ACCURACY * self.opts.accuracy * d;
+            let uv = project_point(&self.model.faces[a.face].surface, off, None)
+                .ok_or(OpenReason::NotFoundOnFace { face: a.face })?;
+            return Ok((Element::Face(a.face), [uv.0, uv.1]));
+        }
         let (e, _) = self
             .vertex_tangents(v)
             .into_iter()

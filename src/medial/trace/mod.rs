@@ -33,6 +33,7 @@
 //! (state and model queries), `unknowns` (the layout of the unknowns), `queue`, `starts`,
 //! `seeds`, `march`, `handover`, `junctions`, `pinch`.
 
+mod apex;
 mod entry;
 mod handover;
 mod junctions;

@@ -1,7 +1,7 @@
 //! The tracer's state, and what it asks of the model: which solid an element bounds, whether
 //! a touch point is on its element, the nearest boundary point within a solid.
 
-use super::options::{TraceOptions, MAX_CORRECTOR_ITER, UNIT_ROUNDING};
+use super::options::{TraceOptions, MAX_CORRECTOR_ITER, SAME_PLACE_REL_ACCURACY, UNIT_ROUNDING};
 use super::unknowns::{slot, sys_point};
 use crate::classify::{Classification, EdgeKind, VertexKind};
 use crate::geom::{project_point, Boundary, FaceHit};
@@ -61,6 +61,8 @@ pub(super) struct Tracer<'a> {
     pub(super) face_gap: Vec<f64>,
     /// Some face has a gap beyond the accuracy.
     pub(super) any_gap: bool,
+    /// The cone apexes at each vertex (a drill point's tip).
+    pub(super) apexes: Vec<Vec<super::apex::Apex>>,
 }
 
 impl<'a> Tracer<'a> {
@@ -112,6 +114,7 @@ impl<'a> Tracer<'a> {
             along: None,
             face_gap,
             any_gap,
+            apexes: super::apex::apexes(model, SAME_PLACE_REL_ACCURACY * opts.accuracy),
         }
     }
 
@@ -155,9 +158,11 @@ impl<'a> Tracer<'a> {
         match seg {
             Element::Face(f) => self.face_solid[f],
             Element::Edge(e) => self.face_solid[self.model.edges[e].faces[0]],
-            Element::Vertex(v) => self.vertex_edges[v]
-                .first()
-                .map_or(0, |&(e, _)| self.face_solid[self.model.edges[e].faces[0]]),
+            Element::Vertex(v) => match (self.vertex_edges[v].first(), self.apexes[v].first()) {
+                (Some(&(e, _)), _) => self.face_solid[self.model.edges[e].faces[0]],
+                (None, Some(a)) => self.face_solid[a.face],
+                (None, None) => 0,
+            },
         }
     }
 
@@ -319,7 +324,8 @@ impl<'a> Tracer<'a> {
                 in_range && in_arc
             }
             // Touching at a vertex only, the boundary must not come closer along any of its
-            // edges: N·d ≥ 0 for every edge direction d leaving it.
+            // edges: N·d ≥ 0 for every edge direction d leaving it, and for every generator
+            // of a cone whose apex it is.
             Element::Vertex(v) => {
                 let Some(ev) = seg.eval(self.model, s) else {
                     return false;
@@ -327,6 +333,7 @@ impl<'a> Tracer<'a> {
                 self.vertex_tangents(v)
                     .iter()
                     .all(|(_, d)| ev.n.dot(*d) >= -UNIT_ROUNDING)
+                    && self.apexes[v].iter().all(|a| a.admits(ev.n, UNIT_ROUNDING))
             }
         }
     }
