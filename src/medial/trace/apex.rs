@@ -157,7 +157,11 @@ mod tests {
             let (v, a) = found[0];
             assert!(model.vertices[v].point.distance(point) < 1e-9, "{name}");
             assert!(a.point.distance(point) < 1e-9, "{name}: {:?}", a.point);
-            assert!(a.axis.distance(DVec3::NEG_Y) < 1e-12, "{name}: {:?}", a.axis);
+            assert!(
+                a.axis.distance(DVec3::NEG_Y) < 1e-12,
+                "{name}: {:?}",
+                a.axis
+            );
             let sin = 59f64.to_radians().sin();
             assert!((a.sin_half_angle - sin).abs() < 1e-12, "{name}");
             // The cone's outward normal along the generator in direction +x from the axis
@@ -170,7 +174,10 @@ mod tests {
             assert!(d.dot(DVec3::NEG_Y) > 0.0 && d.x > 0.0, "{d:?}");
             assert!(a.admits(DVec3::NEG_Y, 0.0));
             let past = DVec3::new(-cos - 0.01, -sin + 0.01, 0.0).normalize();
-            assert!(!a.admits(past, 1e-9), "{name}: a normal past the border is admitted");
+            assert!(
+                !a.admits(past, 1e-9),
+                "{name}: a normal past the border is admitted"
+            );
         }
     }
 }
