@@ -265,6 +265,23 @@ impl Tracer<'_> {
         if let Some(flow) = self.junction_end(m, crossing) {
             return flow;
         }
+        // Onto a vertex that another touch point is reaching too (two reflex edges running
+        // into it): the two meet there, a pinch, before the touch point can stay on it.
+        if let Element::Vertex(v) = to {
+            let others_reach = (0..3).any(|k| {
+                k != i
+                    && self.touches(&m.triplet, crossing)[k].is_some_and(|p| {
+                        p.distance(self.model.vertices[v].point)
+                            <= REACH_REL_ACCURACY * self.opts.accuracy
+                    })
+            });
+            if others_reach {
+                if let Some((end, y)) = self.pinch(&m.sys, &m.triplet, crossing) {
+                    m.points.push(self.seam_point(&m.sys, &y));
+                    return Flow::End(end);
+                }
+            }
+        }
         let nt = new_triplet(&m.triplet, i, to);
         if self.coincident(&nt, &xnew, true) {
             return Flow::End(self.merged_end(m, i, to, crossing, &xnew));
