@@ -86,9 +86,17 @@ const MOTOR_PLATE: &str = "22 faces whose edges lie off their surfaces by up to 
     outer one; one centre outside; seams end open at hand-overs; faces \
     reached by no ball";
 
-const FTC06: &str = "seams end open at hand-overs; two convex vertices start no seam (they \
-    are in `stats.skipped_vertices`); faces only degenerate pieces reach are touched by no \
-    ball";
+const FTC06: &str = "two seams end open where the touch point passes, on a pocket's floor \
+    outline, the vertex between a line and an arc that meet at 4.7 degrees (the line comes \
+    closer than r past the vertex; issue 19); faces only degenerate pieces reach are touched by \
+    no ball; sheet boundaries stay open where the seams end open and at mixed vertices \
+    (`sheets_closed`, issue 20)";
+
+/// No seam end open any more: the seams round the drilled holes' ends turn on the apexes.
+const DRILLED: &str = "no seams end open: the seams of the plate's faces and each drilled \
+    hole's wall run down the drill point's cone, turn on its apex (a vertex loop) and come \
+    back up the other side (docs/design.md, Hand-overs); sheet boundaries stay open at mixed \
+    vertices, where a convex edge's rim meets no seam (`sheets_closed`, issue 20)";
 
 const GAPS_ACCEPTED: &str = "a vertex 8.7e-3 mm off its curve, accepted within the file's \
     uncertainty (0.01 mm), and 12 faces whose edges lie off their surfaces by up to 2.2e-3 mm \
@@ -252,7 +260,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "stepswift_nist_ctc_01_asme1_rd.stp",
         &[("verify:sheets_closed", 56)],
-        OPEN_AND_SHALLOW,
+        DRILLED,
     ),
     (
         "stepswift_nist_ftc_06_asme1_rd.stp",
