@@ -9,7 +9,9 @@ line between its halves onto its floor's rim, a tapered pocket whose floor rim c
 than the junction with its wall, a plate written as NURBS whose hole's seam circles the
 wall's parameter seam, a hole inscribed in a square pocket (seams that end at pinches), a
 block with a shallow roof (seam points whose touch points the accuracy cannot separate), the
-same block with one roof plane moved off its edges (an exporter's gap beyond the accuracy).
+same block with one roof plane moved off its edges (an exporter's gap beyond the accuracy), a
+rib whose chamfered end meets its foot fillets tangentially at convex vertices, a blind hole
+with a drill point (its apex written two ways), a cube whose corner dips 0.02 mm into a plate.
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -475,6 +477,27 @@ def apex_as_vertex_loop(text):
       edit=apex_as_vertex_loop)
 def drilled_blind_hole_vertex_loop():
     return drilled_blind_hole()
+
+
+CORNER_DIP = 0.02
+
+
+@part("cube_corner_in_plate",
+      "Plate 30x30x5 with a 10 mm cube standing on one corner (its main diagonal vertical) "
+      f"fused to it, the corner {CORNER_DIP} mm below the plate's top: the cube's three faces "
+      "there meet the plate in a triangle of sides 0.049 mm.",
+      None,
+      "The seam of the cube's three bottom faces runs down from the cube's centre and meets "
+      "the plate near the tiny triangle, at junctions. Its elements' surfaces meet at the "
+      "buried corner, 0.02 mm inside the material and 0.0245 mm from the triangle's vertices "
+      "(within 1000 times the accuracy): the seam must not end there, as if back at a convex "
+      "vertex (r = 0 at a point of no face).")
+def cube_corner_in_plate():
+    c = Part.makeBox(10, 10, 10, V(-5, -5, -5))
+    c.rotate(V(0, 0, 0), V(-1, -1, -1).cross(V(0, 0, -1)),
+             math.degrees(math.acos(1 / math.sqrt(3))))
+    c.translate(V(15, 15, 5 - CORNER_DIP + 5 * math.sqrt(3)))
+    return Part.makeBox(30, 30, 5).fuse(c).removeSplitter()
 
 
 def main():

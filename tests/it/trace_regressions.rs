@@ -374,6 +374,64 @@ fn a_drill_points_apex_is_touched_while_the_ball_turns_about_the_holes_axis() {
     }
 }
 
+/// The cube standing on its corner, the corner 0.02 mm inside the plate: the seam of the
+/// cube's three bottom faces comes down to where their surfaces meet, the buried corner, with
+/// `r` falling to 0 there, 0.0245 mm from the vertices of the tiny triangle where the faces
+/// meet the plate (within the 1000 × accuracy within which a seam that returns to `r = 0` is
+/// landed on a vertex). No vertex there is on all three faces, so the seam has left its faces,
+/// not returned to a convex vertex: every ball is at its distance from the boundary and touches
+/// it (the tracer once ended that seam at the triangle's vertex with a ball of radius 0 in the
+/// material, 0.0245 mm from the boundary).
+#[test]
+fn a_seam_does_not_end_at_a_vertex_its_faces_do_not_share() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = root().join("samples/trace/cube_corner_in_plate.step");
+    let out = matrace(
+        &[
+            "trace",
+            path.to_str().unwrap(),
+            "-o",
+            dir.path().to_str().unwrap(),
+            "--no-svg",
+            "--no-mesh",
+            "--verify",
+        ],
+        &root(),
+    );
+    let text = std::fs::read_to_string(dir.path().join("cube_corner_in_plate.mat.json"))
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stderr)));
+    let report: Value = serde_json::from_str(&text).unwrap();
+    let checks = &report["stats"]["verification"]["checks"];
+    for check in [
+        "distance",
+        "touch_on_boundary",
+        "touch_at_radius",
+        "inside",
+        "seam_ends",
+    ] {
+        assert!(checks[check]["checked"].as_u64().unwrap() > 0, "{check}");
+        assert_eq!(
+            checks[check]["failed"], 0,
+            "{check}: {:?}",
+            report["stats"]["verification"]["failures"]
+        );
+    }
+    let model_vertices = report["model"]["vertices"].as_array().unwrap();
+    for s in report["mat"]["seams"].as_array().unwrap() {
+        for (k, e) in s["ends"].as_array().unwrap().iter().enumerate() {
+            let Some(v) = e["vertex"].as_u64() else {
+                continue;
+            };
+            // A seam ends at a convex vertex only: none of the triangle's (mixed) vertices.
+            assert_eq!(
+                model_vertices[v as usize]["kind"], "convex",
+                "seam {} end {k} at V{v}",
+                s["id"]
+            );
+        }
+    }
+}
+
 /// The shallow roof with one roof plane moved 3e-4 mm off its edges (six times the accuracy),
 /// as exporters whose edges follow one face and not the other write: the report warns of that
 /// face's gap, measured at 3e-4 mm; no seam end is open (the seams from the ridge's ends start

@@ -589,7 +589,11 @@ impl Tracer<'_> {
     ) -> (DVector<f64>, Option<usize>) {
         let xe = self.solve_holding(sys, &xn, 3, 0.0).unwrap_or(xn);
         let b = v3(&xe);
+        // A vertex every touched element reaches: where `r` returns to 0 elsewhere (the
+        // elements' surfaces meeting past their trims, a corner buried in the material) the
+        // seam has left its elements, which the hand-over after this finds.
         let v = (0..self.model.vertices.len())
+            .filter(|&v| sys.segments.iter().all(|&e| self.reaches(e, v)))
             .min_by(|&a, &c| {
                 let va = self.model.vertices[a].point.distance(b);
                 va.total_cmp(&self.model.vertices[c].point.distance(b))

@@ -61,7 +61,7 @@ impl Tracer<'_> {
 
     /// True when element `e` reaches vertex `v` (is it, ends there, or is bounded by an edge
     /// that does).
-    fn reaches(&self, e: Element, v: usize) -> bool {
+    pub(super) fn reaches(&self, e: Element, v: usize) -> bool {
         match e {
             Element::Vertex(w) => w == v,
             Element::Edge(g) => self.model.edges[g].vertices.contains(&v),
