@@ -11,7 +11,8 @@ wall's parameter seam, a hole inscribed in a square pocket (seams that end at pi
 block with a shallow roof (seam points whose touch points the accuracy cannot separate), the
 same block with one roof plane moved off its edges (an exporter's gap beyond the accuracy), a
 rib whose chamfered end meets its foot fillets tangentially at convex vertices, a blind hole
-with a drill point (its apex written two ways), a cube whose corner dips 0.02 mm into a plate.
+with a drill point (its apex written two ways), a cube whose corner dips 0.02 mm into a plate,
+a thin tube grazing a cube's corner (analytic and as NURBS).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -498,6 +499,44 @@ def cube_corner_in_plate():
              math.degrees(math.acos(1 / math.sqrt(3))))
     c.translate(V(15, 15, 5 - CORNER_DIP + 5 * math.sqrt(3)))
     return Part.makeBox(30, 30, 5).fuse(c).removeSplitter()
+
+
+def tube_grazing_cube_corner():
+    """A 5 mm cube fused with a thin tube (r=2, bore 1.85) lying across its top corner: the
+    tube's axis at the height of the cube's top, along (1, -1, 0), 0.017 mm nearer the corner
+    (5, 5, 5) than the tube's radius, so the tube's outer wall takes that corner in."""
+    R, bore, length, dip = 2.0, 1.85, 8.0, 0.017
+    ax = V(1, -1, 0).normalize()
+    start = V(5, 5, 5) + V(1, 1, 0).normalize() * (R - dip) - ax * (length / 2)
+    tube = Part.makeCylinder(R, length, start, ax).cut(Part.makeCylinder(bore, length, start, ax))
+    return Part.makeBox(5, 5, 5).fuse(tube).removeSplitter()
+
+
+TUBE_NOTE = ("The seam of the cube's three faces at the corner runs from the cube's centre "
+             "towards the corner; near it the touch points on the two side faces reach the "
+             "tube together and pass onto the reflex edges where the cube meets the tube, then "
+             "the top's onto its edge, and the seam ends at a junction with the tube's bore "
+             "(r = 0.075, half the tube's wall).")
+
+
+@part("tube_grazing_cube_corner",
+      "A 5 mm cube with a thin tube (r=2, bore 1.85, 8 long) fused across its top corner, the "
+      "tube's axis at the height of the cube's top and 0.017 mm nearer the corner than the "
+      "tube's radius.",
+      None, TUBE_NOTE)
+def tube_grazing_cube_corner_analytic():
+    return tube_grazing_cube_corner()
+
+
+@part("tube_grazing_cube_corner_nurbs",
+      "The tube grazing the cube's corner, written as NURBS (every face a B-spline patch: the "
+      "tube's walls close on themselves at a seam along their top, where the cube's corner "
+      "is), as the EGGTol cube_cylinder's exporter writes it. The volume is the analytic "
+      "part's (OCCT integrates the NURBS solid to 1e-3 only: 139.6457).",
+      tube_grazing_cube_corner().Volume, TUBE_NOTE + " As the analytic part's: the same seams "
+      "and junctions.", volume_rel=2e-3)
+def tube_grazing_cube_corner_nurbs():
+    return tube_grazing_cube_corner().toNurbs()
 
 
 def main():

@@ -218,10 +218,37 @@ impl<'a> Tracer<'a> {
             use truck_geometry::prelude::ParametricSurface;
             surface.u_period().is_some() || surface.v_period().is_some()
         };
-        let uv = match self.boundary.edge_uv_hint(self.model, e, f, t) {
-            Some(h) => crate::geom::project::project_point_along(surface, p, h, periodic)?,
+        let hint = self.boundary.edge_uv_hint(self.model, e, f, t);
+        let along = |h| crate::geom::project::project_point_along(surface, p, h, periodic);
+        let mut uv = match hint {
+            Some(h) => along(h)?,
             None => project_point(surface, p, None)?,
         };
+        // A B-spline patch that closes on itself (a cylinder written as NURBS) has its
+        // parameter clamped to its knots: where the edge crosses the patch's closing border
+        // the foot sticks to that border from a hint on the other side. Start from the hint a
+        // period round instead, and keep the nearer foot.
+        let d = self.model.faces[f].domain;
+        if let (Some(h), false) = (hint, periodic) {
+            let off = |uv: (f64, f64)| {
+                crate::geom::eval_face(&self.model.faces[f], uv.0, uv.1)
+                    .p
+                    .distance(p)
+            };
+            if off(uv) > self.opts.accuracy {
+                let shifted = [
+                    d.u_period.map(|per| (h.0 - per, h.1)),
+                    d.u_period.map(|per| (h.0 + per, h.1)),
+                    d.v_period.map(|per| (h.0, h.1 - per)),
+                    d.v_period.map(|per| (h.0, h.1 + per)),
+                ];
+                for h2 in shifted.into_iter().flatten() {
+                    if let Some(uv2) = along(h2).filter(|&uv2| off(uv2) < off(uv)) {
+                        uv = uv2;
+                    }
+                }
+            }
+        }
         let n = Element::Face(f).eval(self.model, [uv.0, uv.1])?.n;
         Some(([uv.0, uv.1], n))
     }
