@@ -181,7 +181,9 @@ impl Tracer<'_> {
         // is undefined: the ball moves on with its touch point along the generator, to where
         // `next_from_vertex` put it.
         let xc = match (seg, to) {
-            (Element::Vertex(_), Element::Face(_)) => {
+            (Element::Vertex(v), Element::Face(f))
+                if self.apexes[v].iter().any(|a| a.face == f) =>
+            {
                 let mut y = xc;
                 if let Some(q) = sys_point(self.model, to, params) {
                     let moved = v3(&y) + (q - ev.p);

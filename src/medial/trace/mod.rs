@@ -26,12 +26,13 @@
 //! - or open, with the reason, where none of these is reached.
 //!
 //! A touch point that leaves its segment is handed over: across a smooth edge to the next
-//! face, onto and off reflex edges, from a reflex edge into the next one or onto its vertex.
+//! face, onto and off reflex edges, from a reflex edge into the next one or onto its vertex,
+//! onto and off a cone's apex (a drill point's tip).
 
 //!
 //! The files: [`options`] (options and budgets), `entry` (the public functions), `tracer`
 //! (state and model queries), `unknowns` (the layout of the unknowns), `queue`, `starts`,
-//! `seeds`, `march`, `handover`, `junctions`, `pinch`.
+//! `seeds`, `march`, `handover`, `junctions`, `pinch`, `apex` (cone apexes at vertices).
 
 mod apex;
 mod entry;
