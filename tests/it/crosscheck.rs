@@ -132,10 +132,11 @@ const FACETED: &str = "the boss's walls meet at 0.6 degrees across edges classif
 
 /// A cube's corner 0.02 mm inside a plate: balls next to the tiny triangle where they meet.
 const CORNER_IN_PLATE: &str = "no seam ends open and every ball is at its distance from the \
-    boundary; three balls next to the 0.049 mm triangle where the cube's faces meet the plate \
-    touch the cube's faces at points closer than √(8·r·accuracy) and are not marked unresolved \
-    (`separated`, in both checkers: issue 19); the sheets of the triangle's convex edges end at \
-    its mixed vertices with no seam (`sheets_closed`, issue 20)";
+    boundary; below the 0.049 mm triangle where the cube's faces meet the plate, the seam of \
+    its three reflex edges runs down the axis with r growing to 2.5, its touch points on the \
+    three edges within 0.025 mm of each other: marked unresolved, they make one place where \
+    the checkers allow one fewer than three (`separated`, in both); the sheets of the \
+    triangle's edges end at its mixed vertices with no seam (`sheets_closed`, issue 20)";
 
 /// A thin tube across a cube's corner: its end caps are reached only by the tube wall's sheet.
 const TUBE_ENDS: &str = "no seam ends open and every ball passes; the tube's wall is a \
