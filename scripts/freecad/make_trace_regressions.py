@@ -12,7 +12,8 @@ block with a shallow roof (seam points whose touch points the accuracy cannot se
 same block with one roof plane moved off its edges (an exporter's gap beyond the accuracy), a
 rib whose chamfered end meets its foot fillets tangentially at convex vertices, a blind hole
 with a drill point (its apex written two ways), a cube whose corner dips 0.02 mm into a plate,
-a thin tube grazing a cube's corner (analytic and as NURBS).
+a thin tube grazing a cube's corner (analytic and as NURBS), a boss whose foot circle grazes the
+line of an edge seam's touch points.
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -537,6 +538,20 @@ def tube_grazing_cube_corner_analytic():
       "and junctions.", volume_rel=2e-3)
 def tube_grazing_cube_corner_nurbs():
     return tube_grazing_cube_corner().toNurbs()
+
+
+@part("boss_tangent_to_edge_seam",
+      "Sheet 100x20x0.4 with a cylindrical boss r=0.15, 0.3 mm high, at (50.7, 0.35): its "
+      "foot circle is tangent, at (50.7, 0.2, 0.4), to the line y=0.2 on the top along which "
+      "the balls of the sheet's edge y=0 (r = 0.2, half the thickness) touch it.",
+      100 * 20 * 0.4 + PI * 0.15 ** 2 * 0.3,
+      "The seam of the side y=0, the bottom and the top runs along the edge at y = z = 0.2; at "
+      "x = 50.7 its touch point on the top grazes the boss's foot circle (a reflex edge) and "
+      "goes on: the ball there touches the circle at its top touch point and the boss's wall "
+      "comes no closer. It is one straight seam from end junction to end junction, as when "
+      "the boss stands clear of that line.")
+def boss_tangent_to_edge_seam():
+    return Part.makeBox(100, 20, 0.4).fuse(cyl(0.15, 0.3, 50.7, 0.35, 0.4)).removeSplitter()
 
 
 def main():

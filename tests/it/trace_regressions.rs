@@ -488,6 +488,47 @@ fn a_nurbs_cylinder_closing_under_a_reflex_edge_gives_the_analytic_medial_axis()
     );
 }
 
+/// A thin sheet's edge seam (the side y=0, the bottom and the top, r = 0.2 at y = z = 0.2)
+/// whose touch point on the top grazes a small boss's foot circle at x = 50.7: the touch point
+/// is handed onto the circle (a reflex edge) and straight back, which ended both seams coming
+/// from the sheet's corners open ("oscillates"). It runs on along the face, points within the
+/// accuracy of that edge counting as on it: one seam along the whole edge, every ball on it at
+/// r = 0.2, as when the boss stands clear of the line.
+#[test]
+fn a_touch_point_grazing_a_reflex_edge_runs_on_along_its_face() {
+    let report = traced("boss_tangent_to_edge_seam");
+    assert_eq!(
+        report["stats"]["open_ends"], 0,
+        "{}",
+        report["stats"]["open_ends_by_reason"]
+    );
+    let along_edge: Vec<&Value> = report["mat"]["seams"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|s| {
+            let xs: Vec<f64> = s["points"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|p| p["point"][0].as_f64().unwrap())
+                .collect();
+            let lo = xs.iter().copied().fold(f64::MAX, f64::min);
+            let hi = xs.iter().copied().fold(f64::MIN, f64::max);
+            // Along the edge y = 0 (not the opposite one).
+            s["points"][0]["point"][1].as_f64().unwrap() < 1.0 && lo < 50.0 && hi > 51.4
+        })
+        .collect();
+    assert_eq!(along_edge.len(), 1, "seams passing the boss");
+    for p in along_edge[0]["points"].as_array().unwrap() {
+        let c: Vec<f64> = (0..4).map(|k| p["point"][k].as_f64().unwrap()).collect();
+        assert!(
+            (c[1] - 0.2).abs() < 1e-6 && (c[2] - 0.2).abs() < 1e-6 && (c[3] - 0.2).abs() < 1e-6,
+            "{c:?}"
+        );
+    }
+}
+
 /// The shallow roof with one roof plane moved 3e-4 mm off its edges (six times the accuracy),
 /// as exporters whose edges follow one face and not the other write: the report warns of that
 /// face's gap, measured at 3e-4 mm; no seam end is open (the seams from the ridge's ends start

@@ -213,7 +213,7 @@ impl Tracer<'_> {
     /// ends the march where it cannot be.
     fn cross_over(&mut self, m: &mut March, mut i: usize) -> Flow {
         match self.hand_over(&m.triplet, &mut i, &m.x, &m.t, m.h) {
-            Ok((to, xc, _)) if handed_back(m, i, to) => self.stay_on_vertex(m, i, to, &xc),
+            Ok((to, xc, xnew)) if handed_back(m, i, to) => self.stay_on_vertex(m, i, to, &xc, xnew),
             Ok((to, crossing, xnew)) => self.continue_on(m, i, to, &crossing, xnew),
             Err((e, xc)) => self.end_at_crossing(m, e, &xc),
         }
@@ -222,7 +222,14 @@ impl Tracer<'_> {
     /// The touch point sits at a vertex while the normal turns (it was just handed the other
     /// way): it is on the vertex (a corner of two reflex edges, or of faceted faces meeting
     /// at small angles), not on either neighbour.
-    fn stay_on_vertex(&mut self, m: &mut March, i: usize, to: Element, xc: &DVector<f64>) -> Flow {
+    fn stay_on_vertex(
+        &mut self,
+        m: &mut March,
+        i: usize,
+        to: Element,
+        xc: &DVector<f64>,
+        xnew: DVector<f64>,
+    ) -> Flow {
         let from = m.triplet[i];
         match self.onto_vertex(&m.triplet, i, xc, &m.t) {
             Some((v, xv)) => {
@@ -243,6 +250,21 @@ impl Tracer<'_> {
                     if let Some(e) = at.and_then(|p| self.smooth_edge_between_near(f, g, p)) {
                         self.along = Some((f, e));
                         return Flow::Next;
+                    }
+                }
+                // Handed from a face onto a reflex edge of it and straight back: the touch
+                // point's path on the face grazes the edge (a boss's foot circle tangent to
+                // it). Back on the face, points within the accuracy of that edge count as on
+                // the face.
+                if let (Element::Edge(e), Element::Face(f), None) = (from, to, self.along) {
+                    if self.model.edges[e].faces.contains(&f) {
+                        self.along = Some((f, e));
+                        m.handovers.push(Handover {
+                            point: m.points.len(),
+                            from,
+                            to,
+                        });
+                        return self.switch_to(m, i, to, xnew);
                     }
                 }
                 Flow::End(SeamEnd::Open(OpenReason::Oscillates { from, to }))
