@@ -221,7 +221,8 @@ impl Tracer<'_> {
 
     /// The touch point sits at a vertex while the normal turns (it was just handed the other
     /// way): it is on the vertex (a corner of two reflex edges, or of faceted faces meeting
-    /// at small angles), not on either neighbour.
+    /// at small angles), not on either neighbour; or, handed from a face onto one of its
+    /// edges and back, its path grazes that edge and it runs on along the face.
     fn stay_on_vertex(
         &mut self,
         m: &mut March,
