@@ -66,9 +66,7 @@ fn every_regression_part_traces_with_no_seam_end_open() {
                 stats["open_ends"], stats["open_ends_by_reason"]
             ));
         }
-        let short = report["mat"]["seams"]
-            .as_array()
-            .unwrap()
+        let short = seams(&report)
             .iter()
             .filter(|s| s["points"].as_array().map_or(0, |p| p.len()) < 2)
             .count();
@@ -97,16 +95,28 @@ fn every_regression_part_traces_with_no_seam_end_open() {
 /// The report of `trace --verify` on regression part `name` (`samples/trace/<name>.step`),
 /// which must pass.
 fn traced_and_verified(name: &str) -> Value {
-    trace_part(name, true)
+    passed(name, true)
 }
 
-/// The report of `samples/trace/<name>.step` traced (and with `verify`, verified): the run
-/// must exit 0.
+/// The report of `trace` on regression part `name`, which must exit 0.
 fn traced(name: &str) -> Value {
-    trace_part(name, false)
+    passed(name, false)
 }
 
-fn trace_part(name: &str, verify: bool) -> Value {
+fn passed(name: &str, verify: bool) -> Value {
+    let (out, report) = trace_part(name, verify);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{name}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    report
+}
+
+/// The run and the report of `trace` (with `verify`, `trace --verify`) on regression
+/// part `name` (`samples/trace/<name>.step`).
+fn trace_part(name: &str, verify: bool) -> (std::process::Output, Value) {
     let dir = tempfile::tempdir().unwrap();
     let path = root().join("samples/trace").join(format!("{name}.step"));
     let mut args = vec![
@@ -121,14 +131,23 @@ fn trace_part(name: &str, verify: bool) -> Value {
         args.push("--verify");
     }
     let out = matrace(&args, &root());
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{name}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = std::fs::read_to_string(dir.path().join(format!("{name}.mat.json"))).unwrap();
-    serde_json::from_str(&text).unwrap()
+    let text = std::fs::read_to_string(dir.path().join(format!("{name}.mat.json")))
+        .unwrap_or_else(|e| panic!("{name}: {e}: {}", String::from_utf8_lossy(&out.stderr)));
+    let report = serde_json::from_str(&text).unwrap();
+    (out, report)
+}
+
+/// The seams of a report.
+fn seams(report: &Value) -> &[Value] {
+    report["mat"]["seams"].as_array().unwrap()
+}
+
+/// The distance between the point `p` of a report (its first three numbers) and `q`.
+fn distance(p: &Value, q: [f64; 3]) -> f64 {
+    (0..3)
+        .map(|c| (p[c].as_f64().unwrap() - q[c]).powi(2))
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// The hole inscribed in the square pocket: at each of the four points where the hole's circle
@@ -141,7 +160,7 @@ fn seams_end_in_pairs_at_the_pinches_of_a_hole_tangent_to_a_pocket() {
     let report = traced_and_verified("hole_tangent_to_pocket");
     let vertices = report["model"]["vertices"].as_array().unwrap();
     let mut balls: Vec<[f64; 4]> = vec![];
-    for s in report["mat"]["seams"].as_array().unwrap() {
+    for s in seams(&report) {
         for (k, end) in s["ends"].as_array().unwrap().iter().enumerate() {
             let Some(pinch) = end.get("pinch") else {
                 continue;
@@ -205,7 +224,7 @@ fn points_the_accuracy_cannot_separate_are_marked_unresolved_and_verified() {
     let report = traced_and_verified("shallow_roof");
     let accuracy = report["options"]["accuracy"].as_f64().unwrap();
     let mut marked = 0;
-    for s in report["mat"]["seams"].as_array().unwrap() {
+    for s in seams(&report) {
         for k in s["unresolved"].as_array().unwrap() {
             let p = &s["points"][k.as_u64().unwrap() as usize];
             let r = p["point"][3].as_f64().unwrap();
@@ -256,9 +275,7 @@ fn a_seam_whose_faces_meet_tangentially_at_a_convex_vertex_ends_there() {
         .collect();
     assert_eq!(tangent.len(), 2, "{vertices:?}");
     for v in tangent {
-        let ending: Vec<&Value> = report["mat"]["seams"]
-            .as_array()
-            .unwrap()
+        let ending: Vec<&Value> = seams(&report)
             .iter()
             .filter(|s| {
                 s["ends"]
@@ -274,10 +291,10 @@ fn a_seam_whose_faces_meet_tangentially_at_a_convex_vertex_ends_there() {
         let r = last["point"][3].as_f64().unwrap();
         assert!(r <= accuracy, "seam {} ends at V{v} with r = {r}", s["id"]);
         let at = &vertices[v as usize]["point"];
-        let off = (0..3)
-            .map(|c| (last["point"][c].as_f64().unwrap() - at[c].as_f64().unwrap()).powi(2))
-            .sum::<f64>()
-            .sqrt();
+        let off = distance(
+            &last["point"],
+            std::array::from_fn(|c| at[c].as_f64().unwrap()),
+        );
         // The surfaces are within the accuracy of each other for sqrt(2 · 2 · acc) either
         // side of the vertex along the line (the fillet's radius is 2).
         assert!(
@@ -304,24 +321,16 @@ fn a_drill_points_apex_is_touched_while_the_ball_turns_about_the_holes_axis() {
         let report = traced_and_verified(name);
         assert_eq!(report["stats"]["open_ends"], 0, "{name}");
         let accuracy = report["stats"]["accuracy"].as_f64().unwrap();
-        let dist = |p: &Value, q: [f64; 3]| {
-            (0..3)
-                .map(|c| (p[c].as_f64().unwrap() - q[c]).powi(2))
-                .sum::<f64>()
-                .sqrt()
-        };
         let v = report["model"]["vertices"]
             .as_array()
             .unwrap()
             .iter()
-            .find(|v| dist(&v["point"], apex) < 1e-9)
+            .find(|v| distance(&v["point"], apex) < 1e-9)
             .unwrap_or_else(|| panic!("{name}: no vertex at the apex"))["id"]
             .as_u64()
             .unwrap();
         let at_apex = format!("V{v}");
-        let around: Vec<&Value> = report["mat"]["seams"]
-            .as_array()
-            .unwrap()
+        let around: Vec<&Value> = seams(&report)
             .iter()
             .filter(|s| {
                 s["handovers"]
@@ -357,7 +366,7 @@ fn a_drill_points_apex_is_touched_while_the_ball_turns_about_the_holes_axis() {
                 .as_array()
                 .unwrap()
                 .iter()
-                .any(|t| dist(t, apex) <= 11.0 * accuracy);
+                .any(|t| distance(t, apex) <= 11.0 * accuracy);
             if !touches_apex {
                 continue;
             }
@@ -368,7 +377,7 @@ fn a_drill_points_apex_is_touched_while_the_ball_turns_about_the_holes_axis() {
                 (c[2].as_f64().unwrap() - 5.0).abs() <= accuracy,
                 "{name}: {c}"
             );
-            assert!((dist(c, apex) - 5.0).abs() <= accuracy, "{name}: {c}");
+            assert!((distance(c, apex) - 5.0).abs() <= accuracy, "{name}: {c}");
             xs.push(c[0].as_f64().unwrap());
         }
         let (lo, hi) = xs
@@ -394,23 +403,9 @@ fn a_drill_points_apex_is_touched_while_the_ball_turns_about_the_holes_axis() {
 /// material, 0.0245 mm from the boundary).
 #[test]
 fn a_seam_does_not_end_at_a_vertex_its_faces_do_not_share() {
-    let dir = tempfile::tempdir().unwrap();
-    let path = root().join("samples/trace/cube_corner_in_plate.step");
-    let out = matrace(
-        &[
-            "trace",
-            path.to_str().unwrap(),
-            "-o",
-            dir.path().to_str().unwrap(),
-            "--no-svg",
-            "--no-mesh",
-            "--verify",
-        ],
-        &root(),
-    );
-    let text = std::fs::read_to_string(dir.path().join("cube_corner_in_plate.mat.json"))
-        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stderr)));
-    let report: Value = serde_json::from_str(&text).unwrap();
+    // (`verify` fails the part on other checks, listed in `crosscheck.rs`, and says so.)
+    let (out, report) = trace_part("cube_corner_in_plate", true);
+    assert_eq!(out.status.code(), Some(1));
     let checks = &report["stats"]["verification"]["checks"];
     for check in [
         "distance",
@@ -427,7 +422,7 @@ fn a_seam_does_not_end_at_a_vertex_its_faces_do_not_share() {
         );
     }
     let model_vertices = report["model"]["vertices"].as_array().unwrap();
-    for s in report["mat"]["seams"].as_array().unwrap() {
+    for s in seams(&report) {
         for (k, e) in s["ends"].as_array().unwrap().iter().enumerate() {
             let Some(v) = e["vertex"].as_u64() else {
                 continue;
@@ -482,10 +477,7 @@ fn a_nurbs_cylinder_closing_under_a_reflex_edge_gives_the_analytic_medial_axis()
         let d = (0..4).map(|k| (p[k] - q[k]).abs()).fold(0.0, f64::max);
         assert!(d < 1e-6, "junction {p:?} analytic, {q:?} NURBS");
     }
-    assert_eq!(
-        analytic["mat"]["seams"].as_array().unwrap().len(),
-        nurbs["mat"]["seams"].as_array().unwrap().len()
-    );
+    assert_eq!(seams(&analytic).len(), seams(&nurbs).len());
 }
 
 /// A thin sheet's edge seam (the side y=0, the bottom and the top, r = 0.2 at y = z = 0.2)
@@ -502,9 +494,7 @@ fn a_touch_point_grazing_a_reflex_edge_runs_on_along_its_face() {
         "{}",
         report["stats"]["open_ends_by_reason"]
     );
-    let along_edge: Vec<&Value> = report["mat"]["seams"]
-        .as_array()
-        .unwrap()
+    let along_edge: Vec<&Value> = seams(&report)
         .iter()
         .filter(|s| {
             let xs: Vec<f64> = s["points"]

@@ -8,13 +8,14 @@ use crate::geom::eval_face;
 use crate::model::{Model, Surface};
 use glam::DVec3;
 
-/// The apex of face `face`'s cone at a vertex: the unit direction `axis` about which the
-/// face's generators leave the apex, and the sine of their half-angle to it. A ball touching
+/// The apex of face `face`'s cone at vertex `vertex`: the unit direction `axis` about which
+/// the face's generators leave the apex, and the sine of their half-angle to it. A ball touching
 /// the apex with outward normal `n` keeps every generator at least `r` from its centre when
 /// `n · d ≥ 0` for each generator direction `d`, that is when the angle between `n` and
 /// `axis` is at most 90° less the half-angle: `n · axis ≥ sin_half_angle`.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Apex {
+    pub(super) vertex: usize,
     pub(super) face: usize,
     pub(super) point: DVec3,
     pub(super) axis: DVec3,
@@ -44,12 +45,13 @@ impl Apex {
     }
 }
 
-/// The cone apexes at each vertex of `model` (by vertex index): for every face on a conical
-/// surface, its vertices (of its edges and vertex loops) within `tol` of the cone's apex.
-pub(super) fn apexes(model: &Model, tol: f64) -> Vec<Vec<Apex>> {
-    let mut at = vec![vec![]; model.vertices.len()];
+/// The cone apexes at vertices of `model` (few: a part's drill points): for every face on a
+/// conical surface, its vertices (of its edges and vertex loops) within `tol` of the cone's
+/// apex.
+pub(super) fn apexes(model: &Model, tol: f64) -> Vec<Apex> {
+    let mut at = vec![];
     for (f, face) in model.faces.iter().enumerate() {
-        let Some(apex) = cone_apex(model, f) else {
+        let Some((point, axis, sin_half_angle)) = cone_apex(model, f) else {
             continue;
         };
         let vertices = face.loops.iter().flat_map(|l| {
@@ -61,19 +63,25 @@ pub(super) fn apexes(model: &Model, tol: f64) -> Vec<Vec<Apex>> {
         });
         let mut seen = vec![];
         for v in vertices {
-            if !seen.contains(&v) && model.vertices[v].point.distance(apex.point) <= tol {
+            if !seen.contains(&v) && model.vertices[v].point.distance(point) <= tol {
                 seen.push(v);
-                at[v].push(apex);
+                at.push(Apex {
+                    vertex: v,
+                    face: f,
+                    point,
+                    axis,
+                    sin_half_angle,
+                });
             }
         }
     }
     at
 }
 
-/// Face `f`'s cone apex, axis and half-angle, from four generators at quarter turns over the
+/// Face `f`'s cone apex, axis and the sine of the half-angle, from four generators at quarter turns over the
 /// face's parameter range (exact for a circular cone: the generators' directions from the
 /// apex sum to the axis); `None` for a face on any other surface.
-fn cone_apex(model: &Model, f: usize) -> Option<Apex> {
+fn cone_apex(model: &Model, f: usize) -> Option<(DVec3, DVec3, f64)> {
     use truck_stepio::r#in::alias::ElementarySurface as E;
     let face = &model.faces[f];
     let Surface::ElementarySurface(e) = &face.surface else {
@@ -107,12 +115,7 @@ fn cone_apex(model: &Model, f: usize) -> Option<Apex> {
         .collect::<Option<_>>()?;
     let axis = dirs.iter().copied().sum::<DVec3>().try_normalize()?;
     let sin_half_angle = (dirs[0] - dirs[0].dot(axis) * axis).length();
-    Some(Apex {
-        face: f,
-        point,
-        axis,
-        sin_half_angle,
-    })
+    Some((point, axis, sin_half_angle))
 }
 
 /// The point midway between the nearest points of lines `p + s·a` and `q + t·b`; `None` for
@@ -147,15 +150,13 @@ mod tests {
             "trace/drilled_blind_hole_vertex_loop.step",
         ] {
             let model = crate::testing::sample(name);
-            let at = apexes(&model, 1e-6);
-            let found: Vec<(usize, &Apex)> = at
-                .iter()
-                .enumerate()
-                .flat_map(|(v, a)| a.iter().map(move |a| (v, a)))
-                .collect();
+            let found = apexes(&model, 1e-6);
             assert_eq!(found.len(), 1, "{name}: {found:?}");
-            let (v, a) = found[0];
-            assert!(model.vertices[v].point.distance(point) < 1e-9, "{name}");
+            let a = found[0];
+            assert!(
+                model.vertices[a.vertex].point.distance(point) < 1e-9,
+                "{name}"
+            );
             assert!(a.point.distance(point) < 1e-9, "{name}: {:?}", a.point);
             assert!(
                 a.axis.distance(DVec3::NEG_Y) < 1e-12,

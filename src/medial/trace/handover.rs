@@ -181,9 +181,7 @@ impl Tracer<'_> {
         // is undefined: the ball moves on with its touch point along the generator, to where
         // `next_from_vertex` put it.
         let xc = match (seg, to) {
-            (Element::Vertex(v), Element::Face(f))
-                if self.apexes[v].iter().any(|a| a.face == f) =>
-            {
+            (Element::Vertex(v), Element::Face(f)) if self.apexes_at(v).any(|a| a.face == f) => {
                 let mut y = xc;
                 if let Some(q) = sys_point(self.model, to, params) {
                     let moved = v3(&y) + (q - ev.p);
@@ -416,11 +414,10 @@ impl Tracer<'_> {
     /// The apex of face `f`'s cone within [`SAME_PLACE_REL_ACCURACY`] × the accuracy of `p`.
     fn apex_reached(&self, f: usize, p: DVec3) -> Option<usize> {
         let near = SAME_PLACE_REL_ACCURACY * self.opts.accuracy;
-        (0..self.model.vertices.len()).find(|&v| {
-            self.apexes[v]
-                .iter()
-                .any(|a| a.face == f && a.point.distance(p) <= near)
-        })
+        self.apexes
+            .iter()
+            .find(|a| a.face == f && a.point.distance(p) <= near)
+            .map(|a| a.vertex)
     }
 
     /// Where a touch point at `ev` leaves vertex `v`: onto the cone whose apex it is, when
@@ -439,8 +436,8 @@ impl Tracer<'_> {
             .iter()
             .map(|(_, d)| ev.n.dot(*d))
             .fold(f64::INFINITY, f64::min);
-        if let Some(a) = self.apexes[v]
-            .iter()
+        if let Some(a) = self
+            .apexes_at(v)
             .min_by(|a, b| a.margin(ev.n).total_cmp(&b.margin(ev.n)))
             .filter(|a| a.margin(ev.n) <= edge_margin)
         {

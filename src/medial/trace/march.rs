@@ -291,9 +291,10 @@ impl Tracer<'_> {
         // Onto a vertex that another touch point is reaching too (two reflex edges running
         // into it): the two meet there, a pinch, before the touch point can stay on it.
         if let Element::Vertex(v) = to {
+            let at = self.touches(&m.triplet, crossing);
             let others_reach = (0..3).any(|k| {
                 k != i
-                    && self.touches(&m.triplet, crossing)[k].is_some_and(|p| {
+                    && at[k].is_some_and(|p| {
                         p.distance(self.model.vertices[v].point)
                             <= REACH_REL_ACCURACY * self.opts.accuracy
                     })
@@ -615,14 +616,13 @@ impl Tracer<'_> {
         // A vertex every touched element reaches: where `r` returns to 0 elsewhere (the
         // elements' surfaces meeting past their trims, a corner buried in the material) the
         // seam has left its elements, which the hand-over after this finds.
+        let reach = REACH_REL_ACCURACY * self.opts.accuracy;
         let v = (0..self.model.vertices.len())
+            .filter(|&v| self.model.vertices[v].point.distance(b) <= reach)
             .filter(|&v| sys.segments.iter().all(|&e| self.reaches(e, v)))
             .min_by(|&a, &c| {
                 let va = self.model.vertices[a].point.distance(b);
                 va.total_cmp(&self.model.vertices[c].point.distance(b))
-            })
-            .filter(|&v| {
-                self.model.vertices[v].point.distance(b) <= REACH_REL_ACCURACY * self.opts.accuracy
             });
         (xe, v)
     }

@@ -61,8 +61,8 @@ pub(super) struct Tracer<'a> {
     pub(super) face_gap: Vec<f64>,
     /// Some face has a gap beyond the accuracy.
     pub(super) any_gap: bool,
-    /// The cone apexes at each vertex (a drill point's tip).
-    pub(super) apexes: Vec<Vec<super::apex::Apex>>,
+    /// The cone apexes at vertices (drill points' tips).
+    pub(super) apexes: Vec<super::apex::Apex>,
 }
 
 impl<'a> Tracer<'a> {
@@ -158,12 +158,17 @@ impl<'a> Tracer<'a> {
         match seg {
             Element::Face(f) => self.face_solid[f],
             Element::Edge(e) => self.face_solid[self.model.edges[e].faces[0]],
-            Element::Vertex(v) => match (self.vertex_edges[v].first(), self.apexes[v].first()) {
+            Element::Vertex(v) => match (self.vertex_edges[v].first(), self.apexes_at(v).next()) {
                 (Some(&(e, _)), _) => self.face_solid[self.model.edges[e].faces[0]],
                 (None, Some(a)) => self.face_solid[a.face],
                 (None, None) => 0,
             },
         }
+    }
+
+    /// The cone apexes at vertex `v`.
+    pub(super) fn apexes_at(&self, v: usize) -> impl Iterator<Item = &super::apex::Apex> {
+        self.apexes.iter().filter(move |a| a.vertex == v)
     }
 
     /// The unit tangents of vertex `v`'s edges, pointing away from it, with the edges.
@@ -360,7 +365,7 @@ impl<'a> Tracer<'a> {
                 self.vertex_tangents(v)
                     .iter()
                     .all(|(_, d)| ev.n.dot(*d) >= -UNIT_ROUNDING)
-                    && self.apexes[v].iter().all(|a| a.admits(ev.n, UNIT_ROUNDING))
+                    && self.apexes_at(v).all(|a| a.admits(ev.n, UNIT_ROUNDING))
             }
         }
     }
