@@ -13,7 +13,7 @@ same block with one roof plane moved off its edges (an exporter's gap beyond the
 rib whose chamfered end meets its foot fillets tangentially at convex vertices, a blind hole
 with a drill point (its apex written two ways), a cube whose corner dips 0.02 mm into a plate,
 a thin tube grazing a cube's corner (analytic and as NURBS), a boss whose foot circle grazes the
-line of an edge seam's touch points.
+line of an edge seam's touch points, a plate with two shallow pockets.
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -552,6 +552,20 @@ def tube_grazing_cube_corner_nurbs():
       "the boss stands clear of that line.")
 def boss_tangent_to_edge_seam():
     return Part.makeBox(100, 20, 0.4).fuse(cyl(0.15, 0.3, 50.7, 0.35, 0.4)).removeSplitter()
+
+
+@part("shallow_pockets",
+      "Plate 40x20x4 with two pockets in its top, 0.4 deep: a rectangle 12x10 (x 4..16, "
+      "y 5..15) and a circle r=4 at (28, 10).",
+      40 * 20 * 4 - 0.4 * (12 * 10 + PI * 16),
+      "Round each pocket the plate's middle sheet (r = 2) ends in a closed loop of seams "
+      "whose balls touch the top, the bottom and the pocket floor's rim, 1.2 from the rim "
+      "(where sqrt(r^2 - 1.6^2) = 1.2): no convex vertex leads to them, and no ball sampled "
+      "on the faces no seam touches (the pockets' walls and floors) touches both plate faces.")
+def shallow_pockets():
+    plate = Part.makeBox(40, 20, 4)
+    plate = plate.cut(Part.makeBox(12, 10, 0.4, V(4, 5, 3.6)))
+    return plate.cut(cyl(4, 0.4, 28, 10, 3.6))
 
 
 def main():

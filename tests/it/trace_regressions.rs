@@ -572,3 +572,49 @@ fn a_faces_gap_beyond_the_accuracy_is_reported_and_traced_across() {
         assert!(nearest < 0.01, "junction {want:?}: nearest {nearest}");
     }
 }
+
+/// The plate with two pockets 0.4 deep: round each pocket one seam closes on itself (no
+/// convex vertex leads to it; found from the floor rim's sheet, `arcs.rs`), every ball on it
+/// touching the plate's top and bottom (centre at z = 2, r = 2) and the floor's rim at z = 3.6,
+/// so its centre is 1.2 mm from the rim in plan: outside the rectangle x 4..16, y 5..15, and
+/// 5.2 from the circle's centre (28, 10). `--verify` passes (the medial axis has the plate's
+/// Euler characteristic, 1, and every face is touched).
+#[test]
+fn the_seams_round_a_shallow_pockets_floor_close_on_themselves() {
+    let report = traced_and_verified("shallow_pockets");
+    assert_eq!(report["stats"]["open_ends"], 0);
+    let loops: Vec<&Value> = seams(&report)
+        .iter()
+        .filter(|s| s["ends"].as_array().unwrap().iter().all(|e| e == "closed"))
+        .collect();
+    assert_eq!(loops.len(), 2, "closed seams");
+    let from_rectangle = |x: f64, y: f64| {
+        let dx = (4.0 - x).max(x - 16.0).max(0.0);
+        let dy = (5.0 - y).max(y - 15.0).max(0.0);
+        dx.hypot(dy)
+    };
+    let mut round = [0, 0];
+    for s in loops {
+        let points = s["points"].as_array().unwrap();
+        assert!(points.len() > 8, "{} points", points.len());
+        let near_circle = distance(&points[0]["point"], [28.0, 10.0, 2.0]) < 6.0;
+        round[usize::from(near_circle)] += 1;
+        for p in points {
+            let b: Vec<f64> = (0..4).map(|c| p["point"][c].as_f64().unwrap()).collect();
+            assert!(
+                (b[2] - 2.0).abs() < 1e-6 && (b[3] - 2.0).abs() < 1e-6,
+                "{b:?}"
+            );
+            let from_rim = if near_circle {
+                (b[0] - 28.0).hypot(b[1] - 10.0) - 4.0
+            } else {
+                from_rectangle(b[0], b[1])
+            };
+            assert!(
+                (from_rim - 1.2).abs() < 1e-5,
+                "{b:?}: {from_rim} from the rim"
+            );
+        }
+    }
+    assert_eq!(round, [1, 1], "one loop round each pocket");
+}

@@ -49,6 +49,7 @@ pub fn trace_with_seeds(
         t.run_queue();
     }
     t.seed_by_sampling();
+    t.seed_by_arcs();
     t.drop_open_halves();
     t.into_axis()
 }

@@ -35,6 +35,7 @@
 //! `seeds`, `march`, `handover`, `junctions`, `pinch`, `apex` (cone apexes at vertices).
 
 mod apex;
+mod arcs;
 mod entry;
 mod handover;
 mod junctions;

@@ -28,6 +28,8 @@ pub const SAME_BRANCH: f64 = 0.05;
 pub const MAX_CORRECTOR_ITER: usize = 12;
 /// Newton iterations when refining a seed, or solving a junction from a seam point.
 pub const MAX_REFINE_ITER: usize = 30;
+/// Most steps of the shrinking ball that brackets a maximal ball's radius.
+pub const SHRINK_STEPS: usize = 60;
 /// Newton iterations of a step that fixes only the centre's advance (near an end).
 pub const MAX_CENTRE_STEP_ITER: usize = 40;
 

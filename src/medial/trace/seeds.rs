@@ -5,11 +5,11 @@
 
 use super::options::{
     DISTINCT_TOUCH_REL_RADIUS, MAX_REFINE_ITER, MAX_SEAMS, OSCULATING_REL_RADIUS,
-    SAME_PLACE_REL_ACCURACY, UNIT_ROUNDING,
+    SAME_PLACE_REL_ACCURACY, SHRINK_STEPS, UNIT_ROUNDING,
 };
 use super::tracer::Tracer;
-use super::unknowns::{seam_x, slot, sorted, sys_point, to_chord, touches_meet, v3, Pairs};
-use crate::geom::project_point;
+use super::unknowns::{seam_x, slot, sys_point, to_chord, touches_meet, v3, Pairs};
+use crate::geom::{project_point, FaceHit};
 use crate::medial::axis::{Degenerate, DegenerateKind, Handover, SeamEnd, SeamPoint};
 use crate::medial::equations::{MedialSystem, NormalField};
 use crate::medial::maximal::curvature_allows;
@@ -80,30 +80,8 @@ impl Tracer<'_> {
 
     pub(super) fn sample_ball(&mut self, f: usize, s: [f64; 2]) -> Option<Vec<Seed>> {
         let solid = self.face_solid[f];
-        let diag = self.model.diagonal();
         let ev = Element::Face(f).eval(self.model, s)?;
-        let nearest = |b: DVec3| self.nearest_in(solid, b);
-        // Largest r with nothing closer than r to p − r·n: bisection.
-        let fits = |r: f64| {
-            nearest(ev.p - ev.n * r).is_some_and(|(_, h)| h.distance >= r * (1.0 - UNIT_ROUNDING))
-        };
-        let (mut lo, mut hi) = (0.0, diag);
-        for _ in 0..48 {
-            let mid = 0.5 * (lo + hi);
-            if fits(mid) {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-            // Bisected as far as the solver's residuals go.
-            if hi - lo <= self.opts.solver_tol {
-                break;
-            }
-        }
-        let r = lo;
-        let b = ev.p - ev.n * r;
-        // The other touch: the nearest point just past the maximal ball, away from p.
-        let (g, hit) = nearest(ev.p - ev.n * hi)?;
+        let (r, b, g, hit) = self.maximal_along(solid, ev.p, ev.n)?;
         if r <= SAME_PLACE_REL_ACCURACY * self.opts.accuracy
             || hit.point.distance(ev.p) <= DISTINCT_TOUCH_REL_RADIUS * r
         {
@@ -141,6 +119,61 @@ impl Tracer<'_> {
                 })
                 .collect(),
         )
+    }
+
+    /// The maximal ball touching the boundary of solid `solid` at `p` with outward normal
+    /// `n` (largest `r` with nothing closer than `r` to `p − r·n`, to the solver tolerance): its radius
+    /// and centre, and the face and point nearest to the centre of a ball just past it (the
+    /// other place it touches).
+    pub(super) fn maximal_along(
+        &self,
+        solid: usize,
+        p: DVec3,
+        n: DVec3,
+    ) -> Option<(f64, DVec3, usize, FaceHit)> {
+        let nearest = |b: DVec3| self.nearest_in(solid, b);
+        let fits = |r: f64| {
+            nearest(p - n * r).is_some_and(|(_, h)| h.distance >= r * (1.0 - UNIT_ROUNDING))
+        };
+        // The shrinking ball: the ball through p and the nearest point q to its centre, with
+        // its centre on the normal, until nothing is nearer than r (a few steps where the
+        // bisection below takes dozens); its radius brackets the bisection.
+        let diag = self.model.diagonal();
+        let mut shrunk = diag;
+        for _ in 0..SHRINK_STEPS {
+            let Some((_, h)) = nearest(p - n * shrunk) else {
+                break;
+            };
+            let d = h.point - p;
+            let along = -d.dot(n);
+            if h.distance >= shrunk * (1.0 - UNIT_ROUNDING) || !(along > 0.0) {
+                break;
+            }
+            let r = 0.5 * d.length_squared() / along;
+            if !(r < shrunk) {
+                break;
+            }
+            shrunk = r;
+        }
+        let (mut lo, mut hi) = (0.0, diag);
+        let slack = 1e-9 * shrunk + self.opts.solver_tol;
+        if shrunk > slack && fits(shrunk - slack) && !fits(shrunk + slack) {
+            (lo, hi) = (shrunk - slack, shrunk + slack);
+        }
+        for _ in 0..48 {
+            let mid = 0.5 * (lo + hi);
+            if fits(mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+            // Bisected as far as the solver's residuals go.
+            if hi - lo <= self.opts.solver_tol {
+                break;
+            }
+        }
+        let (g, hit) = nearest(p - n * hi)?;
+        Some((lo, p - n * lo, g, hit))
     }
 
     /// True (and recorded as [`Degenerate`]) when the sheet of balls touching `a` at `sa` and
@@ -244,17 +277,17 @@ impl Tracer<'_> {
         );
         let x = sol.x;
         let r = x[3];
-        // A ball that osculates one of its faces (a fillet's axis: radius = the fillet's,
-        // touching it along a whole arc) is a degenerate piece, not a seam point, although
-        // the three-segment system is solvable there.
+        // A ball that osculates one of its faces or edges (a fillet's axis: radius = the
+        // fillet's, touching it along a whole arc; the axis of a rounded corner's foot circle)
+        // is a degenerate piece, not a seam point, although the three-segment system is
+        // solvable there.
         let osculates = (0..3).any(|i| {
-            matches!(seed.triplet[i], Element::Face(_))
-                && !curvature_allows(
-                    self.model,
-                    seed.triplet[i],
-                    slot(&x, i),
-                    r * (1.0 + OSCULATING_REL_RADIUS),
-                )
+            !curvature_allows(
+                self.model,
+                seed.triplet[i],
+                slot(&x, i),
+                r * (1.0 + OSCULATING_REL_RADIUS),
+            )
         });
         let valid = sol.status == SolveStatus::Converged
             && r > self.opts.accuracy
@@ -331,17 +364,18 @@ impl Tracer<'_> {
             && (0..3).all(|i| curvature_allows(self.model, triplet[i], slot(x, i), r))
     }
 
-    /// True when `x` lies on a seam of the same segments traced already.
+    /// True when `x` lies on a seam traced already that touches the same segments there (at
+    /// its start, its end, or between hand-overs).
     pub(super) fn on_traced_seam(&self, triplet: &[Element; 3], x: &DVector<f64>) -> bool {
         let b = v3(x);
         let tol = 1e-3 * self.model.diagonal();
-        let ids: Vec<Element> = sorted(*triplet).to_vec();
         self.seams.iter().any(|s| {
-            let mut same = s.segments.clone();
-            same.sort();
-            let mut want = ids.clone();
-            want.sort();
-            same == want
+            let touches = |e: &Element| {
+                s.segments.contains(e)
+                    || s.end_segments.contains(e)
+                    || s.handovers.iter().any(|h| h.from == *e || h.to == *e)
+            };
+            triplet.iter().all(touches)
                 && s.points.windows(2).any(|w| {
                     let a = DVec3::new(w[0].point[0], w[0].point[1], w[0].point[2]);
                     let c = DVec3::new(w[1].point[0], w[1].point[1], w[1].point[2]);

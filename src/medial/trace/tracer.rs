@@ -41,6 +41,8 @@ pub(super) struct Tracer<'a> {
     pub(super) degenerate: Vec<Degenerate>,
     /// Faces some output seam point touches.
     pub(super) touched: Vec<bool>,
+    /// Edges some output seam point touches.
+    pub(super) touched_edges: Vec<bool>,
     /// Per junction: unit directions (leaving the junction) of the seams that arrived there,
     /// so a branch along an arrived seam (same curve, another triplet of a non-generic
     /// junction) is not traced again.
@@ -105,6 +107,7 @@ impl<'a> Tracer<'a> {
             junctions: vec![],
             degenerate: vec![],
             touched: vec![false; model.faces.len()],
+            touched_edges: vec![false; model.edges.len()],
             arrivals: vec![],
             seams: vec![],
             visited: HashSet::new(),
@@ -438,8 +441,10 @@ impl<'a> Tracer<'a> {
 
     pub(super) fn seam_point(&mut self, sys: &MedialSystem, x: &DVector<f64>) -> SeamPoint {
         for seg in &sys.segments {
-            if let Element::Face(f) = *seg {
-                self.touched[f] = true;
+            match *seg {
+                Element::Face(f) => self.touched[f] = true,
+                Element::Edge(e) => self.touched_edges[e] = true,
+                Element::Vertex(_) => {}
             }
         }
         if let Some(f) = sys.residual(self.model, x) {

@@ -1,0 +1,190 @@
+//! Seeds for seams that no convex vertex leads to and no face sample finds: the closed loop of
+//! seams round a pocket's floor or a boss's foot, whose balls touch the two faces of a plate
+//! and the feature's reflex rim. Maximal balls are grown from points of each reflex edge no
+//! seam touches, over the arc of normals the edge owns (its sheet, parametrised by the point
+//! along the edge and the normal across the arc). Where the element such a ball touches
+//! besides the edge changes between neighbouring samples, a seam touching the edge lies
+//! between them: bisected, the ball touches the edge and both elements in distinct places, a
+//! seam point to trace from.
+
+use super::options::{DISTINCT_TOUCH_REL_RADIUS, MAX_SEAMS, SAME_PLACE_REL_ACCURACY};
+use super::seeds::Seed;
+use super::tracer::Tracer;
+use crate::medial::axis::SeamEnd;
+use crate::model::Element;
+use glam::DVec3;
+use nalgebra::DVector;
+
+/// Samples along each edge, and across its arc of normals.
+const ALONG: usize = 4;
+const ACROSS: usize = 6;
+/// Most bisection steps between two samples touching different elements.
+const BISECTIONS: usize = 40;
+/// Bisection stops with the centres this close (× r): Newton refines the seed from there.
+const SEED_REL_RADIUS: f64 = 1e-4;
+/// Bisection gives up with the touch points this close (× r): one element passing into its
+/// neighbour (a face into its reflex edge, an edge into its vertex), not a seam.
+const MEETING_REL_RADIUS: f64 = 1e-2;
+
+/// The maximal ball grown from a point of an edge: where it touches besides the edge.
+#[derive(Clone, Copy, Debug)]
+struct Contact {
+    /// The element touched and its parameters there.
+    seg: Element,
+    s: [f64; 2],
+    /// Where it is touched.
+    touch: DVec3,
+    /// The edge's parameters `[t, θ]` at the ball's touch point on it.
+    edge_s: [f64; 2],
+    centre: DVec3,
+    r: f64,
+}
+
+/// A place on edge `e`'s sheet: the curve parameter and the fraction of the way across the
+/// arc of normals.
+type Place = [f64; 2];
+
+fn lerp(a: Place, b: Place, w: f64) -> Place {
+    [a[0] + (b[0] - a[0]) * w, a[1] + (b[1] - a[1]) * w]
+}
+
+impl Tracer<'_> {
+    /// Seeds from the sheets of reflex edges that no seam touches (see the module's doc).
+    pub(super) fn seed_by_arcs(&mut self) {
+        // An edge a seam ends on, osculating it, is touched there.
+        for s in &self.seams {
+            for end in &s.ends {
+                if let SeamEnd::CurvatureLimit {
+                    segment: Element::Edge(e),
+                } = *end
+                {
+                    self.touched_edges[e] = true;
+                }
+            }
+        }
+        for e in 0..self.model.edges.len() {
+            if self.seams.len() >= MAX_SEAMS {
+                break;
+            }
+            if self.is_reflex(e) && !self.touched_edges[e] {
+                self.seed_on_edge(e);
+            }
+        }
+    }
+
+    /// Samples edge `e`'s sheet on a grid, bisects between neighbours touching different
+    /// elements, and traces from each seam point found.
+    fn seed_on_edge(&mut self, e: usize) {
+        let (lo, hi) = self.model.edges[e].range;
+        let place = |i: usize| -> Place {
+            let (k, j) = (i / ACROSS, i % ACROSS);
+            [
+                lo + (hi - lo) * (k as f64 + 0.5) / ALONG as f64,
+                (j as f64 + 0.5) / ACROSS as f64,
+            ]
+        };
+        let grid: Vec<Option<Contact>> = (0..ALONG * ACROSS)
+            .map(|i| self.edge_contact(e, place(i)))
+            .collect();
+        let mut pairs = vec![];
+        for i in 0..ALONG * ACROSS {
+            if i % ACROSS + 1 < ACROSS {
+                pairs.push((i, i + 1));
+            }
+            if i + ACROSS < ALONG * ACROSS {
+                pairs.push((i, i + ACROSS));
+            }
+        }
+        for (a, b) in pairs {
+            let (Some(ca), Some(cb)) = (grid[a], grid[b]) else {
+                continue;
+            };
+            if ca.seg == cb.seg || self.seams.len() >= MAX_SEAMS {
+                continue;
+            }
+            if let Some(seed) = self.bisect_contacts(e, (place(a), ca), (place(b), cb)) {
+                self.trace_seed(&seed);
+                self.run_queue();
+            }
+        }
+    }
+
+    /// The maximal ball at `place` on reflex edge `e`'s sheet and what it touches besides
+    /// the edge; `None` where the ball is nothing (a degenerate arc) or touches only the
+    /// edge near the point it grew from.
+    fn edge_contact(&self, e: usize, place: Place) -> Option<Contact> {
+        let edge = &self.model.edges[e];
+        let t = place[0];
+        let [na, nb] = self.edge_fan(e, t)?;
+        let span = na.angle_between(nb);
+        if !(span > 1e-6) {
+            return None;
+        }
+        let w = place[1];
+        let n = ((na * ((1.0 - w) * span).sin() + nb * (w * span).sin()) / span.sin()).normalize();
+        let p = crate::geom::eval_curve(&edge.curve, t).p;
+        let solid = self.face_solid[edge.faces[0]];
+        let (r, centre, g, hit) = self.maximal_along(solid, p, n)?;
+        if r <= SAME_PLACE_REL_ACCURACY * self.opts.accuracy
+            || hit.point.distance(p) <= DISTINCT_TOUCH_REL_RADIUS * r
+        {
+            return None;
+        }
+        let (seg, s) = self.hit_segment(g, &hit, centre)?;
+        let theta = crate::medial::equations::edge_angle(self.model, e, t, n)?;
+        Some(Contact {
+            seg,
+            s,
+            touch: hit.point,
+            edge_s: [t, theta],
+            centre,
+            r,
+        })
+    }
+
+    /// Bisects between two places on edge `e`'s sheet whose balls touch different elements
+    /// to the ball touching both (to the accuracy): a seed on the edge and the two elements,
+    /// when their touch points are distinct there (not one element passing into its
+    /// neighbour, as a face into its reflex edge).
+    fn bisect_contacts(
+        &self,
+        e: usize,
+        (mut pa, mut ca): (Place, Contact),
+        (mut pb, mut cb): (Place, Contact),
+    ) -> Option<Seed> {
+        for _ in 0..BISECTIONS {
+            // Close enough for Newton (the seed is refined onto its seam); or one element
+            // passing into its neighbour, where the touch points meet.
+            let r = ca.r.min(cb.r);
+            if ca.centre.distance(cb.centre) <= self.opts.accuracy.max(SEED_REL_RADIUS * r) {
+                break;
+            }
+            if ca.touch.distance(cb.touch) <= MEETING_REL_RADIUS * r {
+                return None;
+            }
+            let pm = lerp(pa, pb, 0.5);
+            let cm = self.edge_contact(e, pm)?;
+            if cm.seg == ca.seg {
+                (pa, ca) = (pm, cm);
+            } else {
+                // The same element as at b, or a third one between: bisect towards a.
+                (pb, cb) = (pm, cm);
+            }
+        }
+        let r = 0.5 * (ca.r + cb.r);
+        if ca.touch.distance(cb.touch) <= DISTINCT_TOUCH_REL_RADIUS * r {
+            return None;
+        }
+        let centre = 0.5 * (ca.centre + cb.centre);
+        let es = [0.5 * (ca.edge_s[0] + cb.edge_s[0]), ca.edge_s[1]];
+        let mut x = DVector::zeros(10);
+        let values = [
+            centre.x, centre.y, centre.z, r, es[0], es[1], ca.s[0], ca.s[1], cb.s[0], cb.s[1],
+        ];
+        x.iter_mut().zip(values).for_each(|(xi, v)| *xi = v);
+        Some(Seed {
+            triplet: [Element::Edge(e), ca.seg, cb.seg],
+            x,
+        })
+    }
+}
