@@ -232,7 +232,7 @@ impl MedialSystem {
     }
 
     /// The system made square by one linear equation `row·x = c` (a continuation equation:
-    /// pseudo-arclength `t·(x − x_pred) = 0`, or `r = 0`): residual `[F; row·x − c]`,
+    /// `t_B·(B − B_pred) = 0` across the centre's direction, or `r = 0`): residual `[F; row·x − c]`,
     /// Jacobian `[J; rowᵀ]`. Only for one equation fewer than unknowns (a seam).
     pub fn eval_with_row(
         &self,

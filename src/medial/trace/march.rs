@@ -374,6 +374,13 @@ impl Tracer<'_> {
         let mut d = DVector::zeros(10);
         d.rows_mut(0, 3).copy_from(&m.t.rows(0, 3));
         let Some(tc) = self.tangent(&m.sys, &xnew, &d) else {
+            // Where the ball has shrunk to nothing the seam is at a convex vertex (a touch
+            // point crossed a smooth edge into it, onto the face another one is on).
+            if xnew[3] <= self.opts.accuracy {
+                if let Some(v) = self.vertex_reached(&m.sys.segments, v3(&xnew)) {
+                    return Flow::End(SeamEnd::Vertex(v));
+                }
+            }
             return Flow::End(SeamEnd::Open(OpenReason::SingularTangentAfterHandover));
         };
         m.travel += v3(&xnew).distance(v3(&m.x));
@@ -457,13 +464,20 @@ impl Tracer<'_> {
             return Some(SeamEnd::Open(OpenReason::TouchPointsCoincide));
         }
         let i = self.poked(&m.triplet, &before, xn)?;
-        // Bisect the arclength from x to where the ball osculates, to the accuracy.
+        // Bisect the arclength from x to where the ball osculates, to the accuracy. The ball
+        // must also be empty there: where a face's curvature peaks beside the touch point
+        // (a B-spline's ridge), the ball passes through the face near the touch point
+        // before the curvature at the touch point reaches 1/r.
         let (mut lo, mut hi) = (0.0, m.h);
         let mut last = None;
+        let empty = |me: &Self, y: &DVector<f64>| {
+            me.nearest_in(m.solid, v3(y))
+                .is_some_and(|(_, h)| h.distance >= y[3] - me.opts.accuracy)
+        };
         while hi - lo > self.opts.accuracy {
             let mid = 0.5 * (lo + hi);
             match self.centre_step(&m.sys, &m.x, &m.t, mid) {
-                Some(xm) if self.poked(&m.triplet, &before, &xm).is_none() => {
+                Some(xm) if self.poked(&m.triplet, &before, &xm).is_none() && empty(self, &xm) => {
                     lo = mid;
                     last = Some(xm);
                 }
@@ -538,15 +552,27 @@ impl Tracer<'_> {
         h: f64,
     ) -> Option<(DVector<f64>, DVector<f64>, usize)> {
         let pred = x + t * h;
-        // Corrector: F = 0 and t·(y − pred) = 0.
-        let c = t.dot(&pred);
+        let pred_r = pred[3];
+        // Corrector: F = 0 and t_B·(B − B_pred) = 0, the hyperplane across the centre's
+        // direction (t is scaled so that t_B is a unit vector): the step is `h` of centre
+        // travel. (Across the whole tangent, where a touch point's parameters turn fast, as
+        // past a sphere's pole, the hyperplane would measure the parameters instead, and
+        // the corrector jump between the places the seam crosses it.)
+        let mut row = DVector::zeros(t.len());
+        row.rows_mut(0, 3).copy_from(&t.rows(0, 3));
+        let c = row.dot(&pred);
         let sol = solve(
-            |y| sys.eval_with_row(self.model, y, t, c),
+            |y| sys.eval_with_row(self.model, y, &row, c),
             pred,
             &self.solve_opts(),
         );
         self.stats.newton_iterations += sol.iterations;
-        if sol.status != SolveStatus::Converged || sol.x[3] < -self.opts.accuracy && x[3] <= 0.0 {
+        // A negative radius is an overshoot past a convex vertex (landed on r = 0 there)
+        // only where the predictor heads below zero too; from a ball that predicts r > 0 it
+        // is the mirror ball on the other side of the boundary (where a surface's normal
+        // flips, past a sphere's pole), not the seam.
+        let mirror = sol.x[3] < -self.opts.accuracy && (x[3] <= 0.0 || pred_r > 0.0);
+        if sol.status != SolveStatus::Converged || mirror {
             return None;
         }
         let tn = self.tangent(sys, &sol.x, t)?;
@@ -612,18 +638,22 @@ impl Tracer<'_> {
         xn: DVector<f64>,
     ) -> (DVector<f64>, Option<usize>) {
         let xe = self.solve_holding(sys, &xn, 3, 0.0).unwrap_or(xn);
-        let b = v3(&xe);
-        // A vertex every touched element reaches: where `r` returns to 0 elsewhere (the
-        // elements' surfaces meeting past their trims, a corner buried in the material) the
-        // seam has left its elements, which the hand-over after this finds.
+        let v = self.vertex_reached(&sys.segments, v3(&xe));
+        (xe, v)
+    }
+
+    /// The vertex at `b` (within [`REACH_REL_ACCURACY`] × the accuracy) that every one of
+    /// `segments` reaches: where `r` returns to 0 elsewhere (the elements' surfaces meeting
+    /// past their trims, a corner buried in the material) the seam has left its elements,
+    /// which the hand-over after this finds.
+    fn vertex_reached(&self, segments: &[Element], b: DVec3) -> Option<usize> {
         let reach = REACH_REL_ACCURACY * self.opts.accuracy;
-        let v = (0..self.model.vertices.len())
+        (0..self.model.vertices.len())
             .filter(|&v| self.model.vertices[v].point.distance(b) <= reach)
-            .filter(|&v| sys.segments.iter().all(|&e| self.reaches(e, v)))
+            .filter(|&v| segments.iter().all(|&e| self.reaches(e, v)))
             .min_by(|&a, &c| {
                 let va = self.model.vertices[a].point.distance(b);
                 va.total_cmp(&self.model.vertices[c].point.distance(b))
-            });
-        (xe, v)
+            })
     }
 }

@@ -4,7 +4,8 @@
 //! A seam is a curve of the 3-segment medial system (9 equations, 10 unknowns). From a known
 //! point `x` with unit tangent `t` (the null vector of the Jacobian, scaled so that its centre
 //! part `t_B` has unit length), the predictor is `x + h·t` and the corrector solves the square
-//! system `[F(x); t·(x − x_pred)] = 0`. The step `h` (millimetres of centre travel) grows when
+//! system `[F(x); t_B·(B − B_pred)] = 0` (the hyperplane across the centre's direction; see
+//! `docs/design.md`, continuation). The step `h` (millimetres of centre travel) grows when
 //! the corrector converges in few iterations, shrinks when it needs many, and halves when it
 //! fails or the seam turns by more than [`MAX_TURN_RAD`].
 //!
@@ -12,7 +13,9 @@
 //! ([`Element`](crate::model::Element)). Seams start
 //! at convex vertices (`r = 0`), leaving along each direction that moves equally away from
 //! three tangent planes and no slower from the others; then from seeds: maximal balls sampled
-//! on faces no seam touches (holes, solids without corners). A seam ends
+//! on faces no seam touches (holes, solids without corners), and on the sheets of reflex edges
+//! no seam touches, where the element the ball touches besides the edge changes (the closed
+//! loop of seams round a shallow pocket). A seam ends
 //! - at a junction, when another part of the solid comes closer than `r` (located by
 //!   bisection, then exactly by the 4-segment system); the other triplets leave along the
 //!   normal of the plane through their touch points, in the sense in which the omitted
@@ -32,7 +35,8 @@
 //!
 //! The files: [`options`] (options and budgets), `entry` (the public functions), `tracer`
 //! (state and model queries), `unknowns` (the layout of the unknowns), `queue`, `starts`,
-//! `seeds`, `march`, `handover`, `junctions`, `pinch`, `apex` (cone apexes at vertices).
+//! `seeds`, `arcs` (seeds on reflex edges' sheets), `march`, `handover`, `junctions`, `pinch`,
+//! `apex` (cone apexes at vertices).
 
 mod apex;
 mod arcs;

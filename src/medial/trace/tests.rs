@@ -661,3 +661,69 @@ fn boss_on_a_plate() {
     }
     complete_and_verified("boss_on_plate.step", &m, &mat);
 }
+
+/// Past a sphere's pole the parametrisation folds over (`cos v < 0`) and the face's normal
+/// `Su × Sv` flips: there the medial equations have the mirror ball, radius `−r` on the other
+/// side of the boundary, and a long step's corrector can land on it (a CATIA half shell's seam
+/// ended open that way, its touch points handed on and back across the lune's edge). On the
+/// half spherical shell's seam (r = 0.5, passing 0.5 from both poles), steps of every length up
+/// to 3 mm from the points near a pole give balls of positive radius only (without the test
+/// for it in `step`, one of 1.1 mm lands on the mirror ball, r = −0.5).
+#[test]
+fn steps_past_a_spheres_pole_never_land_on_the_mirror_ball() {
+    use crate::medial::equations::MedialSystem;
+    let (m, class, mat) = crate::testing::traced("trace/half_spherical_shell.step");
+    let boundary = Boundary::new(&m);
+    let opts = TraceOptions::for_model(&m);
+    let mut tracer = tracer::Tracer::new(&m, &boundary, &class, &opts);
+    let poles = m
+        .vertices
+        .iter()
+        .map(|v| v.point)
+        .filter(|p| p.x.abs() < 1e-9 && p.y.abs() < 1e-9)
+        .collect::<Vec<_>>();
+    assert!(!poles.is_empty(), "the shell's poles on the z axis");
+    let mut steps = 0;
+    for s in &mat.seams {
+        let sys = MedialSystem::new(s.segments.clone());
+        for w in s.points.windows(2).filter(|w| {
+            let c = DVec3::from_slice(&w[0].point[..3]);
+            poles.iter().any(|p| p.distance(c) < 2.0)
+        }) {
+            let p = &w[0];
+            if s.segments
+                .iter()
+                .zip(&p.touch)
+                .any(|(seg, _)| !matches!(seg, Element::Face(_)))
+            {
+                continue;
+            }
+            let mut x = nalgebra::DVector::zeros(10);
+            for c in 0..4 {
+                x[c] = p.point[c];
+            }
+            for (k, seg) in s.segments.iter().enumerate() {
+                let Element::Face(f) = *seg else { continue };
+                let uv = project_point(&m.faces[f].surface, DVec3::from_array(p.touch[k]), None)
+                    .expect("touch point projects");
+                x[4 + 2 * k] = uv.0;
+                x[5 + 2 * k] = uv.1;
+            }
+            let mut dir = nalgebra::DVector::zeros(10);
+            for c in 0..3 {
+                dir[c] = w[1].point[c] - p.point[c];
+            }
+            let Some(t) = tracer.tangent(&sys, &x, &dir) else {
+                continue;
+            };
+            for k in 1..=60 {
+                let h = 0.05 * k as f64;
+                if let Some((y, _, _)) = tracer.step(&sys, &x, &t, h) {
+                    steps += 1;
+                    assert!(y[3] > 0.0, "step {h} from {:?}: radius {}", p.point, y[3]);
+                }
+            }
+        }
+    }
+    assert!(steps > 100, "{steps} steps near a pole");
+}
