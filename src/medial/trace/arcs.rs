@@ -117,7 +117,7 @@ impl Tracer<'_> {
         let t = place[0];
         let [na, nb] = self.edge_fan(e, t)?;
         let span = na.angle_between(nb);
-        if !(span > 1e-6) {
+        if span.is_nan() || span <= 1e-6 {
             return None;
         }
         let w = place[1];

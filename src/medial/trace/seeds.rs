@@ -146,11 +146,11 @@ impl Tracer<'_> {
             };
             let d = h.point - p;
             let along = -d.dot(n);
-            if h.distance >= shrunk * (1.0 - UNIT_ROUNDING) || !(along > 0.0) {
+            if h.distance >= shrunk * (1.0 - UNIT_ROUNDING) || along.is_nan() || along <= 0.0 {
                 break;
             }
             let r = 0.5 * d.length_squared() / along;
-            if !(r < shrunk) {
+            if r.is_nan() || r >= shrunk {
                 break;
             }
             shrunk = r;
