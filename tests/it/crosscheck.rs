@@ -73,6 +73,11 @@ const SLOT_CORNERS: &str = "no seam ends open: the seams under its slots' rounde
 const MESH_PAST_BOUNDARY: &str = "sheet-mesh vertices next to a sheet's boundary lie past \
     it, where the ball has one contact (`occt:mesh_contacts`); the seams themselves pass";
 
+/// One sheet-mesh vertex whose ball is off its sheet by the accuracy.
+const MESH_AT_THE_ACCURACY: &str = "the seams pass; one sheet-mesh vertex of 200 sampled, on the \
+    sheet of a plate's bottom edge far from the pockets, is 4.5e-5 mm nearer one face than the \
+    other (the accuracy is 4.49e-5 mm), so OCCT finds one contact only (`occt:mesh_contacts`)";
+
 const SCREW: &str = "no seams end open (the seam whose touch points on two reflex edges \
     arrive together at a mixed vertex of the head ends at the pinch there); the balls next to \
     the thread's creases touch two places at the accuracy and are listed as unresolved; two \
@@ -179,7 +184,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
     ),
     (
         "prusa_LCD-knob.stp",
-        &[("verify:sheets_closed", 36)],
+        &[
+            ("occt:seam_ends", 6),
+            ("verify:seam_ends", 6),
+            ("verify:sheets_closed", 36),
+        ],
         OPEN_AND_SHALLOW,
     ),
     (
@@ -187,11 +196,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
         &[
             ("occt:junction_seams", 1),
             ("occt:mesh_contacts", 3),
-            ("occt:seam_ends", 11),
+            ("occt:seam_ends", 10),
             ("occt:separated", 1),
             ("occt:touch_on_boundary", 1),
             ("verify:junction_seams", 1),
-            ("verify:seam_ends", 11),
+            ("verify:seam_ends", 10),
             ("verify:sheets_closed", 10),
         ],
         GAPS_ACCEPTED,
@@ -206,15 +215,14 @@ const EXPECTED_FAILURES: &[Expected] = &[
         &[
             ("occt:faces_touched", 4),
             ("occt:inside", 1),
-            ("occt:junction_seams", 9),
+            ("occt:junction_seams", 7),
             ("occt:mesh_contacts", 1),
-            ("occt:seam_ends", 13),
-            ("occt:touch_on_boundary", 1),
+            ("occt:seam_ends", 14),
             ("verify:faces_touched", 4),
-            ("verify:junction_seams", 9),
-            ("verify:seam_ends", 13),
+            ("verify:junction_seams", 7),
+            ("verify:seam_ends", 14),
             ("verify:separated", 1),
-            ("verify:sheets_closed", 67),
+            ("verify:sheets_closed", 61),
         ],
         MOTOR_PLATE,
     ),
@@ -235,7 +243,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
     ),
     (
         "prusa_y-rod-holder.stp",
-        &[("verify:sheets_closed", 79)],
+        &[("verify:sheets_closed", 76)],
         PINCHED,
     ),
     (
@@ -295,7 +303,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
     ),
     (
         "trimesh_featuretype.STEP",
-        &[("occt:mesh_contacts", 2), ("verify:sheets_closed", 20)],
+        &[("occt:mesh_contacts", 2), ("verify:sheets_closed", 24)],
         SHALLOW_FACETS,
     ),
     (
@@ -315,11 +323,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "voron0_Hotend_Mount_Revo_Voron.step",
         &[
-            ("occt:junction_seams", 1),
+            ("occt:junction_seams", 5),
             ("occt:seam_ends", 5),
-            ("verify:junction_seams", 1),
+            ("verify:junction_seams", 5),
             ("verify:seam_ends", 5),
-            ("verify:sheets_closed", 103),
+            ("verify:sheets_closed", 115),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -328,12 +336,12 @@ const EXPECTED_FAILURES: &[Expected] = &[
         &[
             ("occt:junction_seams", 10),
             ("occt:mesh_contacts", 1),
-            ("occt:seam_ends", 8),
+            ("occt:seam_ends", 3),
             ("occt:separated", 2),
             ("verify:junction_seams", 10),
-            ("verify:seam_ends", 8),
+            ("verify:seam_ends", 3),
             ("verify:separated", 2),
-            ("verify:sheets_closed", 126),
+            ("verify:sheets_closed", 128),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -367,6 +375,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "elliptic_bar.step",
         &[("occt:mesh_contacts", 6)],
         MESH_PAST_BOUNDARY,
+    ),
+    (
+        "shallow_pockets.step",
+        &[("occt:mesh_contacts", 1)],
+        MESH_AT_THE_ACCURACY,
     ),
     ("faceted_boss.step", &[("verify:sheets_closed", 8)], FACETED),
     ("slot_ends_in_round.step", &[("verify:euler", 1)], EULER_OFF),
