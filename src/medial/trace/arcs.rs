@@ -13,7 +13,6 @@ use super::tracer::Tracer;
 use crate::medial::axis::SeamEnd;
 use crate::model::Element;
 use glam::DVec3;
-use nalgebra::DVector;
 
 /// Samples along each edge, and across its arc of normals.
 const ALONG: usize = 4;
@@ -175,16 +174,15 @@ impl Tracer<'_> {
         if ca.touch.distance(cb.touch) <= DISTINCT_TOUCH_REL_RADIUS * r {
             return None;
         }
-        let centre = 0.5 * (ca.centre + cb.centre);
-        let es = [0.5 * (ca.edge_s[0] + cb.edge_s[0]), ca.edge_s[1]];
-        let mut x = DVector::zeros(10);
-        let values = [
-            centre.x, centre.y, centre.z, r, es[0], es[1], ca.s[0], ca.s[1], cb.s[0], cb.s[1],
-        ];
-        x.iter_mut().zip(values).for_each(|(xi, v)| *xi = v);
-        Some(Seed {
-            triplet: [Element::Edge(e), ca.seg, cb.seg],
-            x,
-        })
+        Some(Seed::new(
+            [Element::Edge(e), ca.seg, cb.seg],
+            0.5 * (ca.centre + cb.centre),
+            r,
+            [
+                (0.5 * (ca.edge_s[0] + cb.edge_s[0]), ca.edge_s[1]),
+                (ca.s[0], ca.s[1]),
+                (cb.s[0], cb.s[1]),
+            ],
+        ))
     }
 }

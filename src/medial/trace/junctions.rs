@@ -111,10 +111,7 @@ impl Tracer<'_> {
             });
         // The junction itself must be medial: nothing closer than its radius, to the
         // accuracy `verify` holds every ball to.
-        let located = located.filter(|(_, jx)| {
-            self.nearest_in(solid, v3(jx))
-                .is_some_and(|(_, h)| h.distance >= jx[3] - self.opts.accuracy)
-        });
+        let located = located.filter(|(_, jx)| self.ball_is_empty(solid, jx));
         let Some((fourth, jx)) = located else {
             // A touched element (a face, a curved reflex edge) met again, with no junction:
             // where the ball pokes through it by its curvature at its touch point, that is

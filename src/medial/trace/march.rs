@@ -470,14 +470,13 @@ impl Tracer<'_> {
         // before the curvature at the touch point reaches 1/r.
         let (mut lo, mut hi) = (0.0, m.h);
         let mut last = None;
-        let empty = |me: &Self, y: &DVector<f64>| {
-            me.nearest_in(m.solid, v3(y))
-                .is_some_and(|(_, h)| h.distance >= y[3] - me.opts.accuracy)
-        };
         while hi - lo > self.opts.accuracy {
             let mid = 0.5 * (lo + hi);
             match self.centre_step(&m.sys, &m.x, &m.t, mid) {
-                Some(xm) if self.poked(&m.triplet, &before, &xm).is_none() && empty(self, &xm) => {
+                Some(xm)
+                    if self.poked(&m.triplet, &before, &xm).is_none()
+                        && self.ball_is_empty(m.solid, &xm) =>
+                {
                     lo = mid;
                     last = Some(xm);
                 }

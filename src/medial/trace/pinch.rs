@@ -242,9 +242,7 @@ impl Tracer<'_> {
         let r = y[3];
         r > UNIT_ROUNDING
             && self.on_segment(triplet[third], slot(y, third))
-            && self
-                .nearest_in(self.solid_of(triplet[third]), v3(y))
-                .is_some_and(|(_, h)| h.distance >= r - self.opts.accuracy)
+            && self.ball_is_empty(self.solid_of(triplet[third]), y)
             && (0..3).all(|s| curvature_allows(self.model, triplet[s], slot(y, s), r))
     }
 }

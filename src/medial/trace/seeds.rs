@@ -357,10 +357,9 @@ impl Tracer<'_> {
             DISTINCT_TOUCH_REL_RADIUS * r,
             Pairs::SameSegment,
         );
-        let nearest = self.nearest_in(solid, v3(x));
         on_faces
             && distinct
-            && nearest.is_some_and(|(_, h)| h.distance >= r - self.opts.accuracy)
+            && self.ball_is_empty(solid, x)
             && (0..3).all(|i| curvature_allows(self.model, triplet[i], slot(x, i), r))
     }
 

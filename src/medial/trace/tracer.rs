@@ -2,7 +2,7 @@
 //! a touch point is on its element, the nearest boundary point within a solid.
 
 use super::options::{TraceOptions, MAX_CORRECTOR_ITER, SAME_PLACE_REL_ACCURACY, UNIT_ROUNDING};
-use super::unknowns::{slot, sys_point};
+use super::unknowns::{slot, sys_point, v3};
 use crate::classify::{Classification, EdgeKind, VertexKind};
 use crate::geom::{project_point, Boundary, FaceHit};
 use crate::medial::axis::{Degenerate, Junction, MedialAxis, Node, Seam, SeamPoint, TraceStats};
@@ -192,6 +192,13 @@ impl<'a> Tracer<'a> {
     pub(super) fn nearest_in(&self, solid: usize, p: DVec3) -> Option<(usize, FaceHit)> {
         self.boundary
             .nearest_face_where(self.model, p, |g| self.face_solid[g] == solid)
+    }
+
+    /// True when nothing of solid `solid`'s boundary is nearer the centre of ball `x`
+    /// (unknowns `[B, r, …]`) than `r`, to the accuracy `verify` holds every ball to.
+    pub(super) fn ball_is_empty(&self, solid: usize, x: &DVector<f64>) -> bool {
+        self.nearest_in(solid, v3(x))
+            .is_some_and(|(_, h)| h.distance >= x[3] - self.opts.accuracy)
     }
 
     pub(super) fn is_reflex(&self, e: usize) -> bool {
