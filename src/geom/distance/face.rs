@@ -25,7 +25,7 @@ use super::edge::{
 };
 use super::hit::FaceHit;
 use super::index::{range, Boundary};
-use super::normal::surface_params;
+use super::normal::{face_normal, surface_params};
 use crate::geom::bvh::box_distance_squared;
 use crate::geom::eval::eval_surface;
 use crate::geom::project::{clamp_ranges, plane_frame, project_plane};
@@ -102,8 +102,17 @@ pub(super) fn face_nearest(
     let mut best: Option<FaceHit> = None;
     // Interior candidate.
     let from = start.unwrap_or((face.domain.u.0, face.domain.v.0));
+    // A foot stopped against the patch's border where the face's edge runs along it is no
+    // critical point of the distance unless `p − x` lies along the normal there: the nearest
+    // point is then on the face's edges, and the boundary candidates find it (the hit must
+    // say so: the edge's or vertex's pseudo-normal decides inside, not the face's normal, to
+    // which `p − x` is tangent there).
     let interior = interior_foot(face, p, plane, closed, seed, from);
     let interior_uv = interior.map(|i| i.0);
+    let critical = |foot: &Foot| {
+        let &(uv, x, _) = foot;
+        plane.is_some() || !at_patch_border(face, uv) || along_normal(face, uv, p - x)
+    };
     let inside = |uv: (f64, f64)| {
         let uv2 = DVec2::new(uv.0, uv.1);
         match &cache {
@@ -125,7 +134,7 @@ pub(super) fn face_nearest(
             }
         }
     };
-    take(interior, &mut best_d, &mut best);
+    take(interior.filter(critical), &mut best_d, &mut best);
     // A curved face can have a second basin of the distance about as near as the first
     // (an elliptic bar's wall seen from near its major axis: both sides at about r, the
     // nearest cell on either): descend from the nearest cell well away from the foot too,
@@ -138,7 +147,7 @@ pub(super) fn face_nearest(
             .filter(|s| s.1 < d)
         {
             let foot = interior_foot(face, p, plane, closed, Some(other), (other.0.x, other.0.y));
-            take(foot, &mut best_d, &mut best);
+            take(foot.filter(critical), &mut best_d, &mut best);
         }
     }
     // Boundary candidates.
@@ -161,6 +170,32 @@ pub(super) fn face_nearest(
     }
     best
 }
+
+/// True when `uv` is on the border of `face`'s parameter domain in a direction that does not
+/// close on itself.
+fn at_patch_border(face: &Face, uv: (f64, f64)) -> bool {
+    let d = &face.domain;
+    let near = |x: f64, (a, b): (f64, f64)| {
+        let eps = PATCH_BORDER_REL_RANGE * (b - a).abs();
+        x <= a + eps || x >= b - eps
+    };
+    (d.u_period.is_none() && near(uv.0, d.u)) || (d.v_period.is_none() && near(uv.1, d.v))
+}
+
+/// True when `w` (from the foot to the query point) is along the face's normal at `uv`, to
+/// [`FOOT_NORMAL_SINE`] (or is nothing: the point is on the face).
+fn along_normal(face: &Face, uv: (f64, f64), w: DVec3) -> bool {
+    let Some(u) = w.try_normalize() else {
+        return true;
+    };
+    face_normal(face, uv).is_none_or(|n| u.cross(n).length() <= FOOT_NORMAL_SINE)
+}
+
+/// A foot within this fraction of a domain's range of its border is on the border.
+const PATCH_BORDER_REL_RANGE: f64 = 1e-9;
+/// Sine of the angle between `p − x` and the normal within which a foot on a patch's border
+/// is a critical point of the distance (a descent converges far closer than this).
+const FOOT_NORMAL_SINE: f64 = 1e-6;
 
 /// The seed of a curved face's interior search, `(uv, distance)`: the nearest cell's centre
 /// (cached) or, without a hint, the nearest node of a coarse grid. `None` when the cache shows

@@ -300,4 +300,42 @@ mod tests {
         assert!(failures.is_empty(), "{failures:#?}");
         assert!(checked >= 20, "checked {checked}");
     }
+
+    /// Points inside the L-bracket written as B-spline patches, below its reflex edge in the
+    /// plane of one of the two faces there (x = 10 or z = 10): the nearest point is on the
+    /// edge, where that face's patch ends. The descent on the face stops against the patch's
+    /// border there, a foot at which `p − x` is tangent to the face: taken as the face's
+    /// interior point, its normal left the sign of `(p − x)·n` to rounding, and a ball
+    /// centred there could read as outside (the Prusa motor plate's skeletal edges did). The
+    /// hit must be on the edge (or on the other face, to which `p − x` is normal), and
+    /// inside.
+    #[test]
+    fn a_foot_at_a_patch_border_is_on_the_edge_there() {
+        let model = sample("l_bracket_nurbs.step");
+        let b = Boundary::new(&model);
+        for p in [
+            [10.0, 15.0, 7.0],
+            [7.0, 15.0, 10.0],
+            [10.0, 5.0, 8.5],
+            [8.0, 25.0, 10.0],
+            [10.0, 29.0, 9.0],
+        ] {
+            let p = DVec3::from_array(p);
+            let (f, hit) = b.nearest_face_where(&model, p, |_| true).unwrap();
+            let on_edge = (p - DVec3::new(10.0, p.y, 10.0)).length();
+            assert!(
+                (hit.distance - on_edge).abs() < 1e-9,
+                "{p}: {hit:?} on F{f}, the edge at {on_edge}"
+            );
+            // The sign is decided, not left to rounding: the pseudo-normal there (the edge's,
+            // or the normal of the face to which `p − x` is normal) points away from `p`.
+            let n = b.pseudo_normal(&model, f, &hit);
+            let w = p - hit.point;
+            assert!(
+                w.dot(n) <= -0.5 * w.length() * n.length(),
+                "{p}: {hit:?} on F{f}, pseudo-normal {n}"
+            );
+            assert!(b.contains_point(&model, p), "{p}: {hit:?} on F{f}");
+        }
+    }
 }
