@@ -6,7 +6,9 @@
 A point B with radius r is on the medial axis of a solid when B is inside it, its nearest
 boundary points are at distance r, and there are at least two of them in separate places
 (three along a seam, four at a junction). Checked in OCCT, for every junction, every seam point
-(every N-th with --every N; default: all) and every degenerate ball:
+(every N-th with --every N; default: all), every degenerate ball and every ball of a skeletal
+edge at a vertex (the straight line of balls touching that vertex alone where a sheet ends
+freely; `skeletal_edges`: its last ball is a vertex of the part, r = 0):
 
   finite             every number of the ball is a number;
   inside             the centre is inside the solid (BRepClass3d_SolidClassifier, retried at
@@ -20,7 +22,8 @@ boundary points are at distance r, and there are at least two of them in separat
                      and a surface tangent to it stay within tol of each other, so that one
                      smooth contact cannot pass for two. Seam points need 3 (2 at a seam end at
                      a curvature limit, where the ball osculates a face, or at a pinch, where
-                     two touch points meet at a vertex), junctions 4, degenerate balls 2.
+                     two touch points meet at a vertex), junctions 4, degenerate balls 2,
+                     a skeletal edge's balls 1 (the vertex).
                      A seam point the report lists in its seam's `unresolved`, or a junction
                      marked `unresolved`, needs one place fewer, where every two touch points
                      closer than that lie on different faces that share a vertex (a shallow
@@ -91,6 +94,7 @@ CURVATURE_END_PLACES = 2
 PINCH_END_PLACES = 2
 JUNCTION_PLACES = 4
 DEGENERATE_PLACES = 2
+SKELETAL_PLACES = 1
 # Steps of the growth test, as fractions of r.
 GROWTH_STEPS = (0.5, 0.125, 0.03125)
 
@@ -549,6 +553,23 @@ def check_pinch(part, checks, what, touch, tol):
                   f"of the part (within {tol:.3e} mm)")
 
 
+def check_skeletal(part, checks, touched, k, tol):
+    """A skeletal edge at a vertex: balls on a straight line ending at a vertex of the part
+    (r = 0 there), each touching that vertex alone."""
+    balls = k.get("balls", [])
+    what = f"skeletal edge {k.get('id')}"
+    last = balls[-1] if balls else None
+    at = None
+    if last is not None and finite(last[:3], last[3]):
+        at = min(part.vertex_points, key=lambda q: dist3(q, last[:3]), default=None)
+    ok = at is not None and dist3(at, last[:3]) <= tol and abs(last[3]) <= tol
+    checks.record("skeletal_edges", ok, lambda: f"{what}: does not end at a vertex of the part with r = 0")
+    if at is None:
+        return
+    for i, b in enumerate(balls):
+        check_ball(part, checks, touched, f"{what} ball {i}", b[:3], b[3], [list(at)], SKELETAL_PLACES)
+
+
 def check_graph(mat, checks, touched, n_faces):
     seams, junctions = mat.get("seams", []), mat.get("junctions", [])
     n_balls = sum(len(s.get("points", [])) for s in seams) + len(junctions) + sum(
@@ -615,6 +636,8 @@ def main():
         for k, b in enumerate(d["balls"]):
             t = touch[k] if k < len(touch) else []
             check_ball(part, checks, touched, f"degenerate {i} ball {k}", b[:3], b[3], t, DEGENERATE_PLACES)
+    for k in mat.get("skeletal_edges", []):
+        check_skeletal(part, checks, touched, k, tol)
     for s in mat.get("seams", []):
         pts = s["points"]
         picks = sorted(set(list(range(0, len(pts), max(1, a.every))) + [len(pts) - 1]))

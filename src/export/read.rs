@@ -1,12 +1,12 @@
 //! Reading a report back: the medial axis it describes and the accuracy it claims, for
 //! verifying any report against its part (`matrace verify`).
 
-use crate::medial::{Degenerate, Junction, MedialAxis, Seam, TraceStats};
+use crate::medial::{Degenerate, Junction, MedialAxis, Seam, SkeletalEdge, TraceStats};
 
 /// What verification needs of a report.
 #[derive(Clone, Debug)]
 pub struct ReportedAxis {
-    /// The seams, junctions and degenerate pieces, as the report gives them.
+    /// The seams, junctions, degenerate pieces and skeletal edges, as the report gives them.
     pub axis: MedialAxis,
     /// The accuracy the report claims (mm).
     pub accuracy: f64,
@@ -40,6 +40,11 @@ pub fn read_report(text: &str) -> Result<ReportedAxis, String> {
         serde_json::from_value(field("junctions")?).map_err(|e| format!("mat.junctions: {e}"))?;
     let degenerate: Vec<Degenerate> =
         serde_json::from_value(field("degenerate")?).map_err(|e| format!("mat.degenerate: {e}"))?;
+    // Reports made before skeletal edges were traced have none.
+    let skeletal_edges: Vec<SkeletalEdge> = match &mat["skeletal_edges"] {
+        serde_json::Value::Null => vec![],
+        x => serde_json::from_value(x.clone()).map_err(|e| format!("mat.skeletal_edges: {e}"))?,
+    };
     // A NaN is written as null: read it back as NaN, so that verification fails on it.
     let number = |x: &serde_json::Value, what: &str| -> Result<f64, String> {
         match x {
@@ -54,6 +59,7 @@ pub fn read_report(text: &str) -> Result<ReportedAxis, String> {
             seams,
             junctions,
             degenerate,
+            skeletal_edges,
             stats: TraceStats::default(),
         },
         accuracy,

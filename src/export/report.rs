@@ -70,14 +70,15 @@ pub struct Timings {
     pub total: f64,
 }
 
-/// The `mat` object: seams, junctions, sheets (by their boundaries), degenerate pieces and
-/// the topology check.
+/// The `mat` object: seams, junctions, sheets (by their boundaries), degenerate pieces,
+/// skeletal edges and the topology check.
 #[derive(Clone, Debug, Serialize)]
 pub struct MatReport {
     pub seams: Vec<crate::medial::Seam>,
     pub junctions: Vec<crate::medial::Junction>,
     pub sheets: Vec<crate::medial::Sheet>,
     pub degenerate: Vec<crate::medial::Degenerate>,
+    pub skeletal_edges: Vec<crate::medial::SkeletalEdge>,
     pub topology: crate::medial::Topology,
     /// The B-spline fits of the seams written to `<stem>.mat.step`, when made.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -94,6 +95,7 @@ pub struct StatsReport {
     pub junctions: usize,
     pub sheets: usize,
     pub degenerate: usize,
+    pub skeletal_edges: usize,
     pub open_ends: usize,
     /// Open seam ends by reason (`step_size_underflow`, …; see `OpenReason::kind`).
     pub open_ends_by_reason: BTreeMap<&'static str, usize>,
@@ -136,6 +138,7 @@ impl TraceReport {
                 junctions: mat.junctions.len(),
                 sheets: sheets.sheets.len(),
                 degenerate: mat.degenerate.len(),
+                skeletal_edges: mat.skeletal_edges.len(),
                 open_ends: topology.open_ends,
                 open_ends_by_reason: mat.open_ends_by_reason(),
                 points: mat.stats.points,
@@ -155,6 +158,7 @@ impl TraceReport {
                 junctions: mat.junctions.clone(),
                 sheets: sheets.sheets.clone(),
                 degenerate: mat.degenerate.clone(),
+                skeletal_edges: mat.skeletal_edges.clone(),
                 topology,
                 fit: None,
             },

@@ -353,6 +353,29 @@ pub struct Degenerate {
     pub touch: Vec<[[f64; 3]; 2]>,
 }
 
+/// A skeletal edge: a free edge of a sheet, where the sheet ends because the two touch points
+/// of its balls have met. The tracer finds them where a seam ends with two touch points on
+/// one part of the boundary (faces and the reflex edges joining them) met at a vertex of it:
+/// the balls touching only that vertex, centres on the straight line from it through the
+/// seam's last centre, `r` from that ball's down to 0 at the vertex (each inside the last, so
+/// each empty). The sheet of those two elements ends along it.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct SkeletalEdge {
+    pub id: usize,
+    /// Index of the solid in the model.
+    pub solid: usize,
+    /// The seam ends it starts from: `[seam, end]` (end 0 or 1), one ball (two seams meet
+    /// there where the ball pinches two sheets).
+    pub starts: Vec<[usize; 2]>,
+    /// The two elements whose touch points meet at `vertex`.
+    pub segments: [Element; 2],
+    /// The vertex it ends at, `r = 0`.
+    pub vertex: usize,
+    /// Balls `[x, y, z, r]` from the seam's end to the vertex.
+    #[serde(deserialize_with = "nullable::balls")]
+    pub balls: Vec<[f64; 4]>,
+}
+
 /// Counters of a trace.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct TraceStats {
@@ -378,6 +401,8 @@ pub struct MedialAxis {
     /// Degenerate parts of the medial axis met while seeding: balls touching a face along a
     /// curve or all over, whose centres form a curve or a point instead of a sheet.
     pub degenerate: Vec<Degenerate>,
+    /// The sheets' free edges found so far (those at vertices).
+    pub skeletal_edges: Vec<SkeletalEdge>,
     pub stats: TraceStats,
 }
 

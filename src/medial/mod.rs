@@ -21,7 +21,7 @@ pub mod verify;
 
 pub use axis::{
     Degenerate, DegenerateKind, Handover, Junction, MedialAxis, Node, OpenReason, Seam, SeamEnd,
-    SeamPoint, TraceStats,
+    SeamPoint, SkeletalEdge, TraceStats,
 };
 pub use equations::{FieldEval, MedialSystem, NormalField};
 pub use sheet_mesh::{sheet_mesh, MeshOptions, SheetMesh};

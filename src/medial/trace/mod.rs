@@ -25,6 +25,11 @@
 //!   meet, or the curvature criterion fails): a skeletal edge starts there;
 //! - at a pinch, where two touch points on different segments meet at a vertex both reach
 //!   (a hole tangent to a slot's wall): located exactly on the normal line there (`pinch`);
+//!
+//!   where the two touch points that meet (at a curvature limit or a pinch) are on one part
+//!   of the boundary, at a vertex of it (a box standing on a plate, below each of its
+//!   vertical edges), the sheet ends along the straight line of balls touching that vertex
+//!   alone: its skeletal edge, from the seam's end to the vertex (`skeletal`);
 //! - closed, back at its seed;
 //! - or open, with the reason, where none of these is reached.
 //!
@@ -36,7 +41,7 @@
 //! The files: [`options`] (options and budgets), `entry` (the public functions), `tracer`
 //! (state and model queries), `unknowns` (the layout of the unknowns), `queue`, `starts`,
 //! `seeds`, `arcs` (seeds on reflex edges' sheets), `march`, `handover`, `junctions`, `pinch`,
-//! `apex` (cone apexes at vertices).
+//! `skeletal` (skeletal edges at vertices), `apex` (cone apexes at vertices).
 
 mod apex;
 mod arcs;
@@ -48,6 +53,7 @@ pub mod options;
 mod pinch;
 mod queue;
 mod seeds;
+mod skeletal;
 mod starts;
 #[cfg(test)]
 mod tests;

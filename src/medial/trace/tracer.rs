@@ -122,11 +122,13 @@ impl<'a> Tracer<'a> {
     }
 
     /// The medial axis traced.
-    pub(super) fn into_axis(self) -> MedialAxis {
+    pub(super) fn into_axis(mut self) -> MedialAxis {
+        let skeletal_edges = self.skeletal_at_vertices();
         MedialAxis {
             seams: self.seams,
             junctions: self.junctions,
             degenerate: self.degenerate,
+            skeletal_edges,
             stats: self.stats,
         }
     }

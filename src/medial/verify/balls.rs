@@ -176,7 +176,7 @@ struct Ball<'a> {
     unresolved: Option<(usize, &'a dyn Fn(usize) -> bool)>,
 }
 
-/// Checks every seam point, junction and degenerate ball of `axis`.
+/// Checks every seam point, junction, skeletal-edge ball and degenerate ball of `axis`.
 pub(super) fn check_balls(
     model: &Model,
     boundary: &Boundary,
@@ -240,6 +240,23 @@ pub(super) fn check_balls(
         };
         checker.check(&ball, v);
     }
+    for k in &axis.skeletal_edges {
+        let vertex = model.vertices.get(k.vertex).map(|v| v.point.to_array());
+        let touch: Vec<[f64; 3]> = vertex.into_iter().collect();
+        for (i, b) in k.balls.iter().enumerate() {
+            let at = || format!("skeletal edge {} ball {i}", k.id);
+            let ball = Ball {
+                at: &at,
+                solid: k.solid,
+                centre: [b[0], b[1], b[2]],
+                r: b[3],
+                touch: &touch,
+                places: SKELETAL_PLACES,
+                unresolved: None,
+            };
+            checker.check(&ball, v);
+        }
+    }
     for (i, d) in axis.degenerate.iter().enumerate() {
         for (k, b) in d.balls.iter().enumerate() {
             let at = || format!("degenerate {i} ball {k}");
@@ -257,6 +274,10 @@ pub(super) fn check_balls(
         }
     }
 }
+
+/// Places a skeletal edge's ball at a vertex touches: that vertex alone (it is the limit of
+/// the sheet's balls, whose two touch points meet there; `distance` holds it to the rest).
+pub const SKELETAL_PLACES: usize = 1;
 
 struct Checker<'a> {
     model: &'a Model,

@@ -130,6 +130,26 @@ pub(super) fn check_elements(model: &Model, axis: &MedialAxis, v: &mut Verificat
             )
         });
     }
+    for (i, k) in axis.skeletal_edges.iter().enumerate() {
+        for e in &k.segments {
+            check(v, exists(e), &|| {
+                format!("skeletal edge {i} names {e}, which the part lacks")
+            });
+        }
+        let ok = k.id == i
+            && k.vertex < model.vertices.len()
+            && k.solid < model.solids.len()
+            && k.starts
+                .iter()
+                .all(|&[s, end]| s < axis.seams.len() && end < 2);
+        check(v, ok, &|| {
+            format!(
+                "skeletal edge {i} (id {}) names a vertex, solid or seam end the part or the \
+                 report lacks",
+                k.id
+            )
+        });
+    }
     for (i, d) in axis.degenerate.iter().enumerate() {
         for e in &d.segments {
             check(v, exists(e), &|| {
@@ -244,8 +264,79 @@ pub(super) fn check_graph(
             )),
         }
     }
+    check_skeletal_edges(model, axis, v);
     check_faces_touched(model, boundary, axis, v);
     check_convex_vertices(model, class, axis, v);
+}
+
+/// Every skeletal edge at a vertex starts where its seams end (at a curvature limit or a
+/// pinch, on its first ball, with the two touch points of its segments at its vertex) and
+/// runs straight to the vertex (its last ball there, `r = 0`), all to the accuracy.
+fn check_skeletal_edges(model: &Model, axis: &MedialAxis, v: &mut Verification) {
+    let a = v.accuracy;
+    for k in &axis.skeletal_edges {
+        let at = model.vertices[k.vertex].point;
+        let ball = |b: &[f64; 4]| (DVec3::new(b[0], b[1], b[2]), b[3]);
+        let (Some(first), Some(last)) = (k.balls.first(), k.balls.last()) else {
+            v.record("skeletal_edges", false, || {
+                format!("skeletal edge {} has no balls", k.id)
+            });
+            continue;
+        };
+        let (c0, r0) = ball(first);
+        let (c1, r1) = ball(last);
+        let reaches = c1.distance(at) <= a && r1.abs() <= a;
+        // Straight: every centre on the line from the first to the vertex.
+        let straight = k.balls.iter().all(|b| {
+            let (c, _) = ball(b);
+            let axis = (at - c0).normalize_or_zero();
+            let off = (c - c0) - axis * (c - c0).dot(axis);
+            off.length() <= a
+        });
+        v.record("skeletal_edges", reaches && straight, || {
+            format!(
+                "skeletal edge {}: does not run straight to V{} (last ball {c1} r {r1:e})",
+                k.id, k.vertex
+            )
+        });
+        for &[s, end] in &k.starts {
+            let seam = &axis.seams[s];
+            let point = if end == 0 {
+                seam.points.first()
+            } else {
+                seam.points.last()
+            };
+            let kind_ok = matches!(
+                seam.ends[end],
+                SeamEnd::CurvatureLimit { .. } | SeamEnd::Pinch { .. }
+            );
+            let segs = if end == 0 {
+                &seam.segments
+            } else {
+                &seam.end_segments
+            };
+            let met = point.is_some_and(|p| {
+                let (c, r) = ball(&p.point);
+                let at_v = |i: usize, e: Element| {
+                    segs.get(i) == Some(&e)
+                        && p.touch
+                            .get(i)
+                            .is_some_and(|t| DVec3::from_array(*t).distance(at) <= a)
+                };
+                let [e0, e1] = k.segments;
+                let both = (0..segs.len())
+                    .any(|i| at_v(i, e0) && (0..segs.len()).any(|j| j != i && at_v(j, e1)));
+                c.distance(c0) <= a && (r - r0).abs() <= a && both
+            });
+            v.record("skeletal_edges", kind_ok && met, || {
+                format!(
+                    "skeletal edge {}: seam {s} end {end} is not a curvature limit or pinch \
+                     at its first ball with touch points on {} and {} at V{}",
+                    k.id, k.segments[0], k.segments[1], k.vertex
+                )
+            });
+        }
+    }
 }
 
 /// Every face of every solid is touched by some ball: a face no touch point is on (to the
