@@ -64,6 +64,12 @@ impl UnionFind {
         }
     }
 
+    /// A new set of its own; its index.
+    pub(crate) fn add(&mut self) -> usize {
+        self.parent.push(self.parent.len());
+        self.parent.len() - 1
+    }
+
     pub(crate) fn find(&mut self, mut i: usize) -> usize {
         while self.parent[i] != i {
             self.parent[i] = self.parent[self.parent[i]];

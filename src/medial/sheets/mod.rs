@@ -2,13 +2,16 @@
 //! (`docs/design.md`, sheets).
 //!
 //! A seam with touch triplet {a, b, c} bounds the three sheets {a, b}, {b, c}, {a, c}; a convex
-//! edge between faces a and b is the *rim* of sheet {a, b} (balls of radius → 0 there). So the
-//! boundary of every sheet is a set of closed loops made of seam *sides* and rims, joined at
-//! junctions and convex vertices. This module walks them:
+//! edge between faces a and b is the *rim* of sheet {a, b} (balls of radius → 0 there); a
+//! skeletal edge is a sheet's free edge, where the two touch points of its balls meet. So the
+//! boundary of every sheet is a set of closed loops made of seam *sides*, rims and skeletal
+//! edges, joined at junctions, vertices, and the balls where seams end at a pinch or at a
+//! skeletal edge. This module walks them:
 //!
 //! 1. every seam gives three *arcs* (one per pair of its touch slots; a closed seam's arcs are
-//!    loops on their own), every convex edge one;
-//! 2. at each node (a junction, or a vertex where seams end or rims meet) the arc ends are
+//!    loops on their own), every convex edge one, every skeletal edge one;
+//! 2. at each node (a junction, a vertex where seams end or rims meet, a seam's end ball) the
+//!    arc ends are
 //!    paired by the sheet they bound, named by the two *segment groups* touched: faces joined
 //!    by smooth or reflex edges (with those edges and the reflex vertices between them) form
 //!    one group, because a touch point moves across such an edge without the sheet ending
@@ -20,30 +23,26 @@
 //! `χ = 2 − loops` for a sheet (a disc with holes). That assumes each sheet has genus 0 and
 //! that loops of one group pair are one sheet; both hold for the reference parts (tests), and
 //! the count is withheld, with the reason, wherever the boundary is incomplete: open seam
-//! ends, curvature-limit ends (the skeletal edges from there are not traced), degenerate
-//! pieces (a cylinder's axis) or mixed edges.
+//! ends, curvature-limit ends whose skeletal edges are not traced (all but those at
+//! vertices), degenerate pieces (a cylinder's axis) or mixed edges.
 
-use crate::classify::{Classification, EdgeKind};
-use crate::medial::axis::{MedialAxis, Node, SeamEnd, SeamPoint};
+mod arcs;
+mod which;
+
+use crate::classify::Classification;
+use crate::medial::axis::{MedialAxis, Node, SeamEnd};
 use crate::medial::segments::{SegmentGroups, UnionFind};
 use crate::model::{Element, Model};
+pub use arcs::BoundaryRef;
+use arcs::{add_rims, add_skeletal, end_balls, seam_arcs, Arc, Place};
 use glam::DVec3;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
+use which::{add_witnesses, loops_by_sheet, Feet};
 
 /// Touch points of two arcs at a junction are the same contact when they lie this close, over
 /// the model's bounding-box diagonal (both come from the junction's one solution).
 const SAME_TOUCH_REL_DIAGONAL: f64 = 1e-7;
-
-/// One element of a sheet's boundary.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum BoundaryRef {
-    /// A seam (by id).
-    Seam(usize),
-    /// A convex edge of the model: the sheet's rim.
-    Edge(usize),
-}
 
 /// A sheet, named by two of the segments it touches, with its boundary.
 #[derive(Clone, Debug, Serialize)]
@@ -54,7 +53,7 @@ pub struct Sheet {
     /// starts; along the sheet the touch points may move onto neighbouring segments of the
     /// same group).
     pub segments: [Element; 2],
-    /// Every seam and rim on the boundary, in loop order.
+    /// Every seam, rim and skeletal edge on the boundary, in loop order.
     pub boundary: Vec<BoundaryRef>,
     /// The boundary as closed loops (a sheet with holes has several).
     pub loops: Vec<Vec<BoundaryRef>>,
@@ -69,7 +68,8 @@ pub struct SolidEuler {
     pub solid_euler: i64,
     /// `V − E + Σ χ(sheet)` of the medial axis, when its sheets are complete.
     pub mat_euler: Option<i64>,
-    /// Nodes (junctions and the vertices seams and rims end at), arcs (seams and rims) and
+    /// Nodes (junctions, the vertices seams, rims and skeletal edges end at, and the balls
+    /// where seams end at a pinch or a skeletal edge), arcs (seams, rims, skeletal edges) and
     /// sheets counted.
     pub nodes: usize,
     pub arcs: usize,
@@ -88,41 +88,33 @@ pub struct Sheets {
     pub unpaired: Vec<String>,
 }
 
-/// An arc: one side of a seam, or a rim.
-struct Arc {
-    element: BoundaryRef,
-    solid: usize,
-    /// The segment pair at each end (exact elements) and the group pair.
-    ends: [Option<(Node, [Element; 2])>; 2],
-    groups: [usize; 2],
-    /// A closed seam's side: a loop by itself.
-    closed: bool,
-    /// The segment pair where the arc starts (a closed seam's side has no node to name it).
-    pair: [Element; 2],
-    /// A seam's side: its two touch points at each end (which contacts of a junction it
-    /// runs between, where one element is touched there twice).
-    touch: [Option<[DVec3; 2]>; 2],
-}
-
 /// Finds the sheets of `mat` and the Euler characteristics of each solid and its medial axis.
 pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets {
     let groups = SegmentGroups::new(model, class);
-    let mut arcs = seam_arcs(mat, &groups);
+    let balls = end_balls(mat);
+    let mut arcs = seam_arcs(mat, &groups, &balls);
     let mixed = add_rims(model, class, &groups, &mut arcs);
+    add_skeletal(mat, &groups, &mut arcs);
+    add_witnesses(model, class, mat, &balls, &mut arcs);
     // Elements a junction touches in two places.
-    let twice: BTreeSet<(Node, Element)> = mat
+    let twice: BTreeSet<(Place, Element)> = mat
         .junctions
         .iter()
         .flat_map(|j| {
             let segs = &j.segments;
             (0..segs.len())
                 .filter(move |&k| segs[..k].contains(&segs[k]))
-                .map(move |k| (Node::Junction(j.id), segs[k]))
+                .map(move |k| (Place::Node(Node::Junction(j.id)), segs[k]))
         })
         .collect();
     let tol = SAME_TOUCH_REL_DIAGONAL * model.diagonal();
     let (mut uf, paired, unpaired) = pair_ends(&arcs, &twice, tol);
-    let (by_sheet, incomplete) = loops_by_sheet(&arcs, &mut uf, &paired);
+    let feet = Feet {
+        model,
+        mat,
+        groups: &groups,
+    };
+    let (by_sheet, incomplete) = loops_by_sheet(&arcs, &mut uf, &paired, &feet);
     let mut out = Sheets {
         unpaired,
         ..Default::default()
@@ -151,84 +143,16 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
     out
 }
 
-/// The three arcs of every seam (one per pair of its touch slots).
-fn seam_arcs(mat: &MedialAxis, groups: &SegmentGroups) -> Vec<Arc> {
-    let mut arcs: Vec<Arc> = vec![];
-    for s in &mat.seams {
-        let closed = s.ends.iter().all(|e| matches!(e, SeamEnd::Closed));
-        for (i, j) in [(0, 1), (1, 2), (0, 2)] {
-            let pair = |segs: &[Element]| match (segs.get(i), segs.get(j)) {
-                (Some(a), Some(b)) => Some(sorted_pair(*a, *b)),
-                _ => None,
-            };
-            let start = s.ends[0].node().zip(pair(&s.segments));
-            let end = s.ends[1].node().zip(pair(&s.end_segments));
-            let g = [groups.of(s.segments[i]), groups.of(s.segments[j])];
-            let touch = |p: Option<&SeamPoint>| {
-                p.map(|p| [DVec3::from_array(p.touch[i]), DVec3::from_array(p.touch[j])])
-            };
-            arcs.push(Arc {
-                element: BoundaryRef::Seam(s.id),
-                solid: s.solid,
-                ends: [start, end],
-                groups: [g[0].min(g[1]), g[0].max(g[1])],
-                closed,
-                pair: sorted_pair(s.segments[i], s.segments[j]),
-                touch: [touch(s.points.first()), touch(s.points.last())],
-            });
-        }
-    }
-    arcs
-}
-
-/// Adds the rims (convex edges between two faces) to `arcs`; returns the solids with mixed
-/// edges.
-fn add_rims(
-    model: &Model,
-    class: &Classification,
-    groups: &SegmentGroups,
-    arcs: &mut Vec<Arc>,
-) -> BTreeSet<usize> {
-    let mut mixed = BTreeSet::new();
-    for (e, edge) in model.edges.iter().enumerate() {
-        match class.edges[e].kind {
-            EdgeKind::Convex if edge.faces.len() == 2 && edge.faces[0] != edge.faces[1] => {
-                let (a, b) = (Element::Face(edge.faces[0]), Element::Face(edge.faces[1]));
-                let pair = sorted_pair(a, b);
-                let g = [groups.of(a), groups.of(b)];
-                arcs.push(Arc {
-                    element: BoundaryRef::Edge(e),
-                    solid: model.solid_of_face(edge.faces[0]),
-                    ends: [
-                        Some((Node::Vertex(edge.vertices[0]), pair)),
-                        Some((Node::Vertex(edge.vertices[1]), pair)),
-                    ],
-                    groups: [g[0].min(g[1]), g[0].max(g[1])],
-                    closed: false,
-                    pair,
-                    touch: [None, None],
-                });
-            }
-            EdgeKind::Mixed => {
-                mixed.insert(model.solid_of_face(edge.faces[0]));
-            }
-            _ => {}
-        }
-    }
-
-    mixed
-}
-
 /// Pairs the arc ends at each node by group pair, then (where that is ambiguous) by segment
 /// pair, then (where one element is touched twice there, so that two sheets share a segment
 /// pair) by the touch points the arcs run between, equal to `tol`: the union of paired arcs,
 /// which ends are paired, and the ends that could not be.
 fn pair_ends(
     arcs: &[Arc],
-    twice: &BTreeSet<(Node, Element)>,
+    twice: &BTreeSet<(Place, Element)>,
     tol: f64,
 ) -> (UnionFind, Vec<[bool; 2]>, Vec<String>) {
-    let mut at: BTreeMap<Node, Vec<(usize, usize)>> = BTreeMap::new();
+    let mut at: BTreeMap<Place, Vec<(usize, usize)>> = BTreeMap::new();
     for (k, arc) in arcs.iter().enumerate() {
         for (end, e) in arc.ends.iter().enumerate() {
             if let Some((node, _)) = e {
@@ -240,6 +164,14 @@ fn pair_ends(
     let mut paired = vec![[false; 2]; arcs.len()];
     let mut unpaired = vec![];
     for (node, ends) in &at {
+        if let Some(pairs) = at_skeletal_ball(arcs, *node, ends) {
+            for [(k1, e1), (k2, e2)] in pairs {
+                uf.union(k1, k2);
+                paired[k1][e1] = true;
+                paired[k2][e2] = true;
+            }
+            continue;
+        }
         let mut by_group: BTreeMap<[usize; 2], Vec<(usize, usize)>> = BTreeMap::new();
         for &(k, end) in ends {
             by_group.entry(arcs[k].groups).or_default().push((k, end));
@@ -296,6 +228,40 @@ fn pair_ends(
     (uf, paired, unpaired)
 }
 
+/// At the ball where one seam ends and a skeletal edge starts: the seam's side on the two
+/// segments that meet there goes on along the skeletal edge, and its two sides on the third
+/// segment are one sheet round the ball (the plate's middle sheet round the ball below a
+/// box's corner). Told by the segments, not the groups, which may all be one (three reflex
+/// edges of one part of the boundary). `None` elsewhere, and where more seams end there.
+fn at_skeletal_ball(
+    arcs: &[Arc],
+    node: Place,
+    ends: &[(usize, usize)],
+) -> Option<[[(usize, usize); 2]; 2]> {
+    let Place::Skeletal(_) = node else {
+        return None;
+    };
+    let edge = ends
+        .iter()
+        .copied()
+        .find(|&(k, _)| matches!(arcs[k].element, BoundaryRef::Skeletal(_)))?;
+    let sides: Vec<(usize, usize)> = ends.iter().copied().filter(|&e| e != edge).collect();
+    let [a, b, c] = sides[..] else { return None };
+    let seam = |(k, _): (usize, usize)| arcs[k].slots.map(|(n, _)| n);
+    if seam(a).is_none() || seam(a) != seam(b) || seam(b) != seam(c) {
+        return None;
+    }
+    let pair = |(k, end): (usize, usize)| arcs[k].ends[end].map(|(_, p)| p);
+    let on_edge = pair(edge)?;
+    let (along, round): (Vec<_>, Vec<_>) = [a, b, c]
+        .into_iter()
+        .partition(|&e| pair(e) == Some(on_edge));
+    match (&along[..], &round[..]) {
+        (&[x], &[y, z]) => Some([[edge, x], [y, z]]),
+        _ => None,
+    }
+}
+
 /// Splits arc ends at one node that have one segment pair into the pairs that run between the
 /// same two touch points (to `tol`); an end left unmatched is a list by itself (reported
 /// unpaired). A list of two, or with an end that has no touch points, is kept as it is.
@@ -320,38 +286,6 @@ fn by_touch(arcs: &[Arc], list: Vec<(usize, usize)>, tol: f64) -> Vec<Vec<(usize
     out
 }
 
-/// Loops (components of paired arcs, complete when every end is paired) by sheet: (solid,
-/// group pair) → loops, and the solids with incomplete loops.
-type LoopsBySheet = BTreeMap<(usize, [usize; 2]), Vec<Vec<usize>>>;
-fn loops_by_sheet(
-    arcs: &[Arc],
-    uf: &mut UnionFind,
-    paired: &[[bool; 2]],
-) -> (LoopsBySheet, BTreeSet<usize>) {
-    let mut components: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-    for k in 0..arcs.len() {
-        components.entry(uf.find(k)).or_default().push(k);
-    }
-    let mut incomplete_solids = BTreeSet::new();
-    let mut by_sheet: BTreeMap<(usize, [usize; 2]), Vec<Vec<usize>>> = BTreeMap::new();
-    for (_, members) in components {
-        let complete = members
-            .iter()
-            .all(|&k| arcs[k].closed || (paired[k][0] && paired[k][1]));
-        let first = &arcs[members[0]];
-        if !complete {
-            incomplete_solids.insert(first.solid);
-            continue;
-        }
-        by_sheet
-            .entry((first.solid, first.groups))
-            .or_default()
-            .push(order_loop(arcs, &members));
-    }
-
-    (by_sheet, incomplete_solids)
-}
-
 /// The Euler characteristics of `solid` and of its medial axis (`V − E + Σ χ(sheet)`, or why
 /// that is withheld).
 fn solid_and_axis_euler(
@@ -365,7 +299,7 @@ fn solid_and_axis_euler(
 ) -> SolidEuler {
     let solid_euler = solid_euler(model, solid);
     let mine: Vec<&Arc> = arcs.iter().filter(|a| a.solid == solid).collect();
-    let nodes: BTreeSet<Node> = mine
+    let nodes: BTreeSet<Place> = mine
         .iter()
         .flat_map(|a| a.ends.iter().flatten().map(|(n, _)| *n))
         .collect();
@@ -434,21 +368,30 @@ fn withheld(
     incomplete: &BTreeSet<usize>,
 ) -> Option<String> {
     let seams_of_solid = mat.seams.iter().filter(|s| s.solid == solid);
+    let skeletal_starts: BTreeSet<[usize; 2]> = mat
+        .skeletal_edges
+        .iter()
+        .flat_map(|k| k.starts.iter().copied())
+        .collect();
     if mixed.contains(&solid) {
         Some("the solid has mixed edges (convex along part, reflex along the rest)".into())
     } else if mat.degenerate.iter().any(|d| d.solid == solid) {
         Some("the medial axis has degenerate pieces (sampled, not yet in the cell count)".into())
-    } else if seams_of_solid.clone().any(|s| {
-        s.ends
-            .iter()
-            .any(|e| matches!(e, SeamEnd::CurvatureLimit { .. }))
+    } else if mat.seams.iter().enumerate().any(|(i, s)| {
+        s.solid == solid
+            && (0..2).any(|end| {
+                matches!(s.ends[end], SeamEnd::CurvatureLimit { .. })
+                    && !skeletal_starts.contains(&[i, end])
+            })
     }) {
         Some("seams end at curvature limits, where untraced skeletal edges begin".into())
-    } else if seams_of_solid
-        .clone()
-        .any(|s| s.ends.iter().any(|e| matches!(e, SeamEnd::Pinch { .. })))
-    {
-        Some("seams end at pinches, which are not nodes of the graph yet".into())
+    } else if mat.seams.iter().enumerate().any(|(i, s)| {
+        s.solid == solid
+            && (0..2).any(|end| {
+                matches!(s.ends[end], SeamEnd::Pinch { .. }) && !skeletal_starts.contains(&[i, end])
+            })
+    }) {
+        Some("seams end at pinches between two groups of segments, which are not nodes of the graph yet".into())
     } else if seams_of_solid
         .clone()
         .any(|s| s.ends.iter().any(|e| matches!(e, SeamEnd::Open(_))))
@@ -461,57 +404,19 @@ fn withheld(
     }
 }
 
-/// Orders a loop's arcs so consecutive arcs share a node (for the report; the count does not
-/// depend on it).
-fn order_loop(arcs: &[Arc], members: &[usize]) -> Vec<usize> {
-    if members.len() <= 2 {
-        return members.to_vec();
-    }
-    let mut left: Vec<usize> = members.to_vec();
-    let mut out = vec![left.remove(0)];
-    let mut at = arcs[out[0]].ends[1].as_ref().map(|(n, _)| *n);
-    while !left.is_empty() {
-        let next = left
-            .iter()
-            .position(|&k| arcs[k].ends.iter().flatten().any(|(n, _)| Some(*n) == at));
-        let Some(p) = next else {
-            out.append(&mut left);
-            break;
-        };
-        let k = left.remove(p);
-        at = arcs[k]
-            .ends
-            .iter()
-            .flatten()
-            .map(|(n, _)| *n)
-            .find(|n| Some(*n) != at)
-            .or(at);
-        out.push(k);
-    }
-    out
-}
-
-/// `[a, b]` in the order of their names (`F10` before `F2`), as reports have always listed a
-/// sheet's pair.
-fn sorted_pair(a: Element, b: Element) -> [Element; 2] {
-    if a.to_string() <= b.to_string() {
-        [a, b]
-    } else {
-        [b, a]
-    }
-}
-
 fn name(e: BoundaryRef) -> String {
     match e {
         BoundaryRef::Seam(s) => format!("seam {s}"),
         BoundaryRef::Edge(e) => format!("rim E{e}"),
+        BoundaryRef::Skeletal(k) => format!("skeletal edge {k}"),
     }
 }
 
-fn node_name(n: Node) -> String {
+fn node_name(n: Place) -> String {
     match n {
-        Node::Junction(j) => format!("junction {j}"),
-        Node::Vertex(v) => format!("vertex V{v}"),
+        Place::Node(Node::Junction(j)) => format!("junction {j}"),
+        Place::Node(Node::Vertex(v)) => format!("vertex V{v}"),
+        Place::Skeletal(k) => format!("the ball skeletal edge {k} starts at"),
     }
 }
 
@@ -531,7 +436,7 @@ mod tests {
     /// reported, not paired with the wrong sheet.
     #[test]
     fn a_face_touched_twice_pairs_arcs_by_their_touch_points() {
-        let j = Node::Junction(0);
+        let j = Place::Node(Node::Junction(0));
         let (f0, f1) = (Element::Face(0), Element::Face(1));
         let (a, b, bottom) = (
             DVec3::new(0.0, 1.0, 0.0),
@@ -541,11 +446,16 @@ mod tests {
         let arc = |id: usize, t: [DVec3; 2]| Arc {
             element: BoundaryRef::Seam(id),
             solid: 0,
-            ends: [Some((j, [f0, f1])), Some((Node::Vertex(id), [f0, f1]))],
+            ends: [
+                Some((j, [f0, f1])),
+                Some((Place::Node(Node::Vertex(id)), [f0, f1])),
+            ],
             groups: [0, 1],
             closed: false,
             pair: [f0, f1],
             touch: [Some(t), None],
+            pieces: vec![[f0, f1]],
+            slots: None,
         };
         let twice = BTreeSet::from([(j, f0)]);
         let arcs = vec![
@@ -584,6 +494,49 @@ mod tests {
                 .any(|u| u.starts_with("junction 0: 4 arc end(s)")),
             "{unpaired:?}"
         );
+    }
+
+    /// At the ball where a seam ends and a skeletal edge starts, with all three segments in
+    /// one group (three reflex edges of one part of the boundary, as on the Prusa LCD knob):
+    /// the group pairs cannot tell the four arc ends apart, the segments do. The seam's side
+    /// on the two segments that meet goes on along the skeletal edge; its two sides on the
+    /// third are one sheet round the ball.
+    #[test]
+    fn arcs_at_a_skeletal_edges_ball_pair_by_their_segments() {
+        let ball = Place::Skeletal(0);
+        let v = Place::Node(Node::Vertex(9));
+        let (a, b, c) = (Element::Edge(1), Element::Edge(8), Element::Edge(152));
+        let arc = |element: BoundaryRef, pair: [Element; 2], slots| Arc {
+            element,
+            solid: 0,
+            ends: [Some((v, pair)), Some((ball, pair))],
+            groups: [0, 0],
+            closed: false,
+            pair,
+            touch: [None, None],
+            pieces: vec![pair],
+            slots,
+        };
+        let mut arcs = vec![
+            arc(BoundaryRef::Seam(0), [a, b], Some((0, [0, 1]))),
+            arc(BoundaryRef::Seam(0), [b, c], Some((0, [1, 2]))),
+            arc(BoundaryRef::Seam(0), [a, c], Some((0, [0, 2]))),
+        ];
+        let mut edge = arc(BoundaryRef::Skeletal(0), [a, b], None);
+        edge.ends = [Some((ball, [a, b])), Some((v, [a, b]))];
+        arcs.push(edge);
+        let (mut uf, paired, unpaired) = pair_ends(&arcs, &BTreeSet::new(), 1e-9);
+        assert!(
+            paired[0][1] && paired[1][1] && paired[2][1] && paired[3][0],
+            "{paired:?}"
+        );
+        assert!(
+            unpaired.iter().all(|u| !u.starts_with("the ball")),
+            "{unpaired:?}"
+        );
+        assert_eq!(uf.find(0), uf.find(3), "along the skeletal edge");
+        assert_eq!(uf.find(1), uf.find(2), "round the ball");
+        assert_ne!(uf.find(0), uf.find(1));
     }
 
     fn loop_sizes(s: &Sheets) -> Vec<usize> {

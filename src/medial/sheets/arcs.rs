@@ -1,0 +1,233 @@
+//! The arcs of sheet boundaries (`docs/design.md`, sheets, step 1): three per seam (one per
+//! pair of its touch slots), one per rim (a convex edge between two faces), one per skeletal
+//! edge, each with the places its ends are at and the segment pairs along it.
+
+use crate::classify::{Classification, EdgeKind};
+use crate::medial::axis::{MedialAxis, Node, Seam, SeamEnd, SeamPoint};
+use crate::medial::segments::SegmentGroups;
+use crate::model::{Element, Model};
+use glam::DVec3;
+use serde::Serialize;
+use std::collections::{BTreeSet, HashMap};
+
+/// Where arcs end: a node of the graph, or the ball where seams end at a skeletal edge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) enum Place {
+    Node(Node),
+    /// The ball where skeletal edge `k` starts (the seams ending there end at it).
+    Skeletal(usize),
+}
+
+/// One element of a sheet's boundary.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BoundaryRef {
+    /// A seam (by id).
+    Seam(usize),
+    /// A convex edge of the model: the sheet's rim.
+    Edge(usize),
+    /// A skeletal edge (by id): the sheet's free edge.
+    Skeletal(usize),
+}
+
+/// An arc: one side of a seam, a rim, or a skeletal edge.
+pub(super) struct Arc {
+    pub(super) element: BoundaryRef,
+    pub(super) solid: usize,
+    /// The segment pair at each end (exact elements) and the group pair.
+    pub(super) ends: [Option<(Place, [Element; 2])>; 2],
+    pub(super) groups: [usize; 2],
+    /// A closed seam's side: a loop by itself.
+    pub(super) closed: bool,
+    /// The segment pair where the arc starts (a closed seam's side has no node to name it).
+    pub(super) pair: [Element; 2],
+    /// A seam's side: its two touch points at each end (which contacts of a junction it
+    /// runs between, where one element is touched there twice).
+    pub(super) touch: [Option<[DVec3; 2]>; 2],
+    /// Every segment pair of the sheet next to it along the arc (a touch point handed over
+    /// changes it), and at its end balls (see [`add_witnesses`]): pieces of one sheet.
+    pub(super) pieces: Vec<[Element; 2]>,
+    /// A seam's side: the seam's index and the two touch slots.
+    pub(super) slots: Option<(usize, [usize; 2])>,
+}
+
+/// The ball each seam end a skeletal edge starts from is: `[seam, end]` → place. (Other
+/// pinches are not nodes yet: where two seams end at one, on segments of different groups,
+/// the sheets round it are not paired there; the count is withheld.)
+pub(super) fn end_balls(mat: &MedialAxis) -> HashMap<[usize; 2], Place> {
+    let mut out = HashMap::new();
+    for k in &mat.skeletal_edges {
+        for start in &k.starts {
+            out.insert(*start, Place::Skeletal(k.id));
+        }
+    }
+    out
+}
+
+/// The three arcs of every seam (one per pair of its touch slots).
+pub(super) fn seam_arcs(
+    mat: &MedialAxis,
+    groups: &SegmentGroups,
+    balls: &HashMap<[usize; 2], Place>,
+) -> Vec<Arc> {
+    let mut arcs: Vec<Arc> = vec![];
+    for (n, s) in mat.seams.iter().enumerate() {
+        let closed = s.ends.iter().all(|e| matches!(e, SeamEnd::Closed));
+        let place = |end: usize| {
+            s.ends[end]
+                .node()
+                .map(Place::Node)
+                .or_else(|| balls.get(&[n, end]).copied())
+        };
+        for (i, j) in [(0, 1), (1, 2), (0, 2)] {
+            let pair = |segs: &[Element]| match (segs.get(i), segs.get(j)) {
+                (Some(a), Some(b)) => Some(sorted_pair(*a, *b)),
+                _ => None,
+            };
+            let start = place(0).zip(pair(&s.segments));
+            let end = place(1).zip(pair(&s.end_segments));
+            let g = [groups.of(s.segments[i]), groups.of(s.segments[j])];
+            let touch = |p: Option<&SeamPoint>| {
+                p.map(|p| [DVec3::from_array(p.touch[i]), DVec3::from_array(p.touch[j])])
+            };
+            arcs.push(Arc {
+                element: BoundaryRef::Seam(s.id),
+                solid: s.solid,
+                ends: [start, end],
+                groups: [g[0].min(g[1]), g[0].max(g[1])],
+                closed,
+                pair: sorted_pair(s.segments[i], s.segments[j]),
+                touch: [touch(s.points.first()), touch(s.points.last())],
+                pieces: pairs_along(s, i, j),
+                slots: Some((n, [i, j])),
+            });
+        }
+    }
+    arcs
+}
+
+/// The segment pairs of slots `i` and `j` along seam `s`, from its first point through each
+/// hand-over to its last.
+pub(super) fn pairs_along(s: &Seam, i: usize, j: usize) -> Vec<[Element; 2]> {
+    let mut slots = s.segments.clone();
+    let mut out = vec![];
+    let mut push = |slots: &[Element]| {
+        if let (Some(a), Some(b)) = (slots.get(i), slots.get(j)) {
+            let p = sorted_pair(*a, *b);
+            if !out.contains(&p) {
+                out.push(p);
+            }
+        }
+    };
+    push(&slots);
+    for h in &s.handovers {
+        if let Some(k) = slots.iter().position(|e| *e == h.from) {
+            slots[k] = h.to;
+            push(&slots);
+        }
+    }
+    push(&s.end_segments);
+    out
+}
+
+/// Adds the rims (convex edges between two faces) to `arcs`; returns the solids with mixed
+/// edges.
+pub(super) fn add_rims(
+    model: &Model,
+    class: &Classification,
+    groups: &SegmentGroups,
+    arcs: &mut Vec<Arc>,
+) -> BTreeSet<usize> {
+    let mut mixed = BTreeSet::new();
+    for (e, edge) in model.edges.iter().enumerate() {
+        match class.edges[e].kind {
+            EdgeKind::Convex if edge.faces.len() == 2 && edge.faces[0] != edge.faces[1] => {
+                let (a, b) = (Element::Face(edge.faces[0]), Element::Face(edge.faces[1]));
+                let pair = sorted_pair(a, b);
+                let g = [groups.of(a), groups.of(b)];
+                arcs.push(Arc {
+                    element: BoundaryRef::Edge(e),
+                    solid: model.solid_of_face(edge.faces[0]),
+                    ends: [
+                        Some((Place::Node(Node::Vertex(edge.vertices[0])), pair)),
+                        Some((Place::Node(Node::Vertex(edge.vertices[1])), pair)),
+                    ],
+                    groups: [g[0].min(g[1]), g[0].max(g[1])],
+                    closed: false,
+                    pair,
+                    touch: [None, None],
+                    pieces: vec![pair],
+                    slots: None,
+                });
+            }
+            EdgeKind::Mixed => {
+                mixed.insert(model.solid_of_face(edge.faces[0]));
+            }
+            _ => {}
+        }
+    }
+
+    mixed
+}
+
+/// Adds the skeletal edges to `arcs`: each runs from its ball to its vertex, on its pair.
+pub(super) fn add_skeletal(mat: &MedialAxis, groups: &SegmentGroups, arcs: &mut Vec<Arc>) {
+    for k in &mat.skeletal_edges {
+        let pair = sorted_pair(k.segments[0], k.segments[1]);
+        let g = [groups.of(pair[0]), groups.of(pair[1])];
+        arcs.push(Arc {
+            element: BoundaryRef::Skeletal(k.id),
+            solid: k.solid,
+            ends: [
+                Some((Place::Skeletal(k.id), pair)),
+                Some((Place::Node(Node::Vertex(k.vertex)), pair)),
+            ],
+            groups: [g[0].min(g[1]), g[0].max(g[1])],
+            closed: false,
+            pair,
+            touch: [None, None],
+            pieces: vec![pair],
+            slots: None,
+        });
+    }
+}
+
+/// Orders a loop's arcs so consecutive arcs share a node (for the report; the count does not
+/// depend on it).
+pub(super) fn order_loop(arcs: &[Arc], members: &[usize]) -> Vec<usize> {
+    if members.len() <= 2 {
+        return members.to_vec();
+    }
+    let mut left: Vec<usize> = members.to_vec();
+    let mut out = vec![left.remove(0)];
+    let mut at = arcs[out[0]].ends[1].as_ref().map(|(n, _)| *n);
+    while !left.is_empty() {
+        let next = left
+            .iter()
+            .position(|&k| arcs[k].ends.iter().flatten().any(|(n, _)| Some(*n) == at));
+        let Some(p) = next else {
+            out.append(&mut left);
+            break;
+        };
+        let k = left.remove(p);
+        at = arcs[k]
+            .ends
+            .iter()
+            .flatten()
+            .map(|(n, _)| *n)
+            .find(|n| Some(*n) != at)
+            .or(at);
+        out.push(k);
+    }
+    out
+}
+
+/// `[a, b]` in the order of their names (`F10` before `F2`), as reports have always listed a
+/// sheet's pair.
+pub(super) fn sorted_pair(a: Element, b: Element) -> [Element; 2] {
+    if a.to_string() <= b.to_string() {
+        [a, b]
+    } else {
+        [b, a]
+    }
+}
