@@ -7,7 +7,9 @@ JSON report written next to it.
 
 Checks (every failure is listed, then the exit status is 1):
 * `Part.read` gives exactly one free edge (an edge not inside a solid) per seam of the report,
-  in the report's order, each starting and ending at its seam's first and last traced point;
+  in the report's order, each starting and ending at its seam's first and last traced point,
+  then one per skeletal edge (`mat.skeletal_edges`, reports made before them have none), each
+  a straight line from its first ball's centre to its last (the vertex), every ball on it;
 * every K-th traced point of each seam (and its last) is within the report's fit tolerance
   (`mat.fit.tol`) of that seam's edge (`distToShape`);
 * exactly one free vertex per junction, each at its junction's point;
@@ -69,6 +71,7 @@ def main():
 
     report = json.load(open(args.report))
     seams = report["mat"]["seams"]
+    skeletal = report["mat"].get("skeletal_edges", [])
     junctions = report["mat"]["junctions"]
     tol = report["mat"]["fit"]["tol"]
     diag = report["model"]["diagonal"]
@@ -93,8 +96,9 @@ def main():
         problems.append(f"unexpected shapes: {[s.ShapeType for s in parts['other']]}")
 
     edges = parts["edges"]
-    if len(edges) != len(seams):
-        problems.append(f"{len(edges)} free edges for {len(seams)} seams")
+    if len(edges) != len(seams) + len(skeletal):
+        problems.append(f"{len(edges)} free edges for {len(seams)} seams"
+                        + (f" and {len(skeletal)} skeletal edges" if skeletal else ""))
     worst = 0.0
     checked = 0
     for seam, edge in zip(seams, edges):
@@ -113,6 +117,21 @@ def main():
             if d > tol + slack:
                 problems.append(f"seam {seam['id']} point {i}: {d:.3e} mm from its edge "
                                 f"(fit tolerance {tol:.3e})")
+                break
+
+    for k, edge in zip(skeletal, edges[len(seams):]):
+        balls = k["balls"]
+        ends = [edge.Vertexes[0].Point, edge.Vertexes[-1].Point]
+        for want, got in ((balls[0], ends[0]), (balls[-1], ends[-1])):
+            if dist(want[:3], got) > 1e-9 * diag:
+                problems.append(f"skeletal edge {k['id']}: edge ends at {tuple(got)}, "
+                                f"its balls at {want[:3]}")
+        for i, b in enumerate(balls):
+            d = edge.distToShape(Part.Vertex(FreeCAD.Vector(*b[:3])))[0]
+            worst = max(worst, d)
+            checked += 1
+            if d > tol + slack:
+                problems.append(f"skeletal edge {k['id']} ball {i}: {d:.3e} mm from its edge")
                 break
 
     vertices = parts["vertices"]

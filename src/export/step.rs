@@ -1,13 +1,15 @@
 //! Writing the traced MAT as a STEP AP214 wireframe (`<stem>.mat.step`).
 //!
 //! ISO 10303-21 text, schema `AUTOMOTIVE_DESIGN` (AP214), millimetres. Each seam is one
-//! `B_SPLINE_CURVE_WITH_KNOTS` named `'seam <id>'` (its [`SeamFit`]), each junction one
-//! `CARTESIAN_POINT` named `'junction <id>'`; the curves and the points are two
-//! `GEOMETRIC_CURVE_SET`s (`'seams'`, `'junctions'`) of one
-//! `GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION`, framed by the product structure
-//! OCCT itself writes (`PRODUCT` … `SHAPE_DEFINITION_REPRESENTATION`, one application context,
-//! the unit context of OCCT's files), so FreeCAD/OCCT import one edge per seam and one vertex
-//! per junction. The radius has no place in a wireframe: it is in the JSON report.
+//! `B_SPLINE_CURVE_WITH_KNOTS` named `'seam <id>'` (its [`SeamFit`]), each skeletal edge at a
+//! vertex one straight `B_SPLINE_CURVE_WITH_KNOTS` of degree 1 named `'skeletal edge <id>'`
+//! (from its first ball's centre to the vertex), each junction one `CARTESIAN_POINT` named
+//! `'junction <id>'`; they are `GEOMETRIC_CURVE_SET`s (`'seams'`, `'skeletal edges'`,
+//! `'junctions'`) of one `GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION`, framed by the
+//! product structure OCCT itself writes (`PRODUCT` … `SHAPE_DEFINITION_REPRESENTATION`, one
+//! application context, the unit context of OCCT's files), so FreeCAD/OCCT import one edge per
+//! seam, then one per skeletal edge, and one vertex per junction. The radius has no place in a
+//! wireframe: it is in the JSON report.
 //!
 //! Optionally the input part is included: its DATA section is copied verbatim, every `#n`
 //! outside strings and comments renumbered past our ids, keeping its own product structure and
@@ -117,6 +119,22 @@ pub fn mat_step_text(
         w.push(
             id,
             format!("GEOMETRIC_CURVE_SET('seams',({}))", refs(&curves)),
+        );
+        items.push(id);
+    }
+    let mut lines = vec![];
+    for k in &mat.skeletal_edges {
+        let name = format!("skeletal edge {}", k.id);
+        let (Some(a), Some(b)) = (k.balls.first(), k.balls.last()) else {
+            continue;
+        };
+        lines.push(w.line(&name, [a[0], a[1], a[2]], [b[0], b[1], b[2]])?);
+    }
+    if !lines.is_empty() {
+        let id = w.next_id();
+        w.push(
+            id,
+            format!("GEOMETRIC_CURVE_SET('skeletal edges',({}))", refs(&lines)),
         );
         items.push(id);
     }
@@ -231,6 +249,23 @@ impl Writer {
                 if closed { ".T." } else { ".F." },
                 mults.join(","),
                 knots.join(",")
+            ),
+        );
+        Ok(id)
+    }
+
+    /// A straight line from `a` to `b`: a B-spline of degree 1 with two control points.
+    fn line(&mut self, name: &str, a: [f64; 3], b: [f64; 3]) -> Result<u64, Error> {
+        let ends = [self.point("", a), self.point("", b)];
+        let [Ok(a), Ok(b)] = ends else {
+            return Err(self.not_finite(name));
+        };
+        let id = self.next_id();
+        self.push(
+            id,
+            format!(
+                "B_SPLINE_CURVE_WITH_KNOTS({},1,(#{a},#{b}),.POLYLINE_FORM.,.F.,.F.,(2,2),(0.,1.),.UNSPECIFIED.)",
+                string(name)
             ),
         );
         Ok(id)

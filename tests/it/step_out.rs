@@ -312,3 +312,38 @@ fn an_unwritable_output_is_an_error_naming_the_file() {
         .collect();
     assert!(left.is_empty(), "{left:?}");
 }
+
+/// The skeletal edges below a box standing on a plate are edges of the file too: FreeCAD
+/// finds one straight edge per skeletal edge after the seams, through its balls; a report
+/// with one fewer is refused.
+#[test]
+fn freecad_sees_the_skeletal_edges_below_a_box_on_a_plate() {
+    if !require(
+        "step_out::freecad_sees_the_skeletal_edges_below_a_box_on_a_plate",
+        &[Tool::FreeCad],
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (report, step) = trace(&sample("trace/box_boss_on_plate.step"), dir.path(), &[]);
+    let seams = report["mat"]["seams"].as_array().unwrap().len();
+    let skeletal = report["mat"]["skeletal_edges"].as_array().unwrap().len();
+    assert_eq!(skeletal, 4);
+    let checked = freecad_check(&step, &report_path(&step), &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        checked.contains(&format!("\"edges\": {}", seams + skeletal)),
+        "{checked}"
+    );
+    let mut fewer = report.clone();
+    fewer["mat"]["skeletal_edges"].as_array_mut().unwrap().pop();
+    let p = dir.path().join("fewer.json");
+    std::fs::write(&p, serde_json::to_string(&fewer).unwrap()).unwrap();
+    let e = freecad_check(&step, &p, &[]).unwrap_err();
+    assert!(
+        e.contains(&format!(
+            "{} free edges for {seams} seams and 3 skeletal edges",
+            seams + 4
+        )),
+        "{e}"
+    );
+}

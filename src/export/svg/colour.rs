@@ -10,6 +10,8 @@ pub const COLOUR_LEVELS: usize = 24;
 
 /// The colour of degenerate pieces (magenta).
 pub(super) const DEGENERATE_COLOUR: &str = "#d0109a";
+/// The colour of skeletal edges (a sheet's free edge: dotted, in orange).
+pub(super) const SKELETAL_COLOUR: &str = "#e07000";
 
 /// Greys of a part edge from near to far.
 pub(super) const EDGE_GREYS: [&str; 4] = ["#262626", "#555555", "#858585", "#b0b0b0"];

@@ -4,6 +4,7 @@
 
 use super::colour::{
     colour, nice_floor, ticks, RadiusScale, COLOUR_LEVELS, DEGENERATE_COLOUR, EDGE_GREYS,
+    SKELETAL_COLOUR,
 };
 use super::layout::{Layout, Rect};
 use super::panels::draw_scale_bar;
@@ -210,7 +211,14 @@ fn draw_symbols(s: &mut String, mat: &MedialAxis, x: f64, mut y: f64) -> f64 {
         num(x + 40.0),
         num(y + 4.0)
     );
-    y += 26.0;
+    y += 24.0;
+    item(
+        s,
+        y,
+        line(y, SKELETAL_COLOUR, "1.6", r#" stroke-dasharray="2 3""#),
+        format!("skeletal edge ({})", mat.skeletal_edges.len()),
+    );
+    y += 22.0;
     item(
         s,
         y,

@@ -9,7 +9,9 @@
 //! levels stay within one of each other, each drawn in its middle level and thinned on its
 //! own, so thinning never moves a colour by more than one level.
 
-use super::colour::{colour, nice_floor, RadiusScale, DEGENERATE_COLOUR, EDGE_GREYS};
+use super::colour::{
+    colour, nice_floor, RadiusScale, DEGENERATE_COLOUR, EDGE_GREYS, SKELETAL_COLOUR,
+};
 use super::layout::Panel;
 use super::sampling::thin;
 use super::text::{escape, mm, num, path_data, points_attr};
@@ -47,6 +49,9 @@ pub(super) fn draw_panel(
     draw_edges(s, scene.class, scene.edges, outlines, panel, scene.px_tol);
     if !mat.degenerate.is_empty() {
         draw_degenerates(s, mat, panel, scene.px_tol);
+    }
+    if !mat.skeletal_edges.is_empty() {
+        draw_skeletal(s, mat, panel);
     }
     if let Some(rs) = scene.radius {
         draw_seams(s, mat, panel, rs, scene.px_tol);
@@ -212,6 +217,37 @@ fn draw_seams(s: &mut String, mat: &MedialAxis, panel: &Panel, rs: RadiusScale, 
     );
     for (_, i) in order {
         draw_seam(s, mat, i, panel, rs, px_tol);
+    }
+    s.push_str("</g>\n");
+}
+
+/// The skeletal edges: dotted straight lines from their seams' ends to their vertices.
+fn draw_skeletal(s: &mut String, mat: &MedialAxis, panel: &Panel) {
+    let _ = writeln!(
+        s,
+        r#"<g class="skeletal-edges" fill="none" stroke="{SKELETAL_COLOUR}" stroke-width="1.6" stroke-dasharray="2 3" stroke-linecap="round">"#
+    );
+    for k in &mat.skeletal_edges {
+        let (Some(a), Some(b)) = (k.balls.first(), k.balls.last()) else {
+            continue;
+        };
+        let (p, q) = (
+            panel.page_point(DVec3::new(a[0], a[1], a[2])),
+            panel.page_point(DVec3::new(b[0], b[1], b[2])),
+        );
+        let _ = writeln!(
+            s,
+            r#"<line x1="{}" y1="{}" x2="{}" y2="{}"><title>skeletal edge {} ({} {}) to V{} · r {}–0 mm</title></line>"#,
+            num(p.x),
+            num(p.y),
+            num(q.x),
+            num(q.y),
+            k.id,
+            k.segments[0],
+            k.segments[1],
+            k.vertex,
+            mm(a[3])
+        );
     }
     s.push_str("</g>\n");
 }
