@@ -568,6 +568,21 @@ def shallow_pockets():
     return plate.cut(cyl(4, 0.4, 28, 10, 3.6))
 
 
+@part("box_boss_on_plate",
+      "Plate 40x30x6 with a box boss 10x8x5 standing on its top at (15..25, 11..19), away "
+      "from its edges.",
+      40 * 30 * 6 + 10 * 8 * 5,
+      "Each vertical edge of the boss ends at the plate's top in a vertex with two reflex "
+      "edges (the boss's foot). Below it the sheet of those two edges ends freely along a "
+      "straight skeletal edge: the balls touching only the vertex, centres straight down "
+      "from it, r from 0 to 3 (half the plate), where the seam of the two reflex edges and "
+      "the plate's bottom ends with its two edge touch points at the vertex. The boss's "
+      "edge's rim, that skeletal edge and the seam close the sheet; the medial axis has "
+      "Euler characteristic 1, the solid's.")
+def box_boss_on_plate():
+    return Part.makeBox(40, 30, 6).fuse(Part.makeBox(10, 8, 5, V(15, 11, 6))).removeSplitter()
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

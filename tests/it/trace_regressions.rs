@@ -618,3 +618,59 @@ fn the_seams_round_a_shallow_pockets_floor_close_on_themselves() {
     }
     assert_eq!(round, [1, 1], "one loop round each pocket");
 }
+
+/// A box standing on a plate: below each of its four vertical edges, where they end at the
+/// plate's top in a vertex with two reflex edges, the sheet of those two edges ends along a
+/// skeletal edge straight down from the vertex, from r = 0 there to the ball of r = 3 (half
+/// the plate) where the seam of the two edges and the plate's bottom ends. With them every
+/// sheet closes and the Euler characteristic is counted: 1, the solid's.
+#[test]
+fn a_boxs_vertical_edges_end_in_skeletal_edges_straight_down_into_the_plate() {
+    let report = traced_and_verified("box_boss_on_plate");
+    let edges = report["mat"]["skeletal_edges"].as_array().unwrap();
+    assert_eq!(edges.len(), 4, "{edges:?}");
+    let vertices = report["model"]["vertices"].as_array().unwrap();
+    let mut corners = vec![];
+    for k in edges {
+        let v = &vertices[k["vertex"].as_u64().unwrap() as usize]["point"];
+        let at: Vec<f64> = (0..3).map(|c| v[c].as_f64().unwrap()).collect();
+        corners.push([at[0].round() as i64, at[1].round() as i64]);
+        assert!((at[2] - 6.0).abs() < 1e-9, "{at:?}: on the plate's top");
+        let balls = k["balls"].as_array().unwrap();
+        let first: Vec<f64> = (0..4).map(|c| balls[0][c].as_f64().unwrap()).collect();
+        assert!(
+            (first[3] - 3.0).abs() < 1e-6,
+            "{first:?}: r = 3 at the seam's end"
+        );
+        let mut last_r = f64::INFINITY;
+        for b in balls {
+            let b: Vec<f64> = (0..4).map(|c| b[c].as_f64().unwrap()).collect();
+            assert!(
+                (b[0] - at[0]).abs() < 1e-6 && (b[1] - at[1]).abs() < 1e-6,
+                "{b:?}: straight below {at:?}"
+            );
+            assert!(
+                (at[2] - b[2] - b[3]).abs() < 1e-6,
+                "{b:?}: touching the vertex"
+            );
+            assert!(b[3] < last_r, "{b:?}: r falls towards the vertex");
+            last_r = b[3];
+        }
+        assert!(last_r.abs() < 1e-9, "ends at the vertex, r = {last_r}");
+        let starts = k["starts"].as_array().unwrap();
+        assert_eq!(starts.len(), 1, "{starts:?}");
+    }
+    corners.sort();
+    assert_eq!(corners, [[15, 11], [15, 19], [25, 11], [25, 19]]);
+    let euler = &report["mat"]["topology"]["euler"][0];
+    assert_eq!(euler["mat_euler"], 1, "{euler}");
+    assert_eq!(euler["solid_euler"], 1, "{euler}");
+    assert!(
+        report["mat"]["topology"]["unpaired"]
+            .as_array()
+            .unwrap()
+            .is_empty(),
+        "{}",
+        report["mat"]["topology"]["unpaired"]
+    );
+}

@@ -295,6 +295,78 @@ fn verify_accepts_genuine_reports_and_rejects_wrong_ones() {
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 
+/// The skeletal edges below a box standing on a plate: the genuine report passes both
+/// checkers with its Euler characteristic counted; one edge removed leaves that sheet's
+/// boundary open at its vertex (`sheets_closed`, and the count withheld); one turned to run up
+/// from its vertex, along the box's edge, has balls the boundary cuts (`distance`, in both
+/// checkers); one moved sideways off its vertex is refused as a skeletal edge.
+#[test]
+fn a_skeletal_edge_removed_turned_or_moved_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let part = sample("trace/box_boss_on_plate.step");
+    let genuine = genuine("trace/box_boss_on_plate.step", dir.path());
+    let occt_present = require(
+        "verify::a_skeletal_edge_removed_turned_or_moved_fails (OCCT half)",
+        &[Tool::Occt],
+    );
+    let path = write(dir.path(), "genuine", &genuine);
+    assert_eq!(verify(&part, &path), (0, vec![]), "the genuine report");
+    if occt_present {
+        assert_eq!(occt(&part, &path), (0, vec![]), "the genuine report, OCCT");
+    }
+
+    let mut removed = genuine.clone();
+    removed["mat"]["skeletal_edges"]
+        .as_array_mut()
+        .unwrap()
+        .pop();
+    let path = write(dir.path(), "removed", &removed);
+    let (code, failed) = verify(&part, &path);
+    assert_eq!(code, 1, "{failed:?}");
+    assert!(failed.iter().any(|f| f == "sheets_closed"), "{failed:?}");
+
+    // Mirrored through the vertex: centres above it, up the box's vertical edge.
+    let mut turned = genuine.clone();
+    let k = &mut turned["mat"]["skeletal_edges"][0];
+    let last = k["balls"].as_array().unwrap().last().unwrap().clone();
+    let v: Vec<f64> = (0..3).map(|c| last[c].as_f64().unwrap()).collect();
+    for b in k["balls"].as_array_mut().unwrap() {
+        for (c, x) in v.iter().enumerate() {
+            b[c] = json!(2.0 * x - b[c].as_f64().unwrap());
+        }
+    }
+    let path = write(dir.path(), "turned", &turned);
+    let mut checkers = vec![("verify", verify(&part, &path))];
+    if occt_present {
+        checkers.push(("OCCT", occt(&part, &path)));
+    }
+    for (who, (code, failed)) in checkers {
+        assert_eq!(code, 1, "{who}: {failed:?}");
+        assert!(failed.iter().any(|f| f == "distance"), "{who}: {failed:?}");
+    }
+
+    // Moved 1 mm along x: no longer ending at the vertex it names (nor at any other).
+    let mut moved = genuine.clone();
+    for b in moved["mat"]["skeletal_edges"][0]["balls"]
+        .as_array_mut()
+        .unwrap()
+    {
+        b[0] = json!(b[0].as_f64().unwrap() + 1.0);
+    }
+    let path = write(dir.path(), "moved", &moved);
+    let mut checkers = vec![("verify", verify(&part, &path))];
+    if occt_present {
+        checkers.push(("OCCT", occt(&part, &path)));
+    }
+    for (who, (code, failed)) in checkers {
+        assert_eq!(code, 1, "{who}: {failed:?}");
+        assert!(
+            failed.iter().any(|f| f == "skeletal_edges"),
+            "{who}: {failed:?}"
+        );
+    }
+}
+
 #[test]
 fn verify_holds_a_report_to_a_given_accuracy() {
     let dir = tempfile::tempdir().unwrap();
