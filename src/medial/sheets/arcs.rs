@@ -45,7 +45,7 @@ pub(super) struct Arc {
     /// runs between, where one element is touched there twice).
     pub(super) touch: [Option<[DVec3; 2]>; 2],
     /// Every segment pair of the sheet next to it along the arc (a touch point handed over
-    /// changes it), and at its end balls (see [`add_witnesses`]): pieces of one sheet.
+    /// changes it), and at its end balls (see `which::add_witnesses`): pieces of one sheet.
     pub(super) pieces: Vec<[Element; 2]>,
     /// A seam's side: the seam's index and the two touch slots.
     pub(super) slots: Option<(usize, [usize; 2])>,

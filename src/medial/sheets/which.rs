@@ -131,6 +131,7 @@ fn in_cone_at(model: &Model, class: &Classification, v: usize, d: DVec3) -> Vec<
     }
     out
 }
+
 /// Loops (components of paired arcs, complete when every end is paired) by sheet, and the
 /// solids with incomplete loops. The arcs of one loop bound one sheet, so the segment pairs
 /// ("pieces") along them are pieces of that sheet; loops that share a piece bound the same

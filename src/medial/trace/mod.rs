@@ -25,11 +25,10 @@
 //!   meet, or the curvature criterion fails): a skeletal edge starts there;
 //! - at a pinch, where two touch points on different segments meet at a vertex both reach
 //!   (a hole tangent to a slot's wall): located exactly on the normal line there (`pinch`);
-//!
-//!   where the two touch points that meet (at a curvature limit or a pinch) are on one part
-//!   of the boundary, at a vertex of it (a box standing on a plate, below each of its
-//!   vertical edges), the sheet ends along the straight line of balls touching that vertex
-//!   alone: its skeletal edge, from the seam's end to the vertex (`skeletal`);
+//!   where the two that meet (here or at a curvature limit) are on one part of the boundary,
+//!   at a vertex of it (a box standing on a plate, below each of its vertical edges), the
+//!   sheet ends along the straight line of balls touching that vertex alone: its skeletal
+//!   edge, from the seam's end to the vertex (`skeletal`);
 //! - closed, back at its seed;
 //! - or open, with the reason, where none of these is reached.
 //!
