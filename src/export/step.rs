@@ -114,14 +114,7 @@ pub fn mat_step_text(
     for (seam, fit) in mat.seams.iter().zip(fits) {
         curves.push(w.bspline_curve(&format!("seam {}", seam.id), fit)?);
     }
-    if !curves.is_empty() {
-        let id = w.next_id();
-        w.push(
-            id,
-            format!("GEOMETRIC_CURVE_SET('seams',({}))", refs(&curves)),
-        );
-        items.push(id);
-    }
+    items.extend(w.curve_set("seams", &curves));
     let mut lines = vec![];
     for k in &mat.skeletal_edges {
         let name = format!("skeletal edge {}", k.id);
@@ -130,26 +123,12 @@ pub fn mat_step_text(
         };
         lines.push(w.line(&name, [a[0], a[1], a[2]], [b[0], b[1], b[2]])?);
     }
-    if !lines.is_empty() {
-        let id = w.next_id();
-        w.push(
-            id,
-            format!("GEOMETRIC_CURVE_SET('skeletal edges',({}))", refs(&lines)),
-        );
-        items.push(id);
-    }
+    items.extend(w.curve_set("skeletal edges", &lines));
     let mut points = vec![];
     for j in &mat.junctions {
         points.push(w.point(&format!("junction {}", j.id), j.point)?);
     }
-    if !points.is_empty() {
-        let id = w.next_id();
-        w.push(
-            id,
-            format!("GEOMETRIC_CURVE_SET('junctions',({}))", refs(&points)),
-        );
-        items.push(id);
-    }
+    items.extend(w.curve_set("junctions", &points));
     let ctx = w.unit_context();
     w.push(
         rep,
@@ -252,6 +231,19 @@ impl Writer {
             ),
         );
         Ok(id)
+    }
+
+    /// A `GEOMETRIC_CURVE_SET` named `name` of `members`; none when there are none.
+    fn curve_set(&mut self, name: &str, members: &[u64]) -> Option<u64> {
+        if members.is_empty() {
+            return None;
+        }
+        let id = self.next_id();
+        self.push(
+            id,
+            format!("GEOMETRIC_CURVE_SET({},({}))", string(name), refs(members)),
+        );
+        Some(id)
     }
 
     /// A straight line from `a` to `b`: a B-spline of degree 1 with two control points.

@@ -280,6 +280,14 @@ pub struct Seam {
 }
 
 impl Seam {
+    /// The point at end `end` (0: the first, else the last) and the elements touched there.
+    pub fn at_end(&self, end: usize) -> (Option<&SeamPoint>, &[Element]) {
+        match end {
+            0 => (self.points.first(), &self.segments),
+            _ => (self.points.last(), &self.end_segments),
+        }
+    }
+
     /// True when either end is [`SeamEnd::Open`].
     pub fn is_open(&self) -> bool {
         self.ends.iter().any(|e| matches!(e, SeamEnd::Open(_)))

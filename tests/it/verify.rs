@@ -335,15 +335,22 @@ fn a_skeletal_edge_removed_turned_or_moved_fails() {
             b[c] = json!(2.0 * x - b[c].as_f64().unwrap());
         }
     }
-    let path = write(dir.path(), "turned", &turned);
-    let mut checkers = vec![("verify", verify(&part, &path))];
-    if occt_present {
-        checkers.push(("OCCT", occt(&part, &path)));
-    }
-    for (who, (code, failed)) in checkers {
-        assert_eq!(code, 1, "{who}: {failed:?}");
-        assert!(failed.iter().any(|f| f == "distance"), "{who}: {failed:?}");
-    }
+    // Both checkers (OCCT where present) must exit 1 with `check` among the failures.
+    let both_fail = |name: &str, report: &Value, check: &str| {
+        let path = write(dir.path(), name, report);
+        let mut checkers = vec![("verify", verify(&part, &path))];
+        if occt_present {
+            checkers.push(("OCCT", occt(&part, &path)));
+        }
+        for (who, (code, failed)) in checkers {
+            assert_eq!(code, 1, "{who} {name}: {failed:?}");
+            assert!(
+                failed.iter().any(|f| f == check),
+                "{who} {name}: {failed:?}"
+            );
+        }
+    };
+    both_fail("turned", &turned, "distance");
 
     // Moved 1 mm along x: no longer ending at the vertex it names (nor at any other).
     let mut moved = genuine.clone();
@@ -353,18 +360,7 @@ fn a_skeletal_edge_removed_turned_or_moved_fails() {
     {
         b[0] = json!(b[0].as_f64().unwrap() + 1.0);
     }
-    let path = write(dir.path(), "moved", &moved);
-    let mut checkers = vec![("verify", verify(&part, &path))];
-    if occt_present {
-        checkers.push(("OCCT", occt(&part, &path)));
-    }
-    for (who, (code, failed)) in checkers {
-        assert_eq!(code, 1, "{who}: {failed:?}");
-        assert!(
-            failed.iter().any(|f| f == "skeletal_edges"),
-            "{who}: {failed:?}"
-        );
-    }
+    both_fail("moved", &moved, "skeletal_edges");
 }
 
 #[test]

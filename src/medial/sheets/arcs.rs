@@ -51,6 +51,36 @@ pub(super) struct Arc {
     pub(super) slots: Option<(usize, [usize; 2])>,
 }
 
+impl Arc {
+    /// A rim or a skeletal edge: one segment pair from end to end, no touch points.
+    fn between(
+        element: BoundaryRef,
+        solid: usize,
+        ends: [Place; 2],
+        [a, b]: [Element; 2],
+        groups: &SegmentGroups,
+    ) -> Arc {
+        let pair = sorted_pair(a, b);
+        Arc {
+            element,
+            solid,
+            ends: ends.map(|p| Some((p, pair))),
+            groups: group_pair(groups, a, b),
+            closed: false,
+            pair,
+            touch: [None, None],
+            pieces: vec![pair],
+            slots: None,
+        }
+    }
+}
+
+/// The groups of `a` and `b`, smaller first: the sheet's name up to which loops bound it.
+fn group_pair(groups: &SegmentGroups, a: Element, b: Element) -> [usize; 2] {
+    let (g, h) = (groups.of(a), groups.of(b));
+    [g.min(h), g.max(h)]
+}
+
 /// The ball each seam end a skeletal edge starts from is: `[seam, end]` → place. (Other
 /// pinches are not nodes yet: where two seams end at one, on segments of different groups,
 /// the sheets round it are not paired there; the count is withheld.)
@@ -86,7 +116,6 @@ pub(super) fn seam_arcs(
             };
             let start = place(0).zip(pair(&s.segments));
             let end = place(1).zip(pair(&s.end_segments));
-            let g = [groups.of(s.segments[i]), groups.of(s.segments[j])];
             let touch = |p: Option<&SeamPoint>| {
                 p.map(|p| [DVec3::from_array(p.touch[i]), DVec3::from_array(p.touch[j])])
             };
@@ -94,7 +123,7 @@ pub(super) fn seam_arcs(
                 element: BoundaryRef::Seam(s.id),
                 solid: s.solid,
                 ends: [start, end],
-                groups: [g[0].min(g[1]), g[0].max(g[1])],
+                groups: group_pair(groups, s.segments[i], s.segments[j]),
                 closed,
                 pair: sorted_pair(s.segments[i], s.segments[j]),
                 touch: [touch(s.points.first()), touch(s.points.last())],
@@ -142,23 +171,14 @@ pub(super) fn add_rims(
     for (e, edge) in model.edges.iter().enumerate() {
         match class.edges[e].kind {
             EdgeKind::Convex if edge.faces.len() == 2 && edge.faces[0] != edge.faces[1] => {
-                let (a, b) = (Element::Face(edge.faces[0]), Element::Face(edge.faces[1]));
-                let pair = sorted_pair(a, b);
-                let g = [groups.of(a), groups.of(b)];
-                arcs.push(Arc {
-                    element: BoundaryRef::Edge(e),
-                    solid: model.solid_of_face(edge.faces[0]),
-                    ends: [
-                        Some((Place::Node(Node::Vertex(edge.vertices[0])), pair)),
-                        Some((Place::Node(Node::Vertex(edge.vertices[1])), pair)),
-                    ],
-                    groups: [g[0].min(g[1]), g[0].max(g[1])],
-                    closed: false,
+                let pair = [Element::Face(edge.faces[0]), Element::Face(edge.faces[1])];
+                arcs.push(Arc::between(
+                    BoundaryRef::Edge(e),
+                    model.solid_of_face(edge.faces[0]),
+                    edge.vertices.map(|v| Place::Node(Node::Vertex(v))),
                     pair,
-                    touch: [None, None],
-                    pieces: vec![pair],
-                    slots: None,
-                });
+                    groups,
+                ));
             }
             EdgeKind::Mixed => {
                 mixed.insert(model.solid_of_face(edge.faces[0]));
@@ -173,22 +193,13 @@ pub(super) fn add_rims(
 /// Adds the skeletal edges to `arcs`: each runs from its ball to its vertex, on its pair.
 pub(super) fn add_skeletal(mat: &MedialAxis, groups: &SegmentGroups, arcs: &mut Vec<Arc>) {
     for k in &mat.skeletal_edges {
-        let pair = sorted_pair(k.segments[0], k.segments[1]);
-        let g = [groups.of(pair[0]), groups.of(pair[1])];
-        arcs.push(Arc {
-            element: BoundaryRef::Skeletal(k.id),
-            solid: k.solid,
-            ends: [
-                Some((Place::Skeletal(k.id), pair)),
-                Some((Place::Node(Node::Vertex(k.vertex)), pair)),
-            ],
-            groups: [g[0].min(g[1]), g[0].max(g[1])],
-            closed: false,
-            pair,
-            touch: [None, None],
-            pieces: vec![pair],
-            slots: None,
-        });
+        arcs.push(Arc::between(
+            BoundaryRef::Skeletal(k.id),
+            k.solid,
+            [Place::Skeletal(k.id), Place::Node(Node::Vertex(k.vertex))],
+            k.segments,
+            groups,
+        ));
     }
 }
 

@@ -35,23 +35,12 @@ pub(super) fn add_witnesses(
                 Some(Place::Skeletal(k)) => mat.skeletal_edges.get(*k).map(|k| k.vertex),
                 _ => None,
             };
-            let (Some(v), Some(p)) = (
-                vertex,
-                if end == 0 {
-                    s.points.first()
-                } else {
-                    s.points.last()
-                },
-            ) else {
+            let (point, segs) = s.at_end(end);
+            let (Some(v), Some(p)) = (vertex, point) else {
                 continue;
             };
             let Some(at) = model.vertices.get(v).map(|v| v.point) else {
                 continue;
-            };
-            let segs = if end == 0 {
-                &s.segments
-            } else {
-                &s.end_segments
             };
             // The third element: the touch point farthest from the vertex.
             let far = |k: usize| DVec3::from_array(p.touch[k]).distance(at);

@@ -37,10 +37,7 @@ impl Tracer<'_> {
                 ) {
                     continue;
                 }
-                let (point, segs) = match end {
-                    0 => (seam.points.first(), &seam.segments),
-                    _ => (seam.points.last(), &seam.end_segments),
-                };
+                let (point, segs) = seam.at_end(end);
                 let Some(point) = point else { continue };
                 let Some((pair, v)) = self.met_at_vertex(segs, &point.touch, near) else {
                     continue;

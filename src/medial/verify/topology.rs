@@ -176,10 +176,7 @@ fn pinch_at_vertex(
     vertex: usize,
     accuracy: f64,
 ) -> bool {
-    let (elements, point) = match k {
-        0 => (&s.segments, s.points.first()),
-        _ => (&s.end_segments, s.points.last()),
-    };
+    let (point, elements) = s.at_end(k);
     let (Some(point), Some(at)) = (point, model.vertices.get(vertex)) else {
         return false;
     };
@@ -287,10 +284,10 @@ fn check_skeletal_edges(model: &Model, axis: &MedialAxis, v: &mut Verification) 
         let (c1, r1) = ball(last);
         let reaches = c1.distance(at) <= a && r1.abs() <= a;
         // Straight: every centre on the line from the first to the vertex.
+        let along = (at - c0).normalize_or_zero();
         let straight = k.balls.iter().all(|b| {
             let (c, _) = ball(b);
-            let axis = (at - c0).normalize_or_zero();
-            let off = (c - c0) - axis * (c - c0).dot(axis);
+            let off = (c - c0) - along * (c - c0).dot(along);
             off.length() <= a
         });
         v.record("skeletal_edges", reaches && straight, || {
@@ -301,20 +298,11 @@ fn check_skeletal_edges(model: &Model, axis: &MedialAxis, v: &mut Verification) 
         });
         for &[s, end] in &k.starts {
             let seam = &axis.seams[s];
-            let point = if end == 0 {
-                seam.points.first()
-            } else {
-                seam.points.last()
-            };
+            let (point, segs) = seam.at_end(end);
             let kind_ok = matches!(
                 seam.ends[end],
                 SeamEnd::CurvatureLimit { .. } | SeamEnd::Pinch { .. }
             );
-            let segs = if end == 0 {
-                &seam.segments
-            } else {
-                &seam.end_segments
-            };
             let met = point.is_some_and(|p| {
                 let (c, r) = ball(&p.point);
                 let at_v = |i: usize, e: Element| {
