@@ -288,11 +288,12 @@ fn write_outputs(
     let fits = crate::fit::fit_mat(axis, &fit_opts);
     report.mat.fit = Some(crate::fit::FitReport::new(axis, &fits, fit_opts.tol));
     let path = opts.out_dir.join(format!("{stem}.mat.step"));
+    let degenerate_fits = crate::fit::fit_degenerate(axis, &fit_opts);
     crate::export::step::write_mat_step(
         &path,
         stem,
         axis,
-        &fits,
+        (&fits, &degenerate_fits),
         opts.part.with_solid.then_some(part),
     )?;
     written.push(path);

@@ -10,6 +10,8 @@ Checks (every failure is listed, then the exit status is 1):
   in the report's order, each starting and ending at its seam's first and last traced point,
   then one per skeletal edge (`mat.skeletal_edges`, reports made before them have none), each
   a straight line from its first ball's centre to its last (the vertex), every ball on it;
+  then one per degenerate curve with two balls or more (`mat.degenerate` of kind `curve`: a
+  cylinder's axis, a torus's core), every ball's centre within the fit tolerance of it;
 * every K-th traced point of each seam (and its last) is within the report's fit tolerance
   (`mat.fit.tol`) of that seam's edge (`distToShape`);
 * exactly one free vertex per junction, each at its junction's point;
@@ -72,6 +74,8 @@ def main():
     report = json.load(open(args.report))
     seams = report["mat"]["seams"]
     skeletal = report["mat"].get("skeletal_edges", [])
+    degenerate = [d for d in report["mat"].get("degenerate", [])
+                  if d.get("kind") == "curve" and len(d.get("balls", [])) >= 2]
     junctions = report["mat"]["junctions"]
     tol = report["mat"]["fit"]["tol"]
     diag = report["model"]["diagonal"]
@@ -96,9 +100,10 @@ def main():
         problems.append(f"unexpected shapes: {[s.ShapeType for s in parts['other']]}")
 
     edges = parts["edges"]
-    if len(edges) != len(seams) + len(skeletal):
+    if len(edges) != len(seams) + len(skeletal) + len(degenerate):
         problems.append(f"{len(edges)} free edges for {len(seams)} seams"
-                        + (f" and {len(skeletal)} skeletal edges" if skeletal else ""))
+                        + (f", {len(skeletal)} skeletal edges" if skeletal else "")
+                        + (f", {len(degenerate)} degenerate curves" if degenerate else ""))
     worst = 0.0
     checked = 0
     for seam, edge in zip(seams, edges):
@@ -132,6 +137,15 @@ def main():
             checked += 1
             if d > tol + slack:
                 problems.append(f"skeletal edge {k['id']} ball {i}: {d:.3e} mm from its edge")
+                break
+
+    for i, (d, edge) in enumerate(zip(degenerate, edges[len(seams) + len(skeletal):])):
+        for k, b in enumerate(d["balls"]):
+            dd = edge.distToShape(Part.Vertex(FreeCAD.Vector(*b[:3])))[0]
+            worst = max(worst, dd)
+            checked += 1
+            if dd > tol + slack:
+                problems.append(f"degenerate curve {i} ball {k}: {dd:.3e} mm from its edge")
                 break
 
     vertices = parts["vertices"]

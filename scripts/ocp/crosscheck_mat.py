@@ -44,6 +44,9 @@ The report must describe a medial axis, not merely hold no wrong point:
                      are at a vertex of the part;
   junction_seams     every junction with 4 segments has 4 seam ends, and every junction a seam
                      ends at exists.
+  degenerate_ends    every degenerate curve is traced to two located ends (its ball touching
+                     another element on the boundary at distance r, or r = 0 at a vertex of the
+                     part) or closes on itself; an open end fails.
   accuracy           the accuracy the report claims is positive and at most 1e-3 x the
                      bounding-box diagonal (without --tol).
 
@@ -570,6 +573,42 @@ def check_skeletal(part, checks, touched, k, tol):
         check_ball(part, checks, touched, f"{what} ball {i}", b[:3], b[3], [list(at)], SKELETAL_PLACES)
 
 
+def check_degenerate_ends(part, checks, touched, i, d, tol):
+    """A degenerate curve traced to located ends (`degenerate_ends`): where its ball meets
+    another element, the touch point is on the boundary and r from the end ball's centre;
+    where it vanishes, the end ball is a vertex of the part with r = 0; a closed curve's last
+    ball is a step from its first. An open end, or a curve with no ends (sampled only), fails."""
+    if d.get("kind") != "curve":
+        return
+    balls, ends = d.get("balls", []), d.get("ends", [])
+    what = f"degenerate {i}"
+    closed = [e.get("kind") for e in ends if isinstance(e, dict)] == ["closed"]
+    shape = bool(balls) and (closed or (len(ends) == 2 and all(
+        isinstance(e, dict) and e.get("kind") != "closed" for e in ends)))
+    checks.record("degenerate_ends", shape, lambda: f"{what} is not traced to two ends or round a loop")
+    if not shape:
+        return
+    for k, e in enumerate(ends):
+        b = balls[0] if k == 0 else balls[-1]
+        kind = e.get("kind")
+        if not finite(b[:3], b[3]):
+            ok = False
+        elif kind == "meets":
+            t = e.get("touch")
+            ok = t is not None and finite(t) and part.nearest(t)[0] <= tol \
+                and abs(dist3(b[:3], t) - b[3]) <= tol
+            if ok:
+                touched.update(part.faces_within(t, tol))
+        elif kind == "vanishes":
+            ok = abs(b[3]) <= tol and any(dist3(q, b[:3]) <= tol for q in part.vertex_points)
+        elif kind == "closed":
+            step = max((dist3(p[:3], q[:3]) for p, q in zip(balls, balls[1:])), default=0.0)
+            ok = len(balls) > 2 and dist3(b[:3], balls[0][:3]) <= 1.5 * step + tol
+        else:
+            ok = False
+        checks.record("degenerate_ends", ok, lambda: f"{what} end {k} ({e}) is not located on the part")
+
+
 def check_graph(mat, checks, touched, n_faces):
     seams, junctions = mat.get("seams", []), mat.get("junctions", [])
     n_balls = sum(len(s.get("points", [])) for s in seams) + len(junctions) + sum(
@@ -636,6 +675,7 @@ def main():
         for k, b in enumerate(d["balls"]):
             t = touch[k] if k < len(touch) else []
             check_ball(part, checks, touched, f"degenerate {i} ball {k}", b[:3], b[3], t, DEGENERATE_PLACES)
+        check_degenerate_ends(part, checks, touched, i, d, tol)
     for k in mat.get("skeletal_edges", []):
         check_skeletal(part, checks, touched, k, tol)
     for s in mat.get("seams", []):

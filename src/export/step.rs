@@ -3,12 +3,14 @@
 //! ISO 10303-21 text, schema `AUTOMOTIVE_DESIGN` (AP214), millimetres. Each seam is one
 //! `B_SPLINE_CURVE_WITH_KNOTS` named `'seam <id>'` (its [`SeamFit`]), each skeletal edge at a
 //! vertex one straight `B_SPLINE_CURVE_WITH_KNOTS` of degree 1 named `'skeletal edge <id>'`
-//! (from its first ball's centre to the vertex), each junction one `CARTESIAN_POINT` named
-//! `'junction <id>'`; they are `GEOMETRIC_CURVE_SET`s (`'seams'`, `'skeletal edges'`,
+//! (from its first ball's centre to the vertex), each degenerate curve (a cylinder's axis) one
+//! `B_SPLINE_CURVE_WITH_KNOTS` named `'degenerate curve <index>'` fitted through its centres,
+//! each junction one `CARTESIAN_POINT` named `'junction <id>'`; they are
+//! `GEOMETRIC_CURVE_SET`s (`'seams'`, `'skeletal edges'`, `'degenerate curves'`,
 //! `'junctions'`) of one `GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION`, framed by the
 //! product structure OCCT itself writes (`PRODUCT` … `SHAPE_DEFINITION_REPRESENTATION`, one
 //! application context, the unit context of OCCT's files), so FreeCAD/OCCT import one edge per
-//! seam, then one per skeletal edge, and one vertex per junction. The radius has no place in a
+//! seam, then one per skeletal edge, one per degenerate curve, and one vertex per junction. The radius has no place in a
 //! wireframe: it is in the JSON report.
 //!
 //! Optionally the input part is included: its DATA section is copied verbatim, every `#n`
@@ -27,14 +29,15 @@ use std::path::Path;
 /// The uncertainty written into the representation context (mm), as OCCT writes it.
 pub const UNCERTAINTY: f64 = 1e-7;
 
-/// Writes `mat` (with `fits`, one per seam) to `path` atomically: a temporary file in the same
+/// Writes `mat` (with `fits`: one per seam, and one per degenerate piece, `None` where it is
+/// no curve) to `path` atomically: a temporary file in the same
 /// folder, renamed over `path`. `name` names the product (the part's stem). With `solid`, the
 /// input STEP file whose entities are copied in.
 pub fn write_mat_step(
     path: &Path,
     name: &str,
     mat: &MedialAxis,
-    fits: &[SeamFit],
+    fits: (&[SeamFit], &[Option<SeamFit>]),
     solid: Option<&Path>,
 ) -> Result<()> {
     let solid = match solid {
@@ -63,7 +66,7 @@ pub fn mat_step_text(
     path: &Path,
     name: &str,
     mat: &MedialAxis,
-    fits: &[SeamFit],
+    (fits, degenerate_fits): (&[SeamFit], &[Option<SeamFit>]),
     solid: Option<(&Path, &str)>,
 ) -> Result<String> {
     let file_name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
@@ -124,6 +127,13 @@ pub fn mat_step_text(
         lines.push(w.line(&name, [a[0], a[1], a[2]], [b[0], b[1], b[2]])?);
     }
     items.extend(w.curve_set("skeletal edges", &lines));
+    let mut degenerate = vec![];
+    for (i, fit) in degenerate_fits.iter().enumerate() {
+        if let Some(fit) = fit {
+            degenerate.push(w.bspline_curve(&format!("degenerate curve {i}"), fit)?);
+        }
+    }
+    items.extend(w.curve_set("degenerate curves", &degenerate));
     let mut points = vec![];
     for j in &mat.junctions {
         points.push(w.point(&format!("junction {}", j.id), j.point)?);

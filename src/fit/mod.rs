@@ -137,6 +137,25 @@ impl FitReport {
     }
 }
 
+/// Fits every degenerate curve of `mat` with two balls or more (its centres, a closed one's
+/// back to its first), in the order of `mat.degenerate`; `None` for points and single balls.
+pub fn fit_degenerate(mat: &MedialAxis, opts: &FitOptions) -> Vec<Option<SeamFit>> {
+    use crate::medial::axis::{DegenerateEnd, DegenerateKind};
+    mat.degenerate
+        .par_iter()
+        .map(|d| {
+            if d.kind != DegenerateKind::Curve || d.balls.len() < 2 {
+                return None;
+            }
+            let mut balls = d.balls.clone();
+            if d.ends == [DegenerateEnd::Closed] {
+                balls.push(d.balls[0]);
+            }
+            fit_bspline(&balls, opts.tol)
+        })
+        .collect()
+}
+
 /// Fits every seam of `mat` (in parallel), in the order of `mat.seams`. A seam without
 /// points (the tracer never outputs one) gets a zero-length line at the origin.
 pub fn fit_mat(mat: &MedialAxis, opts: &FitOptions) -> Vec<SeamFit> {

@@ -359,6 +359,37 @@ pub struct Degenerate {
     /// (missing in reports made before they were recorded).
     #[serde(default, deserialize_with = "nullable::pairs")]
     pub touch: Vec<[[f64; 3]; 2]>,
+    /// How a traced curve ends at its first and its last ball (or that it closes on itself:
+    /// one [`DegenerateEnd::Closed`]). Empty for a point, and for a curve only sampled.
+    #[serde(default)]
+    pub ends: Vec<DegenerateEnd>,
+    /// A traced curve's balls touch their segments all round (a circle: a cylinder's axis, a
+    /// torus's core), not along an arc only (a fillet's axis, where a sheet ends freely).
+    #[serde(default)]
+    pub around: bool,
+}
+
+/// How a degenerate curve ends (see [`Degenerate::ends`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum DegenerateEnd {
+    /// The ball touches another element there besides its continuum, at `touch`: where the
+    /// curve meets the rest of the medial axis (the apex of a cylinder cap's cone of balls),
+    /// or, where `osculates` (the ball touches that element along a continuum too: a
+    /// capsule's hemispherical cap), where it ends freely.
+    Meets {
+        element: Element,
+        #[serde(deserialize_with = "nullable::point")]
+        touch: [f64; 3],
+        osculates: bool,
+    },
+    /// The ball shrinks to nothing at a vertex (a cone's apex): the last ball is the vertex,
+    /// `r = 0`.
+    Vanishes { vertex: usize },
+    /// The curve closes on itself (a torus's core circle).
+    Closed,
+    /// Not located: the continuation stopped for `reason`.
+    Open { reason: String },
 }
 
 /// A skeletal edge: a free edge of a sheet, where the sheet ends because the two touch points

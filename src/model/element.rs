@@ -15,6 +15,54 @@ pub enum Element {
     Vertex(usize),
 }
 
+impl Element {
+    /// The vertices the element reaches: a vertex itself, an edge's two ends, a face's
+    /// loops' (their edges' ends, and a vertex loop's vertex: a cone's apex). Elements past
+    /// the model's ends reach none.
+    pub fn vertices(self, model: &super::Model) -> Vec<usize> {
+        match self {
+            Element::Vertex(v) => vec![v],
+            Element::Edge(g) => model.edges.get(g).map_or(vec![], |e| e.vertices.to_vec()),
+            Element::Face(f) => model.faces.get(f).map_or(vec![], |face| {
+                face.loops
+                    .iter()
+                    .flat_map(|l| {
+                        l.edges
+                            .iter()
+                            .filter_map(|oe| model.edges.get(oe.edge))
+                            .flat_map(|e| e.vertices)
+                            .chain(l.vertex)
+                    })
+                    .collect()
+            }),
+        }
+    }
+}
+
+impl Element {
+    /// The faces the element lies on: a face itself, an edge's, a vertex's (those of its
+    /// edges, and of a vertex loop at it), sorted, without repeats.
+    pub fn faces(self, model: &super::Model) -> Vec<usize> {
+        let mut out: Vec<usize> = match self {
+            Element::Face(f) => vec![f],
+            Element::Edge(g) => model.edges.get(g).map_or(vec![], |e| e.faces.clone()),
+            Element::Vertex(v) => model
+                .edges
+                .iter()
+                .filter(|e| e.vertices.contains(&v))
+                .flat_map(|e| e.faces.iter().copied())
+                .chain(
+                    (0..model.faces.len())
+                        .filter(|&f| model.faces[f].loops.iter().any(|l| l.vertex == Some(v))),
+                )
+                .collect(),
+        };
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+}
+
 impl fmt::Display for Element {
     /// `F3`, `E7`, `V2`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

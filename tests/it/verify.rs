@@ -363,6 +363,57 @@ fn a_skeletal_edge_removed_turned_or_moved_fails() {
     both_fail("moved", &moved, "skeletal_edges");
 }
 
+/// The cylinder's axis (radius 10, from z = 10 to z = 20, where the ball touches each cap at
+/// its centre): the genuine report passes both checkers; an end relabelled open, the curve
+/// cut short by a third (its last ball 3 mm from where it touches the cap it claims to
+/// meet), and the ends dropped (a curve only sampled, and the caps then touched by no ball)
+/// fail `degenerate_ends` in both.
+#[test]
+fn a_degenerate_curve_open_cut_short_or_untraced_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let part = sample("cylinder.step");
+    let genuine = genuine("cylinder.step", dir.path());
+    let occt_present = require(
+        "verify::a_degenerate_curve_open_cut_short_or_untraced_fails (OCCT half)",
+        &[Tool::Occt],
+    );
+    let path = write(dir.path(), "genuine", &genuine);
+    assert_eq!(verify(&part, &path), (0, vec![]), "the genuine report");
+    if occt_present {
+        assert_eq!(occt(&part, &path), (0, vec![]), "the genuine report, OCCT");
+    }
+    let both_fail = |name: &str, report: &Value, checks: &[&str]| {
+        let path = write(dir.path(), name, report);
+        let mut checkers = vec![("verify", verify(&part, &path))];
+        if occt_present {
+            checkers.push(("OCCT", occt(&part, &path)));
+        }
+        for (who, (code, failed)) in checkers {
+            assert_eq!(code, 1, "{who} {name}: {failed:?}");
+            for check in checks {
+                assert!(
+                    failed.iter().any(|f| f == check),
+                    "{who} {name}: {check} did not fail ({failed:?})"
+                );
+            }
+        }
+    };
+    let mut open = genuine.clone();
+    open["mat"]["degenerate"][0]["ends"][1] = json!({"kind": "open", "reason": "made up"});
+    both_fail("open", &open, &["degenerate_ends"]);
+
+    let mut short = genuine.clone();
+    let d = &mut short["mat"]["degenerate"][0];
+    let keep = 2 * d["balls"].as_array().unwrap().len() / 3;
+    d["balls"].as_array_mut().unwrap().truncate(keep);
+    d["touch"].as_array_mut().unwrap().truncate(keep);
+    both_fail("short", &short, &["degenerate_ends"]);
+
+    let mut untraced = genuine.clone();
+    untraced["mat"]["degenerate"][0]["ends"] = json!([]);
+    both_fail("untraced", &untraced, &["degenerate_ends", "faces_touched"]);
+}
+
 #[test]
 fn verify_holds_a_report_to_a_given_accuracy() {
     let dir = tempfile::tempdir().unwrap();

@@ -51,5 +51,6 @@ pub fn trace_with_seeds(
     t.seed_by_sampling();
     t.seed_by_arcs();
     t.drop_open_halves();
+    t.trace_degenerates();
     t.into_axis()
 }

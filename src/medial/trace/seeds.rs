@@ -3,6 +3,7 @@
 //! from; balls whose sheet has collapsed are degenerate pieces (a cylinder's axis, a
 //! sphere's centre).
 
+use super::degenerate::{centre_motion, CentreMotion};
 use super::options::{
     DISTINCT_TOUCH_REL_RADIUS, MAX_REFINE_ITER, MAX_SEAMS, OSCULATING_REL_RADIUS,
     SAME_PLACE_REL_ACCURACY, SHRINK_STEPS, UNIT_ROUNDING,
@@ -199,34 +200,10 @@ impl Tracer<'_> {
         x[5] = sa[1];
         x[6] = sb[0];
         x[7] = sb[1];
-        let Some((_, j)) = sys.eval(self.model, &x) else {
-            return false;
-        };
-        let mut m = nalgebra::DMatrix::zeros(8, 8);
-        m.view_mut((0, 0), (6, 8)).copy_from(&j);
-        let svd = m.svd(false, true);
-        let Some(vt) = svd.v_t else {
-            return false;
-        };
-        let smax = svd.singular_values.max();
-        // The null space: right singular vectors of (near-)zero singular values.
-        let null: Vec<DVec3> = (0..8)
-            .filter(|&i| svd.singular_values[i] <= 1e-6 * smax)
-            .map(|i| DVec3::new(vt[(i, 0)], vt[(i, 1)], vt[(i, 2)]))
-            .collect();
-        let rank = match null.len() {
-            0 | 1 => return false,
-            _ => {
-                let big = null.iter().map(|v| v.length()).fold(0.0, f64::max);
-                let area = (0..null.len())
-                    .flat_map(|i| (i + 1..null.len()).map(move |k| (i, k)))
-                    .map(|(i, k)| null[i].cross(null[k]).length())
-                    .fold(0.0, f64::max);
-                if area > 1e-6 {
-                    return false;
-                }
-                usize::from(big > 1e-6)
-            }
+        let rank = match centre_motion(self.model, &sys, &x) {
+            Some(CentreMotion::Still) => 0,
+            Some(CentreMotion::Along(_)) => 1,
+            None => return false,
         };
         let kind = if rank == 0 {
             DegenerateKind::Point
@@ -243,19 +220,26 @@ impl Tracer<'_> {
         match self
             .degenerate
             .iter_mut()
-            .find(|d| d.solid == solid && d.kind == kind && d.segments == segments)
+            .enumerate()
+            .find(|(_, d)| d.solid == solid && d.kind == kind && d.segments == segments)
         {
-            Some(d) => {
+            Some((k, d)) => {
                 d.balls.push(ball);
                 d.touch.push(touch);
+                self.degenerate_x[k].push(x);
             }
-            None => self.degenerate.push(Degenerate {
-                solid,
-                kind,
-                segments,
-                balls: vec![ball],
-                touch: vec![touch],
-            }),
+            None => {
+                self.degenerate.push(Degenerate {
+                    solid,
+                    kind,
+                    segments,
+                    balls: vec![ball],
+                    touch: vec![touch],
+                    ends: vec![],
+                    around: false,
+                });
+                self.degenerate_x.push(vec![x]);
+            }
         }
         if let Element::Face(f) = a {
             self.touched[f] = true;

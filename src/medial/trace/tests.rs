@@ -515,6 +515,133 @@ fn solids_without_convex_corners() {
     }
 }
 
+/// Degenerate curves are traced between located ends. The cylinder (radius 10, z from 0 to
+/// 30): its axis from z = 10 to z = 20, where the ball (r = 10) touches each cap at its
+/// centre, the apex of the cone of balls touching the cap and the lateral face; it touches
+/// all round, and the Euler characteristic counts it (1 = 2 cone discs + the segment − 2
+/// apexes). The torus (core radius 20, tube 5): its core circle, closed. The filleted box
+/// (60×40×20, fillets and corner blends of radius 4): the 12 fillets' axes, each from
+/// corner to corner (centres at 4 or 56, 4 or 36, 4 or 16), ending where the ball
+/// osculates the corner's blend, touching along an arc only. The boss near a plate's edge
+/// (plate 6 mm thick, boss radius 5 on it, top at z = 14): its axis from z = 9 (touching the
+/// top) down the boss's side to its foot circle (z = 6), handed over onto that circle (a
+/// reflex edge) and on, the ball growing as it touches the circle from below, to where it
+/// meets the plate's bottom: `z = r = 61/12` (`z² = 25 + (6 − z)²`); χ = 1.
+#[test]
+fn degenerate_curves_are_traced_between_located_ends() {
+    use crate::medial::axis::DegenerateEnd;
+    let near = |m: &Model, a: f64, b: f64| (a - b).abs() <= 1e-5 * m.diagonal();
+
+    let (m, mat) = traced("cylinder.step");
+    let [d] = &mat.degenerate[..] else {
+        panic!("{:?}", mat.degenerate)
+    };
+    assert!(d.around && d.kind == DegenerateKind::Curve);
+    assert!(d
+        .balls
+        .iter()
+        .all(|b| b[0].hypot(b[1]) <= 1e-6 * m.diagonal() && near(&m, b[3], 10.0)));
+    let zs = [d.balls[0][2], d.balls[d.balls.len() - 1][2]];
+    assert!(
+        (near(&m, zs[0], 10.0) && near(&m, zs[1], 20.0))
+            || (near(&m, zs[0], 20.0) && near(&m, zs[1], 10.0)),
+        "{zs:?}"
+    );
+    for (end, z) in d.ends.iter().zip(zs) {
+        let DegenerateEnd::Meets {
+            touch,
+            osculates: false,
+            ..
+        } = end
+        else {
+            panic!("{end:?}")
+        };
+        assert!(touch[0].hypot(touch[1]) <= 1e-6 * m.diagonal(), "{touch:?}");
+        assert!(
+            near(&m, (touch[2] - z).abs(), 10.0),
+            "{touch:?} from z = {z}"
+        );
+    }
+    complete_and_verified("cylinder.step", &m, &mat);
+    let class = crate::classify(&m, &Default::default());
+    let topo =
+        crate::medial::verify::check_topology(&mat, &crate::medial::sheets(&m, &class, &mat));
+    assert_eq!(topo.euler[0].mat_euler, Some(1), "{:?}", topo.euler);
+
+    let (m, mat) = traced("torus.step");
+    let [d] = &mat.degenerate[..] else {
+        panic!("{:?}", mat.degenerate)
+    };
+    assert_eq!(d.ends, [DegenerateEnd::Closed]);
+    assert!(d.around);
+    let mut angles: Vec<f64> = d.balls.iter().map(|b| b[1].atan2(b[0])).collect();
+    angles.sort_by(f64::total_cmp);
+    let widest = angles
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .chain([angles[0] + std::f64::consts::TAU - angles[angles.len() - 1]])
+        .fold(0.0, f64::max);
+    assert!(widest < 0.5, "the core circle has a gap of {widest} rad");
+    complete_and_verified("torus.step", &m, &mat);
+
+    let (m, mat) = traced("filleted_box.step");
+    let curves: Vec<_> = mat
+        .degenerate
+        .iter()
+        .filter(|d| d.kind == DegenerateKind::Curve)
+        .collect();
+    assert_eq!(curves.len(), 12);
+    for d in curves {
+        assert!(!d.around);
+        for b in [d.balls[0], d.balls[d.balls.len() - 1]] {
+            let corner = [[4.0, 56.0], [4.0, 36.0], [4.0, 16.0]];
+            assert!(
+                (0..3).all(|k| corner[k].iter().any(|&c| near(&m, b[k], c))),
+                "{:?} ends at {b:?}",
+                d.segments
+            );
+        }
+        assert!(
+            d.ends.iter().all(|e| matches!(
+                e,
+                DegenerateEnd::Meets {
+                    osculates: true,
+                    ..
+                }
+            )),
+            "{:?}",
+            d.ends
+        );
+    }
+    complete_and_verified("filleted_box.step", &m, &mat);
+
+    let (m, mat) = traced("trace/boss_near_edge.step");
+    let [d] = &mat.degenerate[..] else {
+        panic!("{:?}", mat.degenerate)
+    };
+    assert!(
+        matches!(d.segments[..], [Element::Face(f), Element::Face(g), Element::Edge(e), Element::Edge(k)] if f == g && e == k),
+        "{:?}",
+        d.segments
+    );
+    let (top, bottom) = (d.balls[0], d.balls[d.balls.len() - 1]);
+    assert!(near(&m, top[2], 9.0) && near(&m, top[3], 5.0), "{top:?}");
+    let z = 61.0 / 12.0;
+    assert!(near(&m, bottom[2], z) && near(&m, bottom[3], z), "{bottom:?}");
+    assert!(
+        d.ends
+            .iter()
+            .all(|e| matches!(e, DegenerateEnd::Meets { osculates: false, .. })),
+        "{:?}",
+        d.ends
+    );
+    complete_and_verified("trace/boss_near_edge.step", &m, &mat);
+    let class = crate::classify(&m, &Default::default());
+    let topo =
+        crate::medial::verify::check_topology(&mat, &crate::medial::sheets(&m, &class, &mat));
+    assert_eq!(topo.euler[0].mat_euler, Some(1), "{:?}", topo.euler);
+}
+
 /// Two solids in one file: the box [0,30]×[0,20]×[0,10] gets the box's MAT (junctions
 /// (5|25, 5|15, 5), radius 5) computed against its own faces only; the cylinder beside it
 /// (radius 5) gets its degenerate axis, as solid 1.

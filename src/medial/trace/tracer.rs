@@ -39,6 +39,8 @@ pub(super) struct Tracer<'a> {
     pub(super) loop_chunks: Vec<crate::geom::trim::LoopChunks>,
     pub(super) junctions: Vec<Junction>,
     pub(super) degenerate: Vec<Degenerate>,
+    /// The unknowns `[B, r, s_a, s_b]` of each of `degenerate`'s sampled balls.
+    pub(super) degenerate_x: Vec<Vec<DVector<f64>>>,
     /// Faces some output seam point touches.
     pub(super) touched: Vec<bool>,
     /// Edges some output seam point touches.
@@ -106,6 +108,7 @@ impl<'a> Tracer<'a> {
                 .collect(),
             junctions: vec![],
             degenerate: vec![],
+            degenerate_x: vec![],
             touched: vec![false; model.faces.len()],
             touched_edges: vec![false; model.edges.len()],
             arrivals: vec![],

@@ -79,22 +79,6 @@ pub fn unresolved_points(s: &Seam, accuracy: f64) -> Vec<usize> {
         .collect()
 }
 
-/// The vertices element `e` reaches (a face's: those of its loops' edges).
-fn vertices_of(model: &Model, e: Element) -> Vec<usize> {
-    match e {
-        Element::Vertex(v) => vec![v],
-        Element::Edge(g) => model.edges.get(g).map_or(vec![], |e| e.vertices.to_vec()),
-        Element::Face(f) => model.faces.get(f).map_or(vec![], |face| {
-            face.loops
-                .iter()
-                .flat_map(|l| &l.edges)
-                .filter_map(|oe| model.edges.get(oe.edge))
-                .flat_map(|e| e.vertices)
-                .collect()
-        }),
-    }
-}
-
 /// The faces sharing an edge with face `f` (with `f` itself).
 fn neighbours(model: &Model, f: usize) -> Vec<usize> {
     let mut out = vec![f];
@@ -128,9 +112,10 @@ fn shortfall_explained(
     same_ok: &dyn Fn(usize) -> bool,
 ) -> bool {
     let meet = |f: usize, g: usize| {
-        let vf = vertices_of(model, Element::Face(f));
+        let vf = Element::Face(f).vertices(model);
         f != g
-            && vertices_of(model, Element::Face(g))
+            && Element::Face(g)
+                .vertices(model)
                 .iter()
                 .any(|v| vf.contains(v))
     };
@@ -197,7 +182,7 @@ pub(super) fn check_balls(
             let on = |e: &Element| match *e {
                 Element::Face(g) => g == f,
                 Element::Edge(g) => model.edges.get(g).is_some_and(|e| e.faces.contains(&f)),
-                Element::Vertex(v) => vertices_of(model, Element::Face(f)).contains(&v),
+                Element::Vertex(v) => Element::Face(f).vertices(model).contains(&v),
             };
             s.ends.iter().any(|end| match end {
                 SeamEnd::CurvatureLimit { segment } => on(segment),

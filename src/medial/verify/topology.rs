@@ -4,7 +4,7 @@
 use super::outcome::Verification;
 use crate::classify::{Classification, VertexKind};
 use crate::geom::Boundary;
-use crate::medial::axis::{MedialAxis, Seam, SeamEnd};
+use crate::medial::axis::{DegenerateEnd, DegenerateKind, MedialAxis, Seam, SeamEnd};
 use crate::medial::sheets::{Sheets, SolidEuler};
 use crate::model::{Element, Model};
 use glam::DVec3;
@@ -162,6 +162,16 @@ pub(super) fn check_elements(model: &Model, axis: &MedialAxis, v: &mut Verificat
                 d.solid
             )
         });
+        for end in &d.ends {
+            let ok = match end {
+                DegenerateEnd::Meets { element, .. } => exists(element),
+                DegenerateEnd::Vanishes { vertex } => *vertex < model.vertices.len(),
+                _ => true,
+            };
+            check(v, ok, &|| {
+                format!("degenerate {i} ends at an element the part lacks")
+            });
+        }
     }
     all
 }
@@ -262,6 +272,7 @@ pub(super) fn check_graph(
         }
     }
     check_skeletal_edges(model, axis, v);
+    check_degenerate_ends(model, boundary, axis, v);
     check_faces_touched(model, boundary, axis, v);
     check_convex_vertices(model, class, axis, v);
 }
@@ -327,6 +338,77 @@ fn check_skeletal_edges(model: &Model, axis: &MedialAxis, v: &mut Verification) 
     }
 }
 
+/// Every degenerate curve is traced to its ends, and each end is located: its ball touches
+/// the element it meets at its touch point (`r` from the centre, on that element), or
+/// shrinks to `r = 0` at its vertex, or the curve closes (its last ball a step from its
+/// first); all to the accuracy. An open end, or a curve only sampled, fails
+/// `degenerate_ends`.
+fn check_degenerate_ends(
+    model: &Model,
+    boundary: &Boundary,
+    axis: &MedialAxis,
+    v: &mut Verification,
+) {
+    let a = v.accuracy;
+    let mut near = vec![];
+    for (i, d) in axis.degenerate.iter().enumerate() {
+        if d.kind != DegenerateKind::Curve {
+            continue;
+        }
+        let ball = |b: &[f64; 4]| (DVec3::new(b[0], b[1], b[2]), b[3]);
+        let shape = matches!(d.ends.as_slice(), [DegenerateEnd::Closed])
+            || (d.ends.len() == 2 && !d.ends.contains(&DegenerateEnd::Closed));
+        v.record("degenerate_ends", shape && !d.balls.is_empty(), || {
+            format!("degenerate {i} is not traced to two ends or round a loop (sampled only)")
+        });
+        if !shape || d.balls.is_empty() {
+            continue;
+        }
+        for (k, end) in d.ends.iter().enumerate() {
+            let (c, r) = ball(if k == 0 {
+                &d.balls[0]
+            } else {
+                &d.balls[d.balls.len() - 1]
+            });
+            let (ok, what) = match end {
+                DegenerateEnd::Meets { element, touch, .. } => {
+                    let t = DVec3::from_array(*touch);
+                    boundary.within_into(model, t, a, &mut near);
+                    let faces = element.faces(model);
+                    let on = near.iter().any(|f| faces.contains(f));
+                    (
+                        on && (c.distance(t) - r).abs() <= a,
+                        format!("its ball does not touch {element} at {t}"),
+                    )
+                }
+                DegenerateEnd::Vanishes { vertex } => {
+                    let at = model.vertices.get(*vertex).map(|p| p.point);
+                    (
+                        at.is_some_and(|p| c.distance(p) <= a) && r.abs() <= a,
+                        format!("its ball (r {r:e}) is not V{vertex}"),
+                    )
+                }
+                DegenerateEnd::Closed => {
+                    let (first, _) = ball(&d.balls[0]);
+                    let step = d
+                        .balls
+                        .windows(2)
+                        .map(|w| ball(&w[0]).0.distance(ball(&w[1]).0))
+                        .fold(0.0, f64::max);
+                    (
+                        d.balls.len() > 2 && c.distance(first) <= 1.5 * step + a,
+                        "it does not come back to its first ball".into(),
+                    )
+                }
+                DegenerateEnd::Open { reason } => (false, format!("open: {reason}")),
+            };
+            v.record("degenerate_ends", ok, || {
+                format!("degenerate {i} end {k}: {what}")
+            });
+        }
+    }
+}
+
 /// Every face of every solid is touched by some ball: a face no touch point is on (to the
 /// accuracy) is a part of the boundary the medial axis has not reached.
 fn check_faces_touched(
@@ -346,7 +428,13 @@ fn check_faces_touched(
             axis.degenerate
                 .iter()
                 .flat_map(|d| d.touch.iter().flatten()),
-        );
+        )
+        .chain(axis.degenerate.iter().flat_map(|d| {
+            d.ends.iter().filter_map(|e| match e {
+                DegenerateEnd::Meets { touch, .. } => Some(touch),
+                _ => None,
+            })
+        }));
     let mut near = vec![];
     for t in points {
         let t = DVec3::from_array(*t);

@@ -1,0 +1,791 @@
+//! Degenerate curves traced. Where the maximal ball touches a face along a continuum (a
+//! cylinder's or cone's lateral face all round, a torus's tube, the two halves of a split
+//! cylinder), the sheet of balls touching it twice has collapsed: its centres form a curve
+//! (the axis, the core circle), along which the ball's two touch points can turn freely.
+//! Sampling finds one ball of such a curve ([`Tracer::collapsed`]); from it the curve is
+//! traced both ways by continuation, like a seam but on the 2-segment system: the predictor
+//! moves the centre along the one direction it can move in (the centre part of the
+//! Jacobian's null space), the corrector solves the six equations and the plane across that
+//! direction through the predicted centre (seven equations in eight unknowns: the
+//! minimum-norm Newton step leaves the touch points' turn free).
+//!
+//! A curve ends where
+//! - the ball stops being empty: another element comes as close as `r` (located by
+//!   bisection): the ball touches it there ([`DegenerateEnd::Meets`]), at the apex of the
+//!   sheet of balls touching that element and the continuum (a cylinder's cap) or, where the
+//!   ball touches that element along a continuum too (a capsule's cap), freely;
+//! - `r` shrinks to nothing at a vertex (a cone's apex: [`DegenerateEnd::Vanishes`]);
+//! - it comes back to its first ball ([`DegenerateEnd::Closed`]);
+//! - or, open, where none of these is found (a touch point left its face, the corrector
+//!   failed down to the smallest step): [`DegenerateEnd::Open`] with the reason, which
+//!   verification reports.
+
+use super::options::{
+    DISTINCT_TOUCH_REL_RADIUS, FIRST_STEP_REL_DIAGONAL, MAX_CORRECTOR_ITER, MAX_STEP_REL_DIAGONAL,
+    MAX_TURN_RAD, MIN_STEP_REL_DIAGONAL, OSCULATING_REL_RADIUS, STEP_GROWTH,
+};
+use super::tracer::Tracer;
+use super::unknowns::{slot, sys_point, to_chord, v3};
+use crate::medial::axis::{Degenerate, DegenerateEnd, DegenerateKind};
+use crate::medial::equations::MedialSystem;
+use crate::medial::maximal::curvature_allows;
+use crate::medial::solver::{solve, SolveOptions, SolveStatus};
+use crate::model::{Element, Model};
+use glam::DVec3;
+use nalgebra::{DMatrix, DVector};
+
+/// Most balls of one traced degenerate curve.
+pub const MAX_DEGENERATE_BALLS: usize = 2_000;
+
+/// Singular values of the 2-segment Jacobian below this fraction of the largest span its
+/// null space.
+const NULL_REL_SINGULAR: f64 = 1e-6;
+
+/// The centre parts of two null vectors span no area beyond this: the centre moves along a
+/// line at most (unit null vectors).
+const NULL_CENTRE_AREA: f64 = 1e-6;
+
+/// A null vector's centre part shorter than this is no motion of the centre (unit vectors).
+const NULL_CENTRE_LENGTH: f64 = 1e-6;
+
+/// The end of a degenerate curve is located to this fraction of the accuracy, in centre
+/// travel.
+const LOCATE_REL_ACCURACY: f64 = 0.25;
+
+/// The touch points chosen on a continuum are at least this many times the separation
+/// verification requires of two places (`√(8·r·a)`) apart.
+const SEPARATED_MARGIN: f64 = 2.0;
+
+/// Points of the circle a degenerate ball touches along, tested for [`Degenerate::around`].
+const AROUND_SAMPLES: usize = 16;
+
+/// How near its segments' faces each of those points must be, in accuracies.
+const AROUND_REL_ACCURACY: f64 = 10.0;
+
+/// How the centre of a ball touching two segments can move while the touch points stay on
+/// them (the null space of the 2-segment system's Jacobian, 6 × 8).
+#[derive(Clone, Copy, Debug)]
+pub(super) enum CentreMotion {
+    /// Not at all: the ball touches all round (a sphere's centre).
+    Still,
+    /// Along one direction (unit): the sheet has collapsed to a curve.
+    Along(DVec3),
+}
+
+/// The centre's motion at `x` (unknowns `[B, r, s_a, s_b]`) when the sheet of `sys` (two
+/// segments) has collapsed there: its null space is more than two-dimensional and moves the
+/// centre along a line at most. `None` at a sheet point (the centre moves in a plane) or
+/// where the system is undefined.
+pub(super) fn centre_motion(
+    model: &Model,
+    sys: &MedialSystem,
+    x: &DVector<f64>,
+) -> Option<CentreMotion> {
+    let (_, j) = sys.eval(model, x)?;
+    let n = x.len();
+    let mut m = DMatrix::zeros(n, n);
+    m.view_mut((0, 0), (j.nrows(), n)).copy_from(&j);
+    let svd = m.svd(false, true);
+    let vt = svd.v_t?;
+    let smax = svd.singular_values.max();
+    // The null space: right singular vectors of (near-)zero singular values.
+    let null: Vec<DVec3> = (0..n)
+        .filter(|&i| svd.singular_values[i] <= NULL_REL_SINGULAR * smax)
+        .map(|i| DVec3::new(vt[(i, 0)], vt[(i, 1)], vt[(i, 2)]))
+        .collect();
+    if null.len() < 2 {
+        return None;
+    }
+    let area = (0..null.len())
+        .flat_map(|i| (i + 1..null.len()).map(move |k| (i, k)))
+        .map(|(i, k)| null[i].cross(null[k]).length())
+        .fold(0.0, f64::max);
+    if area > NULL_CENTRE_AREA {
+        return None;
+    }
+    let longest = null
+        .iter()
+        .copied()
+        .max_by(|a, b| a.length().total_cmp(&b.length()))?;
+    Some(if longest.length() > NULL_CENTRE_LENGTH {
+        CentreMotion::Along(longest.normalize())
+    } else {
+        CentreMotion::Still
+    })
+}
+
+/// Most hand-overs of one degenerate curve from one element to the next, each way.
+pub const MAX_DEGENERATE_HANDOVERS: usize = 8;
+
+/// A degenerate curve followed one way from a ball (see [`Tracer::follow`]).
+struct Followed {
+    /// The balls after the first, with the segments each touches.
+    balls: Vec<([Element; 2], DVector<f64>)>,
+    end: DegenerateEnd,
+    /// The segment pairs it was handed to, in order.
+    stretches: Vec<[Element; 2]>,
+}
+
+/// Why one step along a degenerate curve failed.
+enum StepFail {
+    /// Another element is nearer the new centre than `r`.
+    NotEmpty,
+    /// `r` fell to the accuracy.
+    Vanished,
+    /// A touch point left its segment.
+    Left(Element),
+    /// Anything else (the step may be too long): why.
+    Other(String),
+}
+
+impl Tracer<'_> {
+    /// Traces every degenerate curve sampling found, both ways from each sampled ball not on
+    /// a curve traced already (see the module's documentation); points stay as sampled.
+    pub(super) fn trace_degenerates(&mut self) {
+        let pieces = std::mem::take(&mut self.degenerate);
+        let xs = std::mem::take(&mut self.degenerate_x);
+        let tol = self.opts.accuracy.max(1e-6 * self.model.diagonal());
+        for (d, xs) in pieces.into_iter().zip(xs) {
+            if d.kind != DegenerateKind::Curve {
+                self.degenerate.push(d);
+                continue;
+            }
+            let mut traced: Vec<Degenerate> = vec![];
+            for x in &xs {
+                let c = v3(x);
+                let on_traced = traced.iter().any(|t| {
+                    t.balls.windows(2).any(|w| {
+                        let [p, q] = [w[0], w[1]].map(|b| DVec3::new(b[0], b[1], b[2]));
+                        to_chord(c, p, q) <= tol
+                    })
+                });
+                if !on_traced {
+                    traced.push(self.trace_degenerate(&d, x));
+                }
+            }
+            self.degenerate.extend(traced);
+        }
+    }
+
+    /// The degenerate curve of `d`'s segments through its sampled ball `x0`.
+    fn trace_degenerate(&self, d: &Degenerate, x0: &DVector<f64>) -> Degenerate {
+        let first = [d.segments[0], d.segments[1]];
+        let sys = MedialSystem::new(first.to_vec());
+        let mut piece = Degenerate {
+            solid: d.solid,
+            kind: DegenerateKind::Curve,
+            segments: first.to_vec(),
+            balls: vec![],
+            touch: vec![],
+            ends: vec![],
+            around: false,
+        };
+        let Some(CentreMotion::Along(dir)) = centre_motion(self.model, &sys, x0) else {
+            piece.push(self.model, first, x0);
+            let open = DegenerateEnd::Open {
+                reason: "the centre's direction is undefined at the sampled ball".into(),
+            };
+            piece.ends = vec![open.clone(), open];
+            return piece;
+        };
+        piece.around = self.touches_around(&d.segments, x0, dir);
+        // Sampling may have put a touch point at the border of an arc (a fillet's edge),
+        // where the first correction slips it off the face: start from the arc's inside.
+        let recentred = self.recentred(&sys, x0, dir, true);
+        // Where recentring moved both touch points onto one face, the sampled ball stays
+        // too (same centre), with its touch point on the other (a plane tangent to a fillet:
+        // that face is touched there).
+        let sampled = (recentred.as_ref().is_some_and(|(pair, _)| *pair != first))
+            .then(|| (first, x0.clone()));
+        let (first, x0) = recentred
+            .as_ref()
+            .map_or((first, x0), |(pair, y)| (*pair, y));
+        let fwd = self.follow(first, d.solid, x0, dir);
+        if fwd.end == DegenerateEnd::Closed {
+            piece.segments = vec![];
+            if let Some((pair, x)) = &sampled {
+                piece.push(self.model, *pair, x);
+                piece.segments.extend(pair);
+            }
+            piece.push(self.model, first, x0);
+            for (segs, x) in &fwd.balls {
+                piece.push(self.model, *segs, x);
+            }
+            piece.segments.extend(first);
+            piece.segments.extend(fwd.stretches.iter().flatten());
+            piece.ends = vec![DegenerateEnd::Closed];
+            return piece;
+        }
+        let back = self.follow(first, d.solid, x0, -dir);
+        for (segs, x) in back.balls.iter().rev() {
+            piece.push(self.model, *segs, x);
+        }
+        if let Some((pair, x)) = &sampled {
+            piece.push(self.model, *pair, x);
+        }
+        piece.push(self.model, first, x0);
+        for (segs, x) in &fwd.balls {
+            piece.push(self.model, *segs, x);
+        }
+        piece.segments = back
+            .stretches
+            .iter()
+            .rev()
+            .chain(sampled.as_ref().map(|(pair, _)| pair))
+            .chain([&first])
+            .chain(&fwd.stretches)
+            .flatten()
+            .copied()
+            .collect();
+        // A vanishing end's last ball is the vertex itself.
+        for (end, first) in [(&back.end, true), (&fwd.end, false)] {
+            if let DegenerateEnd::Vanishes { vertex } = *end {
+                let p = self.model.vertices[vertex].point.to_array();
+                let ball = [p[0], p[1], p[2], 0.0];
+                if first {
+                    piece.balls.insert(0, ball);
+                    piece.touch.insert(0, [p, p]);
+                } else {
+                    piece.balls.push(ball);
+                    piece.touch.push([p, p]);
+                }
+            }
+        }
+        piece.ends = vec![back.end, fwd.end];
+        piece
+    }
+
+    /// Follows the curve from `x0` (touching `segments`) along `dir`, handing it over where
+    /// its continuum runs off its element onto one the ball touches along a continuum there
+    /// too (a boss's side onto its foot circle, a reflex edge): the balls after `x0` with the
+    /// segments each touches, how it ends, and the segment pairs it was handed to.
+    fn follow(
+        &self,
+        segments: [Element; 2],
+        solid: usize,
+        x0: &DVector<f64>,
+        dir: DVec3,
+    ) -> Followed {
+        let mut segs = segments;
+        let (mut x, mut d) = (x0.clone(), dir);
+        let mut out = Followed {
+            balls: vec![],
+            end: DegenerateEnd::Closed,
+            stretches: vec![],
+        };
+        let mut visited = vec![segments[0], segments[1]];
+        for _ in 0..=MAX_DEGENERATE_HANDOVERS {
+            let sys = MedialSystem::new(segs.to_vec());
+            let (balls, end, left) = self.march_degenerate(&sys, solid, &x, d);
+            out.balls.extend(balls.into_iter().map(|b| (segs, b)));
+            let last = out.balls.last().map_or(&x, |(_, b)| b).clone();
+            // Where a touch point left its element and nothing else stops the ball there, the
+            // continuum may run on: onto the element the ball osculates there, or a face
+            // beside it across a smooth edge (a fillet split in two).
+            let carry_on = left
+                && matches!(
+                    end,
+                    DegenerateEnd::Meets {
+                        osculates: true,
+                        ..
+                    } | DegenerateEnd::Open { .. }
+                );
+            let next = carry_on
+                .then(|| self.degenerate_hand_over(solid, &last, d, (segs, &end), &visited))
+                .flatten();
+            match next {
+                Some((pair, y, v)) => {
+                    segs = pair;
+                    visited.extend(pair);
+                    out.stretches.push(pair);
+                    (x, d) = (y, v);
+                }
+                None => {
+                    out.end = end;
+                    return out;
+                }
+            }
+        }
+        out.end = DegenerateEnd::Open {
+            reason: format!("handed over {MAX_DEGENERATE_HANDOVERS} times and no end"),
+        };
+        out
+    }
+
+    /// Marches from `x0` along direction `dir` of the centre: the balls after `x0` and how
+    /// the curve ends.
+    fn march_degenerate(
+        &self,
+        sys: &MedialSystem,
+        solid: usize,
+        x0: &DVector<f64>,
+        dir: DVec3,
+    ) -> (Vec<DVector<f64>>, DegenerateEnd, bool) {
+        let diag = self.model.diagonal();
+        let (h_min, h_max) = (MIN_STEP_REL_DIAGONAL * diag, MAX_STEP_REL_DIAGONAL * diag);
+        let locate = LOCATE_REL_ACCURACY * self.opts.accuracy;
+        let start = v3(x0);
+        let mut h = FIRST_STEP_REL_DIAGONAL * diag;
+        let (mut x, mut d) = (x0.clone(), dir);
+        let mut travelled = 0.0;
+        let mut out = vec![];
+        let open = |reason: String| DegenerateEnd::Open { reason };
+        loop {
+            if out.len() >= MAX_DEGENERATE_BALLS {
+                return (
+                    out,
+                    open(format!("{MAX_DEGENERATE_BALLS} balls and no end")),
+                    false,
+                );
+            }
+            match self.degenerate_step(sys, solid, &x, d, h) {
+                Ok((xn, dn)) if dn.angle_between(d) > MAX_TURN_RAD => {
+                    h *= 0.5;
+                    if h < h_min {
+                        return (out, open("the curve turns at every step".into()), false);
+                    }
+                    let _ = xn;
+                }
+                Ok((xn, dn)) => {
+                    let (c, cn) = (v3(&x), v3(&xn));
+                    travelled += c.distance(cn);
+                    if travelled > 3.0 * h && to_chord(start, c, cn) <= 0.5 * h {
+                        return (out, DegenerateEnd::Closed, false);
+                    }
+                    out.push(xn.clone());
+                    (x, d) = (xn, dn);
+                    h = (h * STEP_GROWTH).min(h_max);
+                }
+                Err(StepFail::Other(why)) => {
+                    h *= 0.5;
+                    if h < h_min {
+                        return (out, open(why), false);
+                    }
+                }
+                Err(fail) => {
+                    // Bisect the step down to `locate`: the last ball that passes is the end.
+                    let (mut lo, mut hi) = (0.0, h);
+                    let mut last = fail;
+                    let mut end = x.clone();
+                    while hi - lo > locate {
+                        let mid = 0.5 * (lo + hi);
+                        match self.degenerate_step(sys, solid, &x, d, mid) {
+                            Ok((xm, _)) => {
+                                lo = mid;
+                                end = xm;
+                            }
+                            Err(f) => {
+                                hi = mid;
+                                last = f;
+                            }
+                        }
+                    }
+                    if lo > 0.0 {
+                        out.push(end.clone());
+                    }
+                    let left = matches!(last, StepFail::Left(_));
+                    let how = match last {
+                        StepFail::NotEmpty => self.meets(sys, solid, &end, d),
+                        StepFail::Vanished => self.vanishes(sys, &end),
+                        // Where the continuum reaches its face's border, the curve ends if
+                        // the ball touches something else there (a fillet's axis at the
+                        // corner blend it runs into); carrying on onto the next face is
+                        // not done yet.
+                        StepFail::Left(seg) => match self.meets(sys, solid, &end, d) {
+                            DegenerateEnd::Open { .. } => open(format!(
+                                "a touch point left {seg}, and the curve is not carried on \
+                                 onto the next face"
+                            )),
+                            met => met,
+                        },
+                        StepFail::Other(why) => open(why),
+                    };
+                    return (out, how, left);
+                }
+            }
+        }
+    }
+
+    /// One step of length `h` from `x` along `d`: the corrected ball and the centre's
+    /// direction there (oriented with `d`).
+    fn degenerate_step(
+        &self,
+        sys: &MedialSystem,
+        solid: usize,
+        x: &DVector<f64>,
+        d: DVec3,
+        h: f64,
+    ) -> Result<(DVector<f64>, DVec3), StepFail> {
+        let pred = v3(x) + d * h;
+        let mut x1 = x.clone();
+        x1[0] = pred.x;
+        x1[1] = pred.y;
+        x1[2] = pred.z;
+        let m = sys.equations();
+        let eval = |y: &DVector<f64>| {
+            let (f, j) = sys.eval(self.model, y)?;
+            let mut fa = DVector::zeros(m + 1);
+            fa.rows_mut(0, m).copy_from(&f);
+            fa[m] = d.dot(v3(y) - pred);
+            let mut ja = DMatrix::zeros(m + 1, y.len());
+            ja.view_mut((0, 0), (m, y.len())).copy_from(&j);
+            for k in 0..3 {
+                ja[(m, k)] = d[k];
+            }
+            Some((fa, ja))
+        };
+        let sol = solve(
+            eval,
+            x1,
+            &SolveOptions {
+                tol: self.opts.solver_tol,
+                max_iter: MAX_CORRECTOR_ITER,
+            },
+        );
+        if sol.status != SolveStatus::Converged {
+            return Err(StepFail::Other(format!(
+                "the corrector did not converge ({:?})",
+                sol.status
+            )));
+        }
+        let xn = sol.x;
+        let r = xn[3];
+        if r <= self.opts.accuracy {
+            return Err(StepFail::Vanished);
+        }
+        for (i, &seg) in sys.segments.iter().enumerate() {
+            if !self.on_segment(seg, slot(&xn, i)) {
+                return Err(StepFail::Left(seg));
+            }
+        }
+        let [ta, tb] = [0, 1].map(|i| sys_point(self.model, sys.segments[i], slot(&xn, i)));
+        // Verification holds a degenerate ball to two separate places.
+        let one_place = (8.0 * r * self.opts.accuracy).sqrt();
+        if let (Some(ta), Some(tb)) = (ta, tb) {
+            if ta.distance(tb) <= (DISTINCT_TOUCH_REL_RADIUS * r).max(one_place) {
+                return Err(StepFail::Other(
+                    "its two touch points come within one place of each other (the continuum \
+                     is too short for the accuracy)"
+                        .into(),
+                ));
+            }
+        }
+        let dn = match centre_motion(self.model, sys, &xn) {
+            Some(CentreMotion::Along(v)) => {
+                if v.dot(d) < 0.0 {
+                    -v
+                } else {
+                    v
+                }
+            }
+            _ => {
+                return Err(StepFail::Other(
+                    "the sheet opens again (not degenerate)".into(),
+                ))
+            }
+        };
+        if !self.ball_is_empty(solid, &xn) {
+            return Err(StepFail::NotEmpty);
+        }
+        Ok((xn, dn))
+    }
+
+    /// Ball `x` (centre moving along `dir`) with its touch points moved round its circle to
+    /// the inside of the arcs it touches its faces along: a quarter and three quarters
+    /// along the arc where both segments are one face, the middle of each face's arc where
+    /// they are two (the halves of a split cylinder), on the arc of one where the other holds
+    /// only a sliver of the circle (with the segments then touched). `None` when a segment is a vertex, an
+    /// arc is too short to choose from or to hold two separate places, or the moved ball does
+    /// not solve. Where not `strict`
+    /// (a ball handed over onto the element its continuum runs onto, exactly at that
+    /// element's border), touch points on an edge need only lie within its range (their
+    /// normals may be a rounding outside its arc), and are left for the next step to
+    /// correct.
+    fn recentred(
+        &self,
+        sys: &MedialSystem,
+        x: &DVector<f64>,
+        dir: DVec3,
+        strict: bool,
+    ) -> Option<([Element; 2], DVector<f64>)> {
+        const N: usize = 2 * AROUND_SAMPLES;
+        let (c, r) = (v3(x), x[3]);
+        let (u, v) = dir.any_orthonormal_pair();
+        let tol = AROUND_REL_ACCURACY * self.opts.accuracy;
+        let at = |k: usize| {
+            let phi = std::f64::consts::TAU * k as f64 / N as f64;
+            c + (u * phi.cos() + v * phi.sin()) * r
+        };
+        // Per segment: the parameters of each circle point on its face, where it is.
+        let mut on = vec![];
+        for (i, &seg) in sys.segments.iter().enumerate() {
+            let hint = slot(x, i);
+            on.push(
+                (0..N)
+                    .map(|k| {
+                        let p = at(k);
+                        let s = self.params_on(seg, p, c, hint)?;
+                        let q = sys_point(self.model, seg, s)?;
+                        let on = match seg {
+                            // Handed onto an edge exactly at its face's border, the normal
+                            // may be a rounding outside the edge's arc: the range decides.
+                            Element::Edge(e) if !strict => self.edge_status(e, s).0,
+                            _ => self.on_segment(seg, s),
+                        };
+                        (q.distance(p) <= tol && on).then_some(s)
+                    })
+                    .collect::<Vec<_>>(),
+            );
+        }
+        // The longest circular run of circle points on a face: (first, length).
+        let run = |flags: &[Option<[f64; 2]>]| {
+            if flags.iter().all(Option::is_some) {
+                return Some((0, N));
+            }
+            let start = flags.iter().position(Option::is_none)?;
+            let (mut best, mut cur) = ((0, 0), (0, 0));
+            for j in 1..=N {
+                let k = (start + j) % N;
+                if flags[k].is_some() {
+                    cur = if cur.1 == 0 {
+                        (k, 1)
+                    } else {
+                        (cur.0, cur.1 + 1)
+                    };
+                    if cur.1 > best.1 {
+                        best = cur;
+                    }
+                } else {
+                    cur = (0, 0);
+                }
+            }
+            (best.1 > 0).then_some(best)
+        };
+        // Where one of two faces holds only a sliver of the circle (a plane tangent to a
+        // fillet, touched on its edge), both touch points go on the other's arc.
+        let (ra, rb) = (run(&on[0]), run(&on[1]));
+        let long = |r: Option<(usize, usize)>| r.is_some_and(|(_, len)| len >= 3);
+        let (pair, picks, from) = if sys.segments[0] == sys.segments[1] || long(ra) != long(rb) {
+            let i = usize::from(!long(ra));
+            let (k0, len) = [ra, rb][i]?;
+            if len < 3 {
+                return None;
+            }
+            let seg = sys.segments[i];
+            (
+                [seg, seg],
+                [(k0 + len / 4) % N, (k0 + 3 * len / 4) % N],
+                [i, i],
+            )
+        } else {
+            let ((a0, la), (b0, lb)) = (ra?, rb?);
+            (
+                [sys.segments[0], sys.segments[1]],
+                [(a0 + la / 2) % N, (b0 + lb / 2) % N],
+                [0, 1],
+            )
+        };
+        let mut y = x.clone();
+        for (i, &k) in picks.iter().enumerate() {
+            let s = on[from[i]][k]?;
+            y[4 + 2 * i] = s[0];
+            y[5 + 2 * i] = s[1];
+        }
+        // Two touch points closer than verification separates places would be one contact.
+        let one_place = (8.0 * r * self.opts.accuracy).sqrt();
+        let [ta, tb] = [0, 1].map(|i| sys_point(self.model, pair[i], slot(&y, i)));
+        if ta?.distance(tb?) <= SEPARATED_MARGIN * one_place {
+            return None;
+        }
+        if !strict {
+            return Some((pair, y));
+        }
+        // Polished on the plane across `dir` through the centre.
+        let sys = MedialSystem::new(pair.to_vec());
+        let sol = self.degenerate_step(&sys, self.solid_of(pair[0]), &y, dir, 0.0);
+        sol.ok().map(|(y, _)| (pair, y))
+    }
+
+    /// Where a curve touching `segs` whose touch point left its element at ball `x` (centre
+    /// moving along `d`) carries on: the element `end` names, or else a reflex edge of its
+    /// faces or a face within reach of the ball (none `visited`), on which the ball touches
+    /// along a continuum and its centre moves along a line; the pair touched, the ball with
+    /// touch points on it, and the direction.
+    fn degenerate_hand_over(
+        &self,
+        solid: usize,
+        x: &DVector<f64>,
+        d: DVec3,
+        (segs, end): ([Element; 2], &DegenerateEnd),
+        visited: &[Element],
+    ) -> Option<([Element; 2], DVector<f64>, DVec3)> {
+        let named = match end {
+            DegenerateEnd::Meets { element, .. } if !matches!(element, Element::Vertex(_)) => {
+                Some(*element)
+            }
+            _ => None,
+        };
+        let (c, reach) = (v3(x), x[3] + self.opts.accuracy);
+        let mut edges: Vec<usize> = segs
+            .iter()
+            .flat_map(|s| s.faces(self.model))
+            .flat_map(|f| &self.model.faces[f].loops)
+            .flat_map(|l| l.edges.iter().map(|oe| oe.edge))
+            .filter(|&e| {
+                self.is_reflex(e) && crate::geom::nearest_on_edge(self.model, e, c, None).2 <= reach
+            })
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        let near = self
+            .boundary
+            .within(self.model, c, reach)
+            .into_iter()
+            .filter(|&g| self.face_solid[g] == solid)
+            .map(Element::Face);
+        named
+            .into_iter()
+            .chain(edges.into_iter().map(Element::Edge))
+            .chain(near)
+            .filter(|e| !visited.contains(e))
+            .find_map(|e| {
+                let sys = MedialSystem::new(vec![e, e]);
+                let mut y = DVector::zeros(8);
+                y.rows_mut(0, 4).copy_from(&x.rows(0, 4));
+                let (pair, y) = self.recentred(&sys, &y, d, false)?;
+                let sys = MedialSystem::new(pair.to_vec());
+                match centre_motion(self.model, &sys, &y)? {
+                    CentreMotion::Along(v) => Some((pair, y, if v.dot(d) < 0.0 { -v } else { v })),
+                    CentreMotion::Still => None,
+                }
+            })
+    }
+
+    /// The parameters of point `p` on segment `seg` touched from centre `c`: a face's
+    /// `(u, v)` (from `hint`), a reflex edge's `(t, θ)`; `None` on a vertex.
+    fn params_on(&self, seg: Element, p: DVec3, c: DVec3, hint: [f64; 2]) -> Option<[f64; 2]> {
+        match seg {
+            Element::Face(f) => {
+                let surface = &self.model.faces[f].surface;
+                crate::geom::project_point(surface, p, Some((hint[0], hint[1])))
+                    .map(|uv| [uv.0, uv.1])
+            }
+            Element::Edge(e) => {
+                let (t, q, _) = crate::geom::nearest_on_edge(self.model, e, p, None);
+                let n = (q - c).normalize_or_zero();
+                crate::medial::equations::edge_angle(self.model, e, t, n).map(|th| [t, th])
+            }
+            Element::Vertex(_) => None,
+        }
+    }
+
+    /// True when ball `x`, whose centre moves along `dir`, touches `segments` all round: the
+    /// circle of radius `r` about the centre across `dir` lies on their faces at
+    /// [`AROUND_SAMPLES`] points (to [`AROUND_REL_ACCURACY`] × the accuracy).
+    fn touches_around(&self, segments: &[Element], x: &DVector<f64>, dir: DVec3) -> bool {
+        let faces: Vec<usize> = segments.iter().flat_map(|&s| s.faces(self.model)).collect();
+        let (c, r) = (v3(x), x[3]);
+        let (u, v) = dir.any_orthonormal_pair();
+        let tol = AROUND_REL_ACCURACY * self.opts.accuracy;
+        let mut near = vec![];
+        (0..AROUND_SAMPLES).all(|k| {
+            let phi = std::f64::consts::TAU * k as f64 / AROUND_SAMPLES as f64;
+            let p = c + (u * phi.cos() + v * phi.sin()) * r;
+            self.boundary.within_into(self.model, p, tol, &mut near);
+            near.iter().any(|f| faces.contains(f))
+        })
+    }
+
+    /// How a curve whose ball stops being empty past `x` (centre moving along `dir`) ends:
+    /// the nearest element its ball touches there off its own continuum. A face touching
+    /// the ball on the circle of its continuum (a plane tangent to a fillet along its edge)
+    /// is not met there; a face the ball osculates (a corner's spherical blend) is met
+    /// wherever.
+    fn meets(
+        &self,
+        sys: &MedialSystem,
+        solid: usize,
+        x: &DVector<f64>,
+        dir: DVec3,
+    ) -> DegenerateEnd {
+        let own: Vec<usize> = sys
+            .segments
+            .iter()
+            .flat_map(|&s| s.faces(self.model))
+            .collect();
+        let (c, r) = (v3(x), x[3]);
+        let a = self.opts.accuracy;
+        // Two contacts closer than this are one place (as verification separates them).
+        let one_place = (8.0 * r * a).sqrt();
+        let on_circle = |p: DVec3| {
+            let w = p - c;
+            let axial = w.dot(dir);
+            let radial = (w - dir * axial).length();
+            axial.hypot(radial - r) <= one_place
+        };
+        let mut best: Option<(f64, Element, DVec3, bool)> = None;
+        for g in self.boundary.within(self.model, c, r + a) {
+            if self.face_solid[g] != solid || own.contains(&g) {
+                continue;
+            }
+            let Some(hit) = self
+                .boundary
+                .nearest_on_face(self.model, g, c, None, r + 2.0 * a)
+            else {
+                continue;
+            };
+            let Some((element, s)) = self.hit_segment(g, &hit, c) else {
+                continue;
+            };
+            let osculates =
+                !curvature_allows(self.model, element, s, r * (1.0 + OSCULATING_REL_RADIUS));
+            if (osculates || !on_circle(hit.point))
+                && best.as_ref().is_none_or(|b| hit.distance < b.0)
+            {
+                best = Some((hit.distance, element, hit.point, osculates));
+            }
+        }
+        match best {
+            Some((_, element, touch, osculates)) => DegenerateEnd::Meets {
+                element,
+                touch: touch.to_array(),
+                osculates,
+            },
+            None => DegenerateEnd::Open {
+                reason: "its ball stops being empty, but no other element touches it".into(),
+            },
+        }
+    }
+
+    /// How a curve whose ball shrinks to nothing past `x` ends: at the vertex of its
+    /// segments' faces nearest the centre, within reach of the ball.
+    fn vanishes(&self, sys: &MedialSystem, x: &DVector<f64>) -> DegenerateEnd {
+        let c = v3(x);
+        let reach = x[3] + 2.0 * self.opts.accuracy;
+        let nearest = sys
+            .segments
+            .iter()
+            .flat_map(|&s| s.faces(self.model))
+            .flat_map(|f| Element::Face(f).vertices(self.model))
+            .map(|v| (v, self.model.vertices[v].point.distance(c)))
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        match nearest {
+            Some((vertex, dist)) if dist <= reach => DegenerateEnd::Vanishes { vertex },
+            _ => DegenerateEnd::Open {
+                reason: "r reached 0 with no vertex within reach".into(),
+            },
+        }
+    }
+}
+
+impl Degenerate {
+    /// Appends ball `x` (unknowns `[B, r, s_a, s_b]` touching `segments`) with its two touch
+    /// points.
+    fn push(&mut self, model: &Model, segments: [Element; 2], x: &DVector<f64>) {
+        self.balls.push([x[0], x[1], x[2], x[3]]);
+        let at = |i: usize| {
+            sys_point(model, segments[i], slot(x, i)).map_or([f64::NAN; 3], |p| p.to_array())
+        };
+        self.touch.push([at(0), at(1)]);
+    }
+}
