@@ -132,8 +132,8 @@ fn draw_edges(
     }
 }
 
-/// Degenerate pieces: magenta, dashed through the sampled centres, a diamond at each centre
-/// and the ball's outline.
+/// Degenerate pieces: magenta, dashed through the centres, a diamond and the ball's outline
+/// at each sampled ball (at the two ends of a traced curve).
 fn draw_degenerates(s: &mut String, mat: &MedialAxis, panel: &Panel, px_tol: f64) {
     let _ = writeln!(
         s,
@@ -174,7 +174,14 @@ fn draw_degenerates(s: &mut String, mat: &MedialAxis, panel: &Panel, px_tol: f64
                 points_attr(&thin(&centres, px_tol))
             );
         }
-        for (b, q) in d.balls.iter().zip(&centres) {
+        let marked: Vec<usize> = if d.ends.is_empty() || d.balls.is_empty() {
+            (0..d.balls.len()).collect()
+        } else {
+            let mut ends = vec![0, d.balls.len() - 1];
+            ends.dedup();
+            ends
+        };
+        for (b, q) in marked.iter().map(|&i| (&d.balls[i], &centres[i])) {
             let _ = writeln!(
                 s,
                 r#"<circle cx="{}" cy="{}" r="{}" stroke-width="0.6" stroke-dasharray="3 3" opacity="0.7"/>"#,

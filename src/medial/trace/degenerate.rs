@@ -322,8 +322,10 @@ impl Tracer<'_> {
         dir: DVec3,
     ) -> (Vec<DVector<f64>>, DegenerateEnd, bool) {
         let diag = self.model.diagonal();
-        let (h_min, h_max) = (MIN_STEP_REL_DIAGONAL * diag, MAX_STEP_REL_DIAGONAL * diag);
         let locate = LOCATE_REL_ACCURACY * self.opts.accuracy;
+        // Steps shorter than the end's location would locate nothing more.
+        let h_min = (MIN_STEP_REL_DIAGONAL * diag).max(locate);
+        let h_max = MAX_STEP_REL_DIAGONAL * diag;
         let start = v3(x0);
         let mut h = FIRST_STEP_REL_DIAGONAL * diag;
         let (mut x, mut d) = (x0.clone(), dir);
@@ -519,23 +521,29 @@ impl Tracer<'_> {
         // Per segment: the parameters of each circle point on its face, where it is.
         let mut on = vec![];
         for (i, &seg) in sys.segments.iter().enumerate() {
-            let hint = slot(x, i);
-            on.push(
-                (0..N)
-                    .map(|k| {
-                        let p = at(k);
-                        let s = self.params_on(seg, p, c, hint)?;
-                        let q = sys_point(self.model, seg, s)?;
-                        let on = match seg {
+            // Each projection starts from the last one's parameters (neighbours on the
+            // circle): a search from nothing costs a B-spline face a global sampling.
+            let mut hint = strict.then(|| slot(x, i));
+            let mut flags = Vec::with_capacity(N);
+            for k in 0..N {
+                let p = at(k);
+                let s = self.params_on(seg, p, c, hint);
+                if s.is_some() {
+                    hint = s;
+                }
+                let on = s.filter(|&s| {
+                    let close = sys_point(self.model, seg, s).is_some_and(|q| q.distance(p) <= tol);
+                    close
+                        && match seg {
                             // Handed onto an edge exactly at its face's border, the normal
                             // may be a rounding outside the edge's arc: the range decides.
                             Element::Edge(e) if !strict => self.edge_status(e, s).0,
                             _ => self.on_segment(seg, s),
-                        };
-                        (q.distance(p) <= tol && on).then_some(s)
-                    })
-                    .collect::<Vec<_>>(),
-            );
+                        }
+                });
+                flags.push(on);
+            }
+            on.push(flags);
         }
         // The longest circular run of circle points on a face: (first, length).
         let run = |flags: &[Option<[f64; 2]>]| {
@@ -608,7 +616,7 @@ impl Tracer<'_> {
 
     /// Where a curve touching `segs` whose touch point left its element at ball `x` (centre
     /// moving along `d`) carries on: the element `end` names, or else a reflex edge of its
-    /// faces or a face within reach of the ball (none `visited`), on which the ball touches
+    /// faces or a face across an edge from them within reach of the ball (none `visited`), on which the ball touches
     /// along a continuum and its centre moves along a line; the pair touched, the ball with
     /// touch points on it, and the direction.
     fn degenerate_hand_over(
@@ -637,11 +645,25 @@ impl Tracer<'_> {
             .collect();
         edges.sort_unstable();
         edges.dedup();
+        // Faces across an edge from the segments' faces, within reach.
+        let own: Vec<usize> = segs.iter().flat_map(|s| s.faces(self.model)).collect();
+        let beside = |g: usize| {
+            self.model.faces[g]
+                .loops
+                .iter()
+                .flat_map(|l| &l.edges)
+                .any(|oe| {
+                    self.model.edges[oe.edge]
+                        .faces
+                        .iter()
+                        .any(|f| own.contains(f))
+                })
+        };
         let near = self
             .boundary
             .within(self.model, c, reach)
             .into_iter()
-            .filter(|&g| self.face_solid[g] == solid)
+            .filter(|&g| self.face_solid[g] == solid && beside(g))
             .map(Element::Face);
         named
             .into_iter()
@@ -662,13 +684,25 @@ impl Tracer<'_> {
     }
 
     /// The parameters of point `p` on segment `seg` touched from centre `c`: a face's
-    /// `(u, v)` (from `hint`), a reflex edge's `(t, θ)`; `None` on a vertex.
-    fn params_on(&self, seg: Element, p: DVec3, c: DVec3, hint: [f64; 2]) -> Option<[f64; 2]> {
+    /// `(u, v)` (searched from `hint`, or from the face's nearest point), a reflex edge's
+    /// `(t, θ)`; `None` on a vertex.
+    fn params_on(
+        &self,
+        seg: Element,
+        p: DVec3,
+        c: DVec3,
+        hint: Option<[f64; 2]>,
+    ) -> Option<[f64; 2]> {
         match seg {
             Element::Face(f) => {
                 let surface = &self.model.faces[f].surface;
-                crate::geom::project_point(surface, p, Some((hint[0], hint[1])))
-                    .map(|uv| [uv.0, uv.1])
+                // Without a hint, the distance structure's cached samples give one.
+                let hint = hint.map(|h| (h[0], h[1])).or_else(|| {
+                    self.boundary
+                        .nearest_on_face(self.model, f, p, None, f64::INFINITY)
+                        .map(|h| h.uv)
+                });
+                crate::geom::project_point(surface, p, hint).map(|uv| [uv.0, uv.1])
             }
             Element::Edge(e) => {
                 let (t, q, _) = crate::geom::nearest_on_edge(self.model, e, p, None);

@@ -627,11 +627,18 @@ fn degenerate_curves_are_traced_between_located_ends() {
     let (top, bottom) = (d.balls[0], d.balls[d.balls.len() - 1]);
     assert!(near(&m, top[2], 9.0) && near(&m, top[3], 5.0), "{top:?}");
     let z = 61.0 / 12.0;
-    assert!(near(&m, bottom[2], z) && near(&m, bottom[3], z), "{bottom:?}");
     assert!(
-        d.ends
-            .iter()
-            .all(|e| matches!(e, DegenerateEnd::Meets { osculates: false, .. })),
+        near(&m, bottom[2], z) && near(&m, bottom[3], z),
+        "{bottom:?}"
+    );
+    assert!(
+        d.ends.iter().all(|e| matches!(
+            e,
+            DegenerateEnd::Meets {
+                osculates: false,
+                ..
+            }
+        )),
         "{:?}",
         d.ends
     );
