@@ -341,9 +341,48 @@ fn freecad_sees_the_skeletal_edges_below_a_box_on_a_plate() {
     let e = freecad_check(&step, &p, &[]).unwrap_err();
     assert!(
         e.contains(&format!(
-            "{} free edges for {seams} seams and 3 skeletal edges",
+            "{} free edges for {seams} seams, 3 skeletal edges",
             seams + 4
         )),
         "{e}"
     );
+}
+
+/// Degenerate curves are edges of the file too, after the seams and skeletal edges: the
+/// cylinder's axis and the torus's closed core circle one edge each, the filleted box's 12
+/// fillet axes 12 edges beside its seams, every ball within the fit tolerance of its edge; a
+/// report without the cylinder's axis is refused.
+#[test]
+fn freecad_sees_the_degenerate_curves_as_edges() {
+    if !require(
+        "step_out::freecad_sees_the_degenerate_curves_as_edges",
+        &[Tool::FreeCad],
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    for (name, curves) in [
+        ("cylinder.step", 1),
+        ("torus.step", 1),
+        ("filleted_box.step", 12),
+    ] {
+        let out = dir.path().join(name);
+        std::fs::create_dir_all(&out).unwrap();
+        let (report, step) = trace(&sample(name), &out, &[]);
+        let seams = report["mat"]["seams"].as_array().unwrap().len();
+        let checked = freecad_check(&step, &report_path(&step), &[])
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(
+            checked.contains(&format!("\"edges\": {}", seams + curves)),
+            "{name}: {checked}"
+        );
+        if name == "cylinder.step" {
+            let mut without = report.clone();
+            without["mat"]["degenerate"] = serde_json::json!([]);
+            let p = out.join("without.json");
+            std::fs::write(&p, serde_json::to_string(&without).unwrap()).unwrap();
+            let e = freecad_check(&step, &p, &[]).unwrap_err();
+            assert!(e.contains("1 free edges for 0 seams"), "{e}");
+        }
+    }
 }

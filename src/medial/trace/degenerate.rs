@@ -56,6 +56,10 @@ const LOCATE_REL_ACCURACY: f64 = 0.25;
 /// verification requires of two places (`√(8·r·a)`) apart.
 const SEPARATED_MARGIN: f64 = 2.0;
 
+/// Along a curve, the touch points stay this many times that separation apart (the OCCT
+/// cross-check separates places at the accuracy plus its own 1e-7 mm).
+const SEPARATED_STEP_MARGIN: f64 = 1.1;
+
 /// Points of the circle a degenerate ball touches along, tested for [`Degenerate::around`].
 const AROUND_SAMPLES: usize = 16;
 
@@ -464,7 +468,9 @@ impl Tracer<'_> {
         // Verification holds a degenerate ball to two separate places.
         let one_place = (8.0 * r * self.opts.accuracy).sqrt();
         if let (Some(ta), Some(tb)) = (ta, tb) {
-            if ta.distance(tb) <= (DISTINCT_TOUCH_REL_RADIUS * r).max(one_place) {
+            if ta.distance(tb)
+                <= (DISTINCT_TOUCH_REL_RADIUS * r).max(SEPARATED_STEP_MARGIN * one_place)
+            {
                 return Err(StepFail::Other(
                     "its two touch points come within one place of each other (the continuum \
                      is too short for the accuracy)"
