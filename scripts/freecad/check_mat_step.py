@@ -63,6 +63,19 @@ def dist(a, b):
     return sum((x - y) ** 2 for x, y in zip(a, b)) ** 0.5
 
 
+def balls_on_edge(edge, balls, what, within, problems, worst, checked):
+    """Every ball's centre within `within` of `edge` (the first that is not is a problem):
+    the worst distance and the count of balls checked, carried on."""
+    for i, b in enumerate(balls):
+        d = edge.distToShape(Part.Vertex(FreeCAD.Vector(*b[:3])))[0]
+        worst = max(worst, d)
+        checked += 1
+        if d > within:
+            problems.append(f"{what} ball {i}: {d:.3e} mm from its edge")
+            break
+    return worst, checked
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("step")
@@ -131,22 +144,12 @@ def main():
             if dist(want[:3], got) > 1e-9 * diag:
                 problems.append(f"skeletal edge {k['id']}: edge ends at {tuple(got)}, "
                                 f"its balls at {want[:3]}")
-        for i, b in enumerate(balls):
-            d = edge.distToShape(Part.Vertex(FreeCAD.Vector(*b[:3])))[0]
-            worst = max(worst, d)
-            checked += 1
-            if d > tol + slack:
-                problems.append(f"skeletal edge {k['id']} ball {i}: {d:.3e} mm from its edge")
-                break
+        worst, checked = balls_on_edge(edge, balls, f"skeletal edge {k['id']}", tol + slack,
+                                       problems, worst, checked)
 
     for i, (d, edge) in enumerate(zip(degenerate, edges[len(seams) + len(skeletal):])):
-        for k, b in enumerate(d["balls"]):
-            dd = edge.distToShape(Part.Vertex(FreeCAD.Vector(*b[:3])))[0]
-            worst = max(worst, dd)
-            checked += 1
-            if dd > tol + slack:
-                problems.append(f"degenerate curve {i} ball {k}: {dd:.3e} mm from its edge")
-                break
+        worst, checked = balls_on_edge(edge, d["balls"], f"degenerate curve {i}", tol + slack,
+                                       problems, worst, checked)
 
     vertices = parts["vertices"]
     if len(vertices) != len(junctions):

@@ -295,98 +295,43 @@ fn verify_accepts_genuine_reports_and_rejects_wrong_ones() {
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 
-/// The skeletal edges below a box standing on a plate: the genuine report passes both
-/// checkers with its Euler characteristic counted; one edge removed leaves that sheet's
-/// boundary open at its vertex (`sheets_closed`, and the count withheld); one turned to run up
-/// from its vertex, along the box's edge, has balls the boundary cuts (`distance`, in both
-/// checkers); one moved sideways off its vertex is refused as a skeletal edge.
-#[test]
-fn a_skeletal_edge_removed_turned_or_moved_fails() {
-    let dir = tempfile::tempdir().unwrap();
-    let part = sample("trace/box_boss_on_plate.step");
-    let genuine = genuine("trace/box_boss_on_plate.step", dir.path());
-    let occt_present = require(
-        "verify::a_skeletal_edge_removed_turned_or_moved_fails (OCCT half)",
-        &[Tool::Occt],
-    );
-    let path = write(dir.path(), "genuine", &genuine);
-    assert_eq!(verify(&part, &path), (0, vec![]), "the genuine report");
-    if occt_present {
-        assert_eq!(occt(&part, &path), (0, vec![]), "the genuine report, OCCT");
-    }
-
-    let mut removed = genuine.clone();
-    removed["mat"]["skeletal_edges"]
-        .as_array_mut()
-        .unwrap()
-        .pop();
-    let path = write(dir.path(), "removed", &removed);
-    let (code, failed) = verify(&part, &path);
-    assert_eq!(code, 1, "{failed:?}");
-    assert!(failed.iter().any(|f| f == "sheets_closed"), "{failed:?}");
-
-    // Mirrored through the vertex: centres above it, up the box's vertical edge.
-    let mut turned = genuine.clone();
-    let k = &mut turned["mat"]["skeletal_edges"][0];
-    let last = k["balls"].as_array().unwrap().last().unwrap().clone();
-    let v: Vec<f64> = (0..3).map(|c| last[c].as_f64().unwrap()).collect();
-    for b in k["balls"].as_array_mut().unwrap() {
-        for (c, x) in v.iter().enumerate() {
-            b[c] = json!(2.0 * x - b[c].as_f64().unwrap());
-        }
-    }
-    // Both checkers (OCCT where present) must exit 1 with `check` among the failures.
-    let both_fail = |name: &str, report: &Value, check: &str| {
-        let path = write(dir.path(), name, report);
-        let mut checkers = vec![("verify", verify(&part, &path))];
-        if occt_present {
-            checkers.push(("OCCT", occt(&part, &path)));
-        }
-        for (who, (code, failed)) in checkers {
-            assert_eq!(code, 1, "{who} {name}: {failed:?}");
-            assert!(
-                failed.iter().any(|f| f == check),
-                "{who} {name}: {failed:?}"
-            );
-        }
-    };
-    both_fail("turned", &turned, "distance");
-
-    // Moved 1 mm along x: no longer ending at the vertex it names (nor at any other).
-    let mut moved = genuine.clone();
-    for b in moved["mat"]["skeletal_edges"][0]["balls"]
-        .as_array_mut()
-        .unwrap()
-    {
-        b[0] = json!(b[0].as_f64().unwrap() + 1.0);
-    }
-    both_fail("moved", &moved, "skeletal_edges");
+/// A sample's genuine report, checked to pass both checkers (OCCT where present), and the
+/// means to check that wrong reports made from it fail.
+struct Tampered {
+    dir: tempfile::TempDir,
+    part: PathBuf,
+    genuine: Value,
+    occt_present: bool,
 }
 
-/// The cylinder's axis (radius 10, from z = 10 to z = 20, where the ball touches each cap at
-/// its centre): the genuine report passes both checkers; an end relabelled open, the curve
-/// cut short by a third (its last ball 3 mm from where it touches the cap it claims to
-/// meet), and the ends dropped (a curve only sampled, and the caps then touched by no ball)
-/// fail `degenerate_ends` in both.
-#[test]
-fn a_degenerate_curve_open_cut_short_or_untraced_fails() {
-    let dir = tempfile::tempdir().unwrap();
-    let part = sample("cylinder.step");
-    let genuine = genuine("cylinder.step", dir.path());
-    let occt_present = require(
-        "verify::a_degenerate_curve_open_cut_short_or_untraced_fails (OCCT half)",
-        &[Tool::Occt],
-    );
-    let path = write(dir.path(), "genuine", &genuine);
-    assert_eq!(verify(&part, &path), (0, vec![]), "the genuine report");
-    if occt_present {
-        assert_eq!(occt(&part, &path), (0, vec![]), "the genuine report, OCCT");
-    }
-    let both_fail = |name: &str, report: &Value, checks: &[&str]| {
-        let path = write(dir.path(), name, report);
-        let mut checkers = vec![("verify", verify(&part, &path))];
+impl Tampered {
+    /// Traces sample `name` and asserts that its report passes `matrace verify` and OCCT;
+    /// `test` names the test for the message when OCCT is missing.
+    fn new(name: &str, test: &str) -> Tampered {
+        let dir = tempfile::tempdir().unwrap();
+        let part = sample(name);
+        let genuine = genuine(name, dir.path());
+        let occt_present = require(&format!("{test} (OCCT half)"), &[Tool::Occt]);
+        let path = write(dir.path(), "genuine", &genuine);
+        assert_eq!(verify(&part, &path), (0, vec![]), "the genuine report");
         if occt_present {
-            checkers.push(("OCCT", occt(&part, &path)));
+            assert_eq!(occt(&part, &path), (0, vec![]), "the genuine report, OCCT");
+        }
+        Tampered {
+            dir,
+            part,
+            genuine,
+            occt_present,
+        }
+    }
+
+    /// `report` (named `name`) makes both checkers exit 1 with every one of `checks` among
+    /// their failures.
+    fn both_fail(&self, name: &str, report: &Value, checks: &[&str]) {
+        let path = write(self.dir.path(), name, report);
+        let mut checkers = vec![("verify", verify(&self.part, &path))];
+        if self.occt_present {
+            checkers.push(("OCCT", occt(&self.part, &path)));
         }
         for (who, (code, failed)) in checkers {
             assert_eq!(code, 1, "{who} {name}: {failed:?}");
@@ -397,21 +342,78 @@ fn a_degenerate_curve_open_cut_short_or_untraced_fails() {
                 );
             }
         }
-    };
-    let mut open = genuine.clone();
-    open["mat"]["degenerate"][0]["ends"][1] = json!({"kind": "open", "reason": "made up"});
-    both_fail("open", &open, &["degenerate_ends"]);
+    }
+}
 
-    let mut short = genuine.clone();
+/// The skeletal edges below a box standing on a plate: the genuine report passes both
+/// checkers with its Euler characteristic counted; one edge removed leaves that sheet's
+/// boundary open at its vertex (`sheets_closed`, and the count withheld); one turned to run up
+/// from its vertex, along the box's edge, has balls the boundary cuts (`distance`, in both
+/// checkers); one moved sideways off its vertex is refused as a skeletal edge.
+#[test]
+fn a_skeletal_edge_removed_turned_or_moved_fails() {
+    let t = Tampered::new(
+        "trace/box_boss_on_plate.step",
+        "verify::a_skeletal_edge_removed_turned_or_moved_fails",
+    );
+    let mut removed = t.genuine.clone();
+    removed["mat"]["skeletal_edges"]
+        .as_array_mut()
+        .unwrap()
+        .pop();
+    let path = write(t.dir.path(), "removed", &removed);
+    let (code, failed) = verify(&t.part, &path);
+    assert_eq!(code, 1, "{failed:?}");
+    assert!(failed.iter().any(|f| f == "sheets_closed"), "{failed:?}");
+
+    // Mirrored through the vertex: centres above it, up the box's vertical edge.
+    let mut turned = t.genuine.clone();
+    let k = &mut turned["mat"]["skeletal_edges"][0];
+    let last = k["balls"].as_array().unwrap().last().unwrap().clone();
+    let v: Vec<f64> = (0..3).map(|c| last[c].as_f64().unwrap()).collect();
+    for b in k["balls"].as_array_mut().unwrap() {
+        for (c, x) in v.iter().enumerate() {
+            b[c] = json!(2.0 * x - b[c].as_f64().unwrap());
+        }
+    }
+    t.both_fail("turned", &turned, &["distance"]);
+
+    // Moved 1 mm along x: no longer ending at the vertex it names (nor at any other).
+    let mut moved = t.genuine.clone();
+    for b in moved["mat"]["skeletal_edges"][0]["balls"]
+        .as_array_mut()
+        .unwrap()
+    {
+        b[0] = json!(b[0].as_f64().unwrap() + 1.0);
+    }
+    t.both_fail("moved", &moved, &["skeletal_edges"]);
+}
+
+/// The cylinder's axis (radius 10, from z = 10 to z = 20, where the ball touches each cap at
+/// its centre): the genuine report passes both checkers; an end relabelled open, the curve
+/// cut short by a third (its last ball 3 mm from where it touches the cap it claims to
+/// meet), and the ends dropped (a curve only sampled, and the caps then touched by no ball)
+/// fail `degenerate_ends` in both.
+#[test]
+fn a_degenerate_curve_open_cut_short_or_untraced_fails() {
+    let t = Tampered::new(
+        "cylinder.step",
+        "verify::a_degenerate_curve_open_cut_short_or_untraced_fails",
+    );
+    let mut open = t.genuine.clone();
+    open["mat"]["degenerate"][0]["ends"][1] = json!({"kind": "open", "reason": "made up"});
+    t.both_fail("open", &open, &["degenerate_ends"]);
+
+    let mut short = t.genuine.clone();
     let d = &mut short["mat"]["degenerate"][0];
     let keep = 2 * d["balls"].as_array().unwrap().len() / 3;
     d["balls"].as_array_mut().unwrap().truncate(keep);
     d["touch"].as_array_mut().unwrap().truncate(keep);
-    both_fail("short", &short, &["degenerate_ends"]);
+    t.both_fail("short", &short, &["degenerate_ends"]);
 
-    let mut untraced = genuine.clone();
+    let mut untraced = t.genuine.clone();
     untraced["mat"]["degenerate"][0]["ends"] = json!([]);
-    both_fail("untraced", &untraced, &["degenerate_ends", "faces_touched"]);
+    t.both_fail("untraced", &untraced, &["degenerate_ends", "faces_touched"]);
 }
 
 #[test]
