@@ -16,6 +16,9 @@
 //!   ball touches that element along a continuum too (a capsule's cap), freely;
 //! - `r` shrinks to nothing at a vertex (a cone's apex: [`DegenerateEnd::Vanishes`]);
 //! - it comes back to its first ball ([`DegenerateEnd::Closed`]);
+//! - (not an end) a touch point leaves its element where the continuum runs on onto another
+//!   (a boss's side onto its foot circle, a fillet split in two): the curve is handed over
+//!   and continues touching that element twice;
 //! - or, open, where none of these is found (a touch point left its face, the corrector
 //!   failed down to the smallest step): [`DegenerateEnd::Open`] with the reason, which
 //!   verification reports.
@@ -316,8 +319,9 @@ impl Tracer<'_> {
         out
     }
 
-    /// Marches from `x0` along direction `dir` of the centre: the balls after `x0` and how
-    /// the curve ends.
+    /// Marches from `x0` along direction `dir` of the centre: the balls after `x0`, how the
+    /// curve ends, and whether it ends where a touch point left its element (where
+    /// [`Tracer::follow`] may hand it over).
     fn march_degenerate(
         &self,
         sys: &MedialSystem,
