@@ -87,7 +87,8 @@ def main():
     report = json.load(open(args.report))
     seams = report["mat"]["seams"]
     skeletal = report["mat"].get("skeletal_edges", [])
-    degenerate = [d for d in report["mat"].get("degenerate", [])
+    # (index in the report, piece) of each degenerate curve written as an edge.
+    degenerate = [(i, d) for i, d in enumerate(report["mat"].get("degenerate", []))
                   if d.get("kind") == "curve" and len(d.get("balls", [])) >= 2]
     junctions = report["mat"]["junctions"]
     tol = report["mat"]["fit"]["tol"]
@@ -147,7 +148,7 @@ def main():
         worst, checked = balls_on_edge(edge, balls, f"skeletal edge {k['id']}", tol + slack,
                                        problems, worst, checked)
 
-    for i, (d, edge) in enumerate(zip(degenerate, edges[len(seams) + len(skeletal):])):
+    for (i, d), edge in zip(degenerate, edges[len(seams) + len(skeletal):]):
         worst, checked = balls_on_edge(edge, d["balls"], f"degenerate curve {i}", tol + slack,
                                        problems, worst, checked)
 

@@ -10,8 +10,8 @@
 //! `'junctions'`) of one `GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION`, framed by the
 //! product structure OCCT itself writes (`PRODUCT` … `SHAPE_DEFINITION_REPRESENTATION`, one
 //! application context, the unit context of OCCT's files), so FreeCAD/OCCT import one edge per
-//! seam, then one per skeletal edge, one per degenerate curve, and one vertex per junction. The radius has no place in a
-//! wireframe: it is in the JSON report.
+//! seam, then one per skeletal edge, one per degenerate curve, and one vertex per junction.
+//! The radius has no place in a wireframe: it is in the JSON report.
 //!
 //! Optionally the input part is included: its DATA section is copied verbatim, every `#n`
 //! outside strings and comments renumbered past our ids, keeping its own product structure and
@@ -30,9 +30,9 @@ use std::path::Path;
 pub const UNCERTAINTY: f64 = 1e-7;
 
 /// Writes `mat` (with `fits`: one per seam, and one per degenerate piece, `None` where it is
-/// no curve) to `path` atomically: a temporary file in the same
-/// folder, renamed over `path`. `name` names the product (the part's stem). With `solid`, the
-/// input STEP file whose entities are copied in.
+/// no curve) to `path` atomically: a temporary file in the same folder, renamed over `path`.
+/// `name` names the product (the part's stem). With `solid`, the input STEP file whose
+/// entities are copied in.
 pub fn write_mat_step(
     path: &Path,
     name: &str,

@@ -37,9 +37,7 @@ impl Element {
             }),
         }
     }
-}
 
-impl Element {
     /// The faces the element lies on: a face itself, an edge's, a vertex's (those of its
     /// edges, and of a vertex loop at it), sorted, without repeats.
     pub fn faces(self, model: &super::Model) -> Vec<usize> {
