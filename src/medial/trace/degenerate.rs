@@ -208,22 +208,17 @@ impl Tracer<'_> {
             .as_ref()
             .map_or((first, x0), |(pair, y)| (*pair, y));
         let fwd = self.follow(first, d.solid, x0, dir);
-        if fwd.end == DegenerateEnd::Closed {
-            piece.segments = vec![];
-            if let Some((pair, x)) = &sampled {
-                piece.push(self.model, *pair, x);
-                piece.segments.extend(pair);
+        // A closed curve came back to `x0`: nothing to follow the other way.
+        let closed = fwd.end == DegenerateEnd::Closed;
+        let back = if closed {
+            Followed {
+                balls: vec![],
+                end: DegenerateEnd::Closed,
+                stretches: vec![],
             }
-            piece.push(self.model, first, x0);
-            for (segs, x) in &fwd.balls {
-                piece.push(self.model, *segs, x);
-            }
-            piece.segments.extend(first);
-            piece.segments.extend(fwd.stretches.iter().flatten());
-            piece.ends = vec![DegenerateEnd::Closed];
-            return piece;
-        }
-        let back = self.follow(first, d.solid, x0, -dir);
+        } else {
+            self.follow(first, d.solid, x0, -dir)
+        };
         for (segs, x) in back.balls.iter().rev() {
             piece.push(self.model, *segs, x);
         }
@@ -244,6 +239,10 @@ impl Tracer<'_> {
             .flatten()
             .copied()
             .collect();
+        if closed {
+            piece.ends = vec![DegenerateEnd::Closed];
+            return piece;
+        }
         // A vanishing end's last ball is the vertex itself.
         for (end, first) in [(&back.end, true), (&fwd.end, false)] {
             if let DegenerateEnd::Vanishes { vertex } = *end {
