@@ -13,7 +13,8 @@ same block with one roof plane moved off its edges (an exporter's gap beyond the
 rib whose chamfered end meets its foot fillets tangentially at convex vertices, a blind hole
 with a drill point (its apex written two ways), a cube whose corner dips 0.02 mm into a plate,
 a thin tube grazing a cube's corner (analytic and as NURBS), a boss whose foot circle grazes the
-line of an edge seam's touch points, a plate with two shallow pockets.
+line of an edge seam's touch points, a plate with two shallow pockets, a pin with a
+hemispherical tip (a degenerate curve that ends where its ball is a face's sphere).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -581,6 +582,18 @@ def shallow_pockets():
       "Euler characteristic 1, the solid's.")
 def box_boss_on_plate():
     return Part.makeBox(40, 30, 6).fuse(Part.makeBox(10, 8, 5, V(15, 11, 6))).removeSplitter()
+
+
+@part("rounded_pin",
+      "Pin r=3 along z from z=0 to z=10 with a hemispherical tip r=3 (centre (0,0,10)) on a "
+      "flat end at z=0.",
+      PI * 9 * 10 + 2 * PI * 27 / 3,
+      "The pin's axis is a degenerate curve (r = 3) from z = 3, where its ball touches the "
+      "flat end at its centre, to z = 10, where the ball is the tip's sphere (it touches the "
+      "sphere all over: the curve ends there, meeting it, and goes no further onto it).")
+def rounded_pin():
+    pin = Part.makeCylinder(3, 10, V(0, 0, 0), V(0, 0, 1))
+    return pin.fuse(Part.makeSphere(3, V(0, 0, 10))).removeSplitter()
 
 
 def main():

@@ -337,6 +337,61 @@ impl ClosedForm {
         self.foot(p).map(|f| f.uv)
     }
 
+    /// [`ClosedForm::project`], and where every angle is a foot (`p` on a cylinder's or
+    /// cone's axis, at a sphere's centre or above its pole) the foot at `hint`'s angle: a
+    /// degenerate medial ball's centre is there, and the search there is slow and arbitrary.
+    pub fn project_near(&self, p: DVec3, hint: (f64, f64)) -> Option<(f64, f64)> {
+        if let Some(uv) = self.project(p) {
+            return Some(uv);
+        }
+        match *self {
+            ClosedForm::RevolvedLine {
+                inverse,
+                orientation,
+                o,
+                a,
+                za,
+                ra,
+                dz,
+                dr,
+                dd,
+                ..
+            } => {
+                let (zq, _) = split(o, a, inverse.transform_point3(p));
+                let t = ((zq - za) * dz - ra * dr) / dd;
+                if ra + t * dr <= 0.0 {
+                    return None;
+                }
+                Some(if orientation {
+                    (t, hint.1)
+                } else {
+                    (hint.0, t)
+                })
+            }
+            ClosedForm::Sphere {
+                inverse,
+                orientation,
+                c,
+                ..
+            } => {
+                use std::f64::consts::FRAC_PI_2;
+                let d = (inverse.transform_point3(p) - c).normalize_or_zero();
+                let (longitude, latitude) = if orientation { hint } else { (hint.1, hint.0) };
+                let latitude = if d == DVec3::ZERO {
+                    latitude
+                } else {
+                    FRAC_PI_2.copysign(d.z)
+                };
+                Some(if orientation {
+                    (longitude, latitude)
+                } else {
+                    (latitude, longitude)
+                })
+            }
+            ClosedForm::Plane { .. } | ClosedForm::None => None,
+        }
+    }
+
     /// The foot of `p`, with its distance from `p` and whether the parametrisation is
     /// singular there (a cone's apex), without evaluating the surface.
     pub fn foot(&self, p: DVec3) -> Option<ClosedFoot> {
@@ -1034,5 +1089,81 @@ mod tests {
             Point3::new(0.0, 1.0, 0.0),
         ))));
         assert!(project_revolved_line(&plane, DVec3::ONE).is_none());
+    }
+
+    /// On a cylinder's or cone's axis, at a sphere's centre and above its pole every angle is
+    /// a foot: [`ClosedForm::project_near`] answers with the hint's angle, and the point it
+    /// gives is a foot (the offset normal to both derivatives) at the right distance.
+    #[test]
+    fn on_the_axis_the_foot_keeps_the_hint_s_angle() {
+        let is_foot_at = |s: &Surface, p: DVec3, uv: (f64, f64), dist: f64, size: f64| {
+            let d = eval_surface(s, uv.0, uv.1);
+            let w = p - d.p;
+            assert!(
+                (w.length() - dist).abs() <= 1e-9 * size,
+                "{} vs {dist}",
+                w.length()
+            );
+            assert!(w.dot(d.su.normalize_or_zero()).abs() <= 1e-9 * size);
+            assert!(w.dot(d.sv.normalize_or_zero()).abs() <= 1e-9 * size);
+        };
+        for (apex_shift, inverted, turn, scale) in [
+            (0.0, true, 0.0, 1.0),
+            (0.0, false, 0.7, 25.4),
+            (0.4, true, 2.0, 1.0),
+            (-0.25, false, -1.1, 0.001),
+        ] {
+            let s = revolved(apex_shift, inverted, turn, scale);
+            let c = ClosedForm::new(&s);
+            for (a, h) in [(0.3, 0.5), (2.0, -0.7), (5.9, 1.2)] {
+                let uv = |a: f64| if inverted { (a, h) } else { (h, a) };
+                let (p0, p1) = (eval_surface(&s, uv(a).0, uv(a).1).p, {
+                    let b = uv(a + PI);
+                    eval_surface(&s, b.0, b.1).p
+                });
+                let axis = 0.5 * (p0 + p1);
+                assert!(c.project(axis).is_none(), "every angle is a foot");
+                let hint = uv(1.25);
+                let got = c.project_near(axis, hint).expect("a foot on the axis");
+                let angle = if inverted { got.0 } else { got.1 };
+                assert_eq!(angle, 1.25);
+                let dist = (0..64)
+                    .map(|k| {
+                        let t = if inverted {
+                            (0.1 * k as f64, h)
+                        } else {
+                            (h, 0.1 * k as f64)
+                        };
+                        let g = c.project_near(axis, t).unwrap();
+                        eval_surface(&s, g.0, g.1).p.distance(axis)
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                is_foot_at(&s, axis, got, dist, 4.0 * scale);
+            }
+        }
+        use truck_stepio::r#in::alias::Sphere as StepSphere;
+        for inverted in [false, true] {
+            let mut s = Processor::<_, Matrix4>::new(StepSphere(
+                truck_geometry::prelude::Sphere::new(Point3::origin(), 3.0),
+            ));
+            if inverted {
+                s.invert();
+            }
+            s.transform_by(Matrix4::from_translation(Vector3::new(1.0, -2.0, 4.0)));
+            let s = Surface::ElementarySurface(Box::new(ElementarySurface::Sphere(s)));
+            let c = ClosedForm::new(&s);
+            let centre = DVec3::new(1.0, -2.0, 4.0);
+            let hint = if inverted { (0.4, 2.0) } else { (2.0, 0.4) };
+            assert!(c.project(centre).is_none());
+            assert_eq!(c.project_near(centre, hint), Some(hint));
+            is_foot_at(&s, centre, hint, 3.0, 3.0);
+            for (z, lat) in [(1.0, PI / 2.0), (-5.0, -PI / 2.0)] {
+                let above = centre + DVec3::Z * z;
+                let got = c.project_near(above, hint).expect("the pole");
+                let (lon, la) = if inverted { (got.1, got.0) } else { got };
+                assert_eq!((lon, la), (2.0, lat));
+                is_foot_at(&s, above, got, (3.0 - z.abs()).abs(), 3.0);
+            }
+        }
     }
 }

@@ -33,7 +33,7 @@ use super::normal::{loop_points, nearest_loop_point, normal_near, vertex_normals
 use crate::geom::bbox::Aabb;
 use crate::geom::bvh::{box_distance_squared, union, Bvh};
 use crate::geom::eval::{eval_curve, eval_surface};
-use crate::geom::project::{plane_frame, project_plane};
+use crate::geom::project::{plane_frame, project_plane, ClosedForm};
 use crate::geom::project_point;
 use crate::geom::surface::closed_periods;
 use crate::geom::trim::{self, covered_domain, TrimGrid};
@@ -108,6 +108,8 @@ pub(super) struct FaceCache {
     pub(super) plane: Option<(DVec3, DVec3, DVec3)>,
     /// [`closed_periods`] of the surface.
     pub(super) closed: (bool, bool),
+    /// The foot in closed form of a cylinder, cone or sphere (`None` for other surfaces).
+    pub(super) closed_form: Option<ClosedForm>,
     pub(super) cells: Range<u32>,
     /// The cells in blocks, into `Boundary::blocks`.
     pub(super) blocks: Range<u32>,
@@ -344,6 +346,10 @@ impl Boundary {
             trim,
             loops: trim::Trim::new(face),
             closed: closed_periods(&face.surface),
+            closed_form: match ClosedForm::new(&face.surface) {
+                c @ (ClosedForm::RevolvedLine { .. } | ClosedForm::Sphere { .. }) => Some(c),
+                ClosedForm::Plane { .. } | ClosedForm::None => None,
+            },
             cells: cells_start..cells_end,
             blocks: blocks_start..self.blocks.len() as u32,
             edges,

@@ -55,6 +55,10 @@ const NULL_CENTRE_LENGTH: f64 = 1e-6;
 /// travel.
 const LOCATE_REL_ACCURACY: f64 = 0.25;
 
+/// A degenerate curve's first step from a ball, relative to the ball's radius (then grown
+/// or halved as a seam's).
+const DEGENERATE_FIRST_STEP_REL_RADIUS: f64 = 0.5;
+
 /// The touch points chosen on a continuum are at least this many times the separation
 /// verification requires of two places (`√(8·r·a)`) apart.
 const SEPARATED_MARGIN: f64 = 2.0;
@@ -133,16 +137,36 @@ struct Followed {
     stretches: Vec<[Element; 2]>,
 }
 
-/// Why one step along a degenerate curve failed.
+/// Why one step along a degenerate curve failed, with the corrected ball where there is one.
 enum StepFail {
-    /// Another element is nearer the new centre than `r`.
-    NotEmpty,
+    /// Another element is nearer the new centre than `r`: the face of the nearest.
+    NotEmpty { ball: DVector<f64>, face: usize },
     /// `r` fell to the accuracy.
-    Vanished,
-    /// A touch point left its segment.
-    Left(Element),
+    Vanished { ball: DVector<f64> },
+    /// The touch point in slot `which` left its segment `seg`.
+    Left {
+        seg: Element,
+        which: usize,
+        ball: DVector<f64>,
+    },
     /// Anything else (the step may be too long): why.
     Other(String),
+}
+
+/// What [`Tracer::margin`] measures along the step that failed: how far a ball is from the
+/// event the step ran into, positive before it, falling through 0 at it about linearly.
+enum Margin {
+    /// `r` less the accuracy.
+    Radius,
+    /// The distance to this face less `r` (and the accuracy).
+    Face(usize),
+    /// How far the touch point in slot `which` is short of `at` (the point of its segment
+    /// nearest where it went past), along `along` (its motion over the step).
+    Past {
+        which: usize,
+        at: DVec3,
+        along: DVec3,
+    },
 }
 
 impl Tracer<'_> {
@@ -280,9 +304,20 @@ impl Tracer<'_> {
             stretches: vec![],
         };
         let mut visited = vec![segments[0], segments[1]];
+        // The located end the last hand-over went past (an element met, osculating).
+        let mut handed_past: Option<DegenerateEnd> = None;
         for _ in 0..=MAX_DEGENERATE_HANDOVERS {
             let sys = MedialSystem::new(segs.to_vec());
             let (balls, end, left) = self.march_degenerate(&sys, solid, &x, d);
+            if balls.is_empty() && matches!(end, DegenerateEnd::Open { .. }) {
+                if let Some(met) = handed_past.take() {
+                    // Not one step on the element handed to (a sphere the ball has become,
+                    // touching it all over): the curve ends where it met it.
+                    out.stretches.pop();
+                    out.end = met;
+                    return out;
+                }
+            }
             out.balls.extend(balls.into_iter().map(|b| (segs, b)));
             let last = out.balls.last().map_or(&x, |(_, b)| b).clone();
             // Where a touch point left its element and nothing else stops the ball there, the
@@ -301,6 +336,7 @@ impl Tracer<'_> {
                 .flatten();
             match next {
                 Some((pair, y, v)) => {
+                    handed_past = matches!(end, DegenerateEnd::Meets { .. }).then_some(end);
                     segs = pair;
                     visited.extend(pair);
                     out.stretches.push(pair);
@@ -334,7 +370,10 @@ impl Tracer<'_> {
         let h_min = (MIN_STEP_REL_DIAGONAL * diag).max(locate);
         let h_max = MAX_STEP_REL_DIAGONAL * diag;
         let start = v3(x0);
-        let mut h = FIRST_STEP_REL_DIAGONAL * diag;
+        // The curve bends on the scale of its radius (a torus's core, a fillet's axis round
+        // a corner): start at half of it, not at a seam's cautious first step.
+        let mut h =
+            (DEGENERATE_FIRST_STEP_REL_RADIUS * x0[3]).clamp(FIRST_STEP_REL_DIAGONAL * diag, h_max);
         let (mut x, mut d) = (x0.clone(), dir);
         let mut travelled = 0.0;
         let mut out = vec![];
@@ -372,35 +411,20 @@ impl Tracer<'_> {
                     }
                 }
                 Err(fail) => {
-                    // Bisect the step down to `locate`: the last ball that passes is the end.
-                    let (mut lo, mut hi) = (0.0, h);
-                    let mut last = fail;
-                    let mut end = x.clone();
-                    while hi - lo > locate {
-                        let mid = 0.5 * (lo + hi);
-                        match self.degenerate_step(sys, solid, &x, d, mid) {
-                            Ok((xm, _)) => {
-                                lo = mid;
-                                end = xm;
-                            }
-                            Err(f) => {
-                                hi = mid;
-                                last = f;
-                            }
-                        }
-                    }
+                    let (end, lo, last) = self.locate_end(sys, solid, &x, d, h, fail, locate);
+                    let end = end.unwrap_or_else(|| x.clone());
                     if lo > 0.0 {
                         out.push(end.clone());
                     }
-                    let left = matches!(last, StepFail::Left(_));
+                    let left = matches!(last, StepFail::Left { .. });
                     let how = match last {
-                        StepFail::NotEmpty => self.meets(sys, solid, &end, d),
-                        StepFail::Vanished => self.vanishes(sys, &end),
+                        StepFail::NotEmpty { .. } => self.meets(sys, solid, &end, d),
+                        StepFail::Vanished { .. } => self.vanishes(sys, &end),
                         // Where the continuum reaches its face's border, the curve ends if
                         // the ball touches something else there (a fillet's axis at the
                         // corner blend it runs into); carrying on onto the next face is
                         // not done yet.
-                        StepFail::Left(seg) => match self.meets(sys, solid, &end, d) {
+                        StepFail::Left { seg, .. } => match self.meets(sys, solid, &end, d) {
                             DegenerateEnd::Open { .. } => open(format!(
                                 "a touch point left {seg}, and the curve is not carried on \
                                  onto the next face"
@@ -411,6 +435,129 @@ impl Tracer<'_> {
                     };
                     return (out, how, left);
                 }
+            }
+        }
+    }
+
+    /// Locates where the step of length `h` from `x` along `d` first fails (`fail`, the
+    /// step's own failure): the last ball that passes (`None`: none past `x`), how far along
+    /// it is, and the failure just past it, `locate` apart. By false position on the
+    /// [`Margin`] of the failure (Illinois' rule, with the probe put a little to the side of
+    /// the estimate it should land on, so that a linear margin is bracketed in two probes);
+    /// by bisection where the margin is unknown or another failure comes first.
+    #[allow(clippy::too_many_arguments)]
+    fn locate_end(
+        &self,
+        sys: &MedialSystem,
+        solid: usize,
+        x: &DVector<f64>,
+        d: DVec3,
+        h: f64,
+        fail: StepFail,
+        locate: f64,
+    ) -> (Option<DVector<f64>>, f64, StepFail) {
+        let margin = self.margin_of(sys, x, &fail);
+        let value = |ball: &DVector<f64>| {
+            margin
+                .as_ref()
+                .and_then(|m| self.margin(sys, m, ball))
+                .filter(|g| g.is_finite())
+        };
+        let (mut lo, mut hi) = (0.0, h);
+        let mut g_lo = value(x).filter(|&g| g > 0.0);
+        let mut g_hi = fail_ball(&fail).and_then(value).filter(|&g| g <= 0.0);
+        let mut last = fail;
+        let mut end = None;
+        // +1 after lo moved, −1 after hi moved.
+        let mut moved = -1;
+        let mut same_side = 0;
+        while hi - lo > locate {
+            let mid = match (g_lo, g_hi) {
+                (Some(a), Some(b)) if same_side < 2 && a > b => {
+                    let s = lo + (hi - lo) * a / (a - b);
+                    // Land just short of the event after hi moved, just past it after lo
+                    // did.
+                    let s = s + (0.4 * locate).copysign(f64::from(moved));
+                    s.clamp(lo + 0.25 * locate, hi - 0.25 * locate)
+                }
+                _ => 0.5 * (lo + hi),
+            };
+            match self.degenerate_step(sys, solid, x, d, mid) {
+                Ok((xm, _)) => {
+                    lo = mid;
+                    g_lo = g_lo.and(value(&xm)).filter(|&g| g > 0.0);
+                    end = Some(xm);
+                    same_side = if moved == 1 { same_side + 1 } else { 0 };
+                    if moved == 1 {
+                        // Illinois: halve the stale end's value.
+                        g_hi = g_hi.map(|g| 0.5 * g);
+                    }
+                    moved = 1;
+                }
+                Err(f) => {
+                    hi = mid;
+                    g_hi = if same_failure(&f, &last) {
+                        g_hi.and(fail_ball(&f).and_then(value))
+                            .filter(|&g| g <= 0.0)
+                    } else {
+                        None
+                    };
+                    same_side = if moved == -1 { same_side + 1 } else { 0 };
+                    if moved == -1 {
+                        g_lo = g_lo.map(|g| 0.5 * g);
+                    }
+                    moved = -1;
+                    last = f;
+                }
+            }
+        }
+        (end, lo, last)
+    }
+
+    /// What measures the distance to the event behind `fail` from ball `x` (see [`Margin`]).
+    fn margin_of(&self, sys: &MedialSystem, x: &DVector<f64>, fail: &StepFail) -> Option<Margin> {
+        match fail {
+            StepFail::Vanished { .. } => Some(Margin::Radius),
+            StepFail::NotEmpty { face, .. } => Some(Margin::Face(*face)),
+            StepFail::Left { seg, which, ball } => {
+                let from = sys_point(self.model, sys.segments[*which], slot(x, *which))?;
+                let to = sys_point(self.model, *seg, slot(ball, *which))?;
+                let along = (to - from).try_normalize()?;
+                let at = match *seg {
+                    Element::Face(f) => {
+                        self.boundary
+                            .nearest_on_face(self.model, f, to, None, f64::INFINITY)?
+                            .point
+                    }
+                    Element::Edge(e) => self.model.edges[e]
+                        .vertices
+                        .iter()
+                        .map(|&v| self.model.vertices[v].point)
+                        .min_by(|a, b| a.distance(to).total_cmp(&b.distance(to)))?,
+                    Element::Vertex(_) => return None,
+                };
+                Some(Margin::Past {
+                    which: *which,
+                    at,
+                    along,
+                })
+            }
+            StepFail::Other(_) => None,
+        }
+    }
+
+    /// The [`Margin`] `m` of ball `ball`.
+    fn margin(&self, sys: &MedialSystem, m: &Margin, ball: &DVector<f64>) -> Option<f64> {
+        let a = self.opts.accuracy;
+        match *m {
+            Margin::Radius => Some(ball[3] - a),
+            Margin::Face(f) => self
+                .boundary
+                .nearest_on_face(self.model, f, v3(ball), None, f64::INFINITY)
+                .map(|hit| hit.distance - ball[3] + a),
+            Margin::Past { which, at, along } => {
+                sys_point(self.model, sys.segments[which], slot(ball, which))
+                    .map(|p| (at - p).dot(along))
             }
         }
     }
@@ -460,11 +607,15 @@ impl Tracer<'_> {
         let xn = sol.x;
         let r = xn[3];
         if r <= self.opts.accuracy {
-            return Err(StepFail::Vanished);
+            return Err(StepFail::Vanished { ball: xn });
         }
         for (i, &seg) in sys.segments.iter().enumerate() {
             if !self.on_segment(seg, slot(&xn, i)) {
-                return Err(StepFail::Left(seg));
+                return Err(StepFail::Left {
+                    seg,
+                    which: i,
+                    ball: xn,
+                });
             }
         }
         let [ta, tb] = [0, 1].map(|i| sys_point(self.model, sys.segments[i], slot(&xn, i)));
@@ -495,8 +646,12 @@ impl Tracer<'_> {
                 ))
             }
         };
-        if !self.ball_is_empty(solid, &xn) {
-            return Err(StepFail::NotEmpty);
+        match self.nearest_in(solid, v3(&xn)) {
+            Some((face, hit)) if hit.distance < r - self.opts.accuracy => {
+                return Err(StepFail::NotEmpty { ball: xn, face })
+            }
+            Some(_) => {}
+            None => return Err(StepFail::Other("no boundary near the ball".into())),
         }
         Ok((xn, dn))
     }
@@ -830,5 +985,32 @@ impl Degenerate {
             sys_point(model, segments[i], slot(x, i)).map_or([f64::NAN; 3], |p| p.to_array())
         };
         self.touch.push([at(0), at(1)]);
+    }
+}
+
+/// The corrected ball of a failed step, where it has one.
+fn fail_ball(f: &StepFail) -> Option<&DVector<f64>> {
+    match f {
+        StepFail::NotEmpty { ball, .. }
+        | StepFail::Vanished { ball }
+        | StepFail::Left { ball, .. } => Some(ball),
+        StepFail::Other(_) => None,
+    }
+}
+
+/// Whether two failed steps ran into the same event (the same face, the same segment left).
+fn same_failure(a: &StepFail, b: &StepFail) -> bool {
+    match (a, b) {
+        (StepFail::NotEmpty { face: f, .. }, StepFail::NotEmpty { face: g, .. }) => f == g,
+        (StepFail::Vanished { .. }, StepFail::Vanished { .. }) => true,
+        (
+            StepFail::Left {
+                seg: s, which: i, ..
+            },
+            StepFail::Left {
+                seg: t, which: j, ..
+            },
+        ) => s == t && i == j,
+        _ => false,
     }
 }

@@ -526,7 +526,10 @@ fn solids_without_convex_corners() {
 /// (plate 6 mm thick, boss radius 5 on it, top at z = 14): its axis from z = 9 (touching the
 /// top) down the boss's side to its foot circle (z = 6), handed over onto that circle (a
 /// reflex edge) and on, the ball growing as it touches the circle from below, to where it
-/// meets the plate's bottom: `z = r = 61/12` (`z² = 25 + (6 − z)²`); χ = 1.
+/// meets the plate's bottom: `z = r = 61/12` (`z² = 25 + (6 − z)²`); χ = 1. The pin with
+/// a hemispherical tip (radius 3, flat end at z = 0, tip's centre at z = 10): its axis from
+/// z = 3 (meeting the flat end) to z = 10, where the ball is the tip's sphere (meeting it,
+/// osculating).
 #[test]
 fn degenerate_curves_are_traced_between_located_ends() {
     use crate::medial::axis::DegenerateEnd;
@@ -606,12 +609,20 @@ fn degenerate_curves_are_traced_between_located_ends() {
     let [d] = &mat.degenerate[..] else {
         panic!("{:?}", mat.degenerate)
     };
+    // Listed from either end (which way is first depends on the sampled ball).
+    let mut pairs = d.segments.clone();
+    if matches!(pairs[0], Element::Edge(_)) {
+        pairs.reverse();
+    }
     assert!(
-        matches!(d.segments[..], [Element::Face(f), Element::Face(g), Element::Edge(e), Element::Edge(k)] if f == g && e == k),
+        matches!(pairs[..], [Element::Face(f), Element::Face(g), Element::Edge(e), Element::Edge(k)] if f == g && e == k),
         "{:?}",
         d.segments
     );
-    let (top, bottom) = (d.balls[0], d.balls[d.balls.len() - 1]);
+    let (mut top, mut bottom) = (d.balls[0], d.balls[d.balls.len() - 1]);
+    if top[2] < bottom[2] {
+        (top, bottom) = (bottom, top);
+    }
     assert!(near(&m, top[2], 9.0) && near(&m, top[3], 5.0), "{top:?}");
     let z = 61.0 / 12.0;
     assert!(
@@ -621,6 +632,30 @@ fn degenerate_curves_are_traced_between_located_ends() {
     all_meet(d, false);
     complete_and_verified("trace/boss_near_edge.step", &m, &mat);
     assert_eq!(axis_euler(&m, &mat), Some(1));
+
+    let (m, mat) = traced("trace/rounded_pin.step");
+    let curves: Vec<_> = mat
+        .degenerate
+        .iter()
+        .filter(|d| d.kind == DegenerateKind::Curve)
+        .collect();
+    let [d] = &curves[..] else {
+        panic!("{:?}", mat.degenerate)
+    };
+    assert!(d.around && d.segments.iter().all(|s| *s == d.segments[0]));
+    let mut zs = [d.balls[0][2], d.balls[d.balls.len() - 1][2]];
+    zs.sort_by(f64::total_cmp);
+    assert!(near(&m, zs[0], 3.0) && near(&m, zs[1], 10.0), "{zs:?}");
+    let osculating: Vec<bool> = d
+        .ends
+        .iter()
+        .map(|e| match e {
+            DegenerateEnd::Meets { osculates, .. } => *osculates,
+            e => panic!("{e:?}"),
+        })
+        .collect();
+    assert!(osculating.contains(&true) && osculating.contains(&false));
+    complete_and_verified("trace/rounded_pin.step", &m, &mat);
 }
 
 /// Asserts that both ends of degenerate curve `d` meet an element, osculating it or not.
