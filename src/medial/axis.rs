@@ -14,9 +14,10 @@ pub struct SeamPoint {
     /// `[x, y, z, r]`.
     #[serde(deserialize_with = "nullable::ball")]
     pub point: [f64; 4],
-    /// The touch points on the three elements.
-    #[serde(deserialize_with = "nullable::triple")]
-    pub touch: [[f64; 3]; 3],
+    /// The touch points, one per element of the seam's `segments` (slot by slot, after any
+    /// hand-over): three, or more where more elements touch every ball of the seam.
+    #[serde(deserialize_with = "nullable::points")]
+    pub touch: Vec<[f64; 3]>,
 }
 
 /// A node of the medial axis's graph where seams end: a junction, or a convex vertex.
@@ -252,17 +253,18 @@ impl<'de> serde::Deserialize<'de> for OpenReason {
     }
 }
 
-/// A seam: a curve of ball centres touching three elements.
+/// A seam: a curve of ball centres touching three elements (more at a non-generic seam).
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Seam {
     pub id: usize,
     /// Index of the solid in the model.
     pub solid: usize,
     /// The three elements at the first point (a face twice when the ball touches it in two
-    /// places).
+    /// places); more at a non-generic seam, whose every ball they all touch (the seam from a
+    /// square pyramid's apex: four faces), in their order round the seam.
     pub segments: Vec<Element>,
     pub ends: [SeamEnd; 2],
-    /// The three elements at the last point (after any hand-over).
+    /// The elements at the last point (after any hand-over), slot by slot as `segments`.
     pub end_segments: Vec<Element>,
     pub points: Vec<SeamPoint>,
     /// Where a touch point moves to another element, in the order of the points.
@@ -430,6 +432,8 @@ pub struct TraceStats {
     pub skipped_seeds: usize,
     /// Seams traced a second time from their other end, and dropped.
     pub duplicate_seams: usize,
+    /// Seams whose every ball touches more than three elements (non-generic seams).
+    pub non_generic_seams: usize,
 }
 
 /// The traced medial axis of a model (every solid's).
@@ -511,7 +515,6 @@ mod nullable {
         number: f64,
         point: [f64; 3],
         ball: [f64; 4],
-        triple: [[f64; 3]; 3],
         points: Vec<[f64; 3]>,
         balls: Vec<[f64; 4]>,
         pairs: Vec<[[f64; 3]; 2]>

@@ -389,6 +389,61 @@ fn a_skeletal_edge_removed_turned_or_moved_fails() {
     t.both_fail("moved", &moved, &["skeletal_edges"]);
 }
 
+/// The seam from a square pyramid's apex is touched by all four side faces (a non-generic
+/// seam): the genuine report names the four in their order round it (each touch point nearer
+/// its neighbours than the one across) and passes both checkers, every sheet boundary closed.
+/// Cut back to a triplet (as the tracer left it before), it names a sheet between two
+/// opposite faces and misses two sides: their boundaries stay open at the apex and at the
+/// junction (`sheets_closed`). A slot without its touch point at one ball is refused
+/// (`elements`). Neither is a wrong ball, so only `matrace verify` can tell.
+#[test]
+fn a_non_generic_seam_cut_to_a_triplet_or_missing_a_touch_point_fails() {
+    let t = Tampered::new(
+        "pyramid.step",
+        "verify::a_non_generic_seam_cut_to_a_triplet_or_missing_a_touch_point_fails",
+    );
+    let seams = t.genuine["mat"]["seams"].as_array().unwrap();
+    let apex = seams
+        .iter()
+        .position(|s| s["segments"].as_array().unwrap().len() == 4)
+        .expect("a seam touched by four faces");
+    let points = seams[apex]["points"].as_array().unwrap();
+    let middle = &points[points.len() / 2]["touch"];
+    let at =
+        |i: usize| -> Vec<f64> { (0..3).map(|c| middle[i % 4][c].as_f64().unwrap()).collect() };
+    let dist = |a: &[f64], b: &[f64]| (0..3).map(|c| (a[c] - b[c]).powi(2)).sum::<f64>().sqrt();
+    for i in 0..4 {
+        let (side, across) = (dist(&at(i), &at(i + 1)), dist(&at(i), &at(i + 2)));
+        assert!(
+            across > 1.3 * side,
+            "slot {i}: {side} to the next, {across} across"
+        );
+    }
+
+    let mut triplet = t.genuine.clone();
+    let s = &mut triplet["mat"]["seams"][apex];
+    for k in ["segments", "end_segments"] {
+        s[k].as_array_mut().unwrap().remove(1);
+    }
+    for p in s["points"].as_array_mut().unwrap() {
+        p["touch"].as_array_mut().unwrap().remove(1);
+    }
+    let path = write(t.dir.path(), "triplet", &triplet);
+    let (code, failed) = verify(&t.part, &path);
+    assert_eq!(code, 1, "{failed:?}");
+    assert!(failed.iter().any(|f| f == "sheets_closed"), "{failed:?}");
+
+    let mut missing = t.genuine.clone();
+    missing["mat"]["seams"][apex]["points"][1]["touch"]
+        .as_array_mut()
+        .unwrap()
+        .pop();
+    let path = write(t.dir.path(), "missing", &missing);
+    let (code, failed) = verify(&t.part, &path);
+    assert_eq!(code, 1, "{failed:?}");
+    assert!(failed.iter().any(|f| f == "elements"), "{failed:?}");
+}
+
 /// The cylinder's axis (radius 10, from z = 10 to z = 20, where the ball touches each cap at
 /// its centre): the genuine report passes both checkers; an end relabelled open, the curve
 /// cut short by a third (its last ball 3 mm from where it touches the cap it claims to

@@ -94,7 +94,21 @@ pub(super) fn end_balls(mat: &MedialAxis) -> HashMap<[usize; 2], Place> {
     out
 }
 
-/// The three arcs of every seam (one per pair of its touch slots).
+/// The pairs of touch slots of a seam with `k` slots that a sheet lies between: all three
+/// pairs of a generic seam; where more elements touch each ball (`k > 3`, a non-generic seam:
+/// the touch points lie on one circle round the seam, its slots in their order round it), the
+/// neighbours round that circle — the sides of the polygon of touch points, not its
+/// diagonals.
+pub(crate) fn slot_pairs(k: usize) -> Vec<(usize, usize)> {
+    match k {
+        0..=2 => vec![],
+        3 => vec![(0, 1), (1, 2), (0, 2)],
+        _ => (0..k).map(|i| (i, (i + 1) % k)).collect(),
+    }
+}
+
+/// The arcs of every seam (one per pair of its touch slots that a sheet lies between:
+/// [`slot_pairs`]).
 pub(super) fn seam_arcs(
     mat: &MedialAxis,
     groups: &SegmentGroups,
@@ -109,7 +123,7 @@ pub(super) fn seam_arcs(
                 .map(Place::Node)
                 .or_else(|| balls.get(&[n, end]).copied())
         };
-        for (i, j) in [(0, 1), (1, 2), (0, 2)] {
+        for (i, j) in slot_pairs(s.segments.len()) {
             let pair = |segs: &[Element]| match (segs.get(i), segs.get(j)) {
                 (Some(a), Some(b)) => Some(sorted_pair(*a, *b)),
                 _ => None,

@@ -756,6 +756,27 @@ mod tests {
             .contains("curvature"));
     }
 
+    /// A square pyramid: the seam from its apex is touched by the four side faces, so its
+    /// sheets are the four between neighbouring sides (not the two diagonals) and the four
+    /// between the base and a side: eight, every boundary closed, χ = 1 as the solid's.
+    #[test]
+    fn square_pyramid_has_eight_sheets_round_its_non_generic_seam() {
+        let (mat, s) = sheets_of("pyramid.step");
+        let apex: Vec<&crate::medial::axis::Seam> =
+            mat.seams.iter().filter(|s| s.segments.len() == 4).collect();
+        assert_eq!(apex.len(), 1, "one seam touched by four faces");
+        assert!(s.unpaired.is_empty(), "{:?}", s.unpaired);
+        assert_eq!(s.sheets.len(), 8);
+        assert_eq!(
+            (s.solids[0].solid_euler, s.solids[0].mat_euler),
+            (1, Some(1))
+        );
+        // No sheet between the two faces across the seam from each other.
+        let across =
+            [0, 1].map(|i| arcs::sorted_pair(apex[0].segments[i], apex[0].segments[i + 2]));
+        assert!(s.sheets.iter().all(|sh| !across.contains(&sh.segments)));
+    }
+
     /// A box with a void is homotopy-equivalent to a sphere (χ = 2); so is its medial axis.
     #[test]
     fn box_with_void_has_euler_two() {

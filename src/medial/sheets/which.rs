@@ -44,7 +44,7 @@ pub(super) fn add_witnesses(
             };
             // The third element: the touch point farthest from the vertex.
             let far = |k: usize| DVec3::from_array(p.touch[k]).distance(at);
-            let Some(o) = (0..3).max_by(|&a, &b| far(a).total_cmp(&far(b))) else {
+            let Some(o) = (0..p.touch.len()).max_by(|&a, &b| far(a).total_cmp(&far(b))) else {
                 continue;
             };
             let Some(&third) = segs.get(o) else { continue };
@@ -56,15 +56,13 @@ pub(super) fn add_witnesses(
                 .into_iter()
                 .map(|x| sorted_pair(x, third))
                 .collect();
-            for (side, (i, j)) in [(0, 1), (1, 2), (0, 2)].into_iter().enumerate() {
-                if i != o && j != o {
-                    continue;
-                }
-                if let Some(arc) = arcs.get_mut(3 * n + side) {
-                    for w in &witnessed {
-                        if !arc.pieces.contains(w) {
-                            arc.pieces.push(*w);
-                        }
+            let sides = arcs
+                .iter_mut()
+                .filter(|a| matches!(a.slots, Some((m, [i, j])) if m == n && (i == o || j == o)));
+            for arc in sides {
+                for w in &witnessed {
+                    if !arc.pieces.contains(w) {
+                        arc.pieces.push(*w);
                     }
                 }
             }

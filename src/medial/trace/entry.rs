@@ -51,6 +51,9 @@ pub fn trace_with_seeds(
     t.seed_by_sampling();
     t.seed_by_arcs();
     t.drop_open_halves();
+    t.add_more_contacts();
+    t.stats.duplicate_seams += t.drop_repeated_seams();
+    t.stats.non_generic_seams = t.seams.iter().filter(|s| s.segments.len() > 3).count();
     t.trace_degenerates();
     t.into_axis()
 }

@@ -271,6 +271,72 @@ impl Tracer<'_> {
         (on_faces && distinct).then_some(sol.x)
     }
 
+    /// The segments of solid `solid` that touch the ball `(p, r)` to the output accuracy at a
+    /// place other than the contacts already known (`touch`, on `segs`): a face whose inside
+    /// the ball touches, or the reflex edge or vertex of a face it touches there. Each with its
+    /// parameters and touch point, in the order found: the fifth and further elements of a
+    /// non-generic junction, the fourth of a non-generic seam.
+    pub(super) fn more_contacts(
+        &self,
+        solid: usize,
+        p: DVec3,
+        r: f64,
+        segs: &[Element],
+        touch: &[DVec3],
+    ) -> Vec<(Element, (f64, f64), DVec3)> {
+        let tol = SAME_PLACE_REL_ACCURACY * self.opts.accuracy;
+        let mut out: Vec<(Element, (f64, f64), DVec3)> = vec![];
+        for f in self.boundary.within(self.model, p, r + tol) {
+            if self.face_solid[f] != solid {
+                continue;
+            }
+            let hit = self
+                .boundary
+                .nearest_on_face(self.model, f, p, None, f64::INFINITY);
+            // Touching to the output accuracy (a junction itself is solved far tighter), so
+            // every touch point reported is within it; a hit on a face's convex edge is not a
+            // touch of that face.
+            let Some(hit) = hit.filter(|h| (h.distance - r).abs() <= self.opts.accuracy) else {
+                continue;
+            };
+            let seg = match hit.on {
+                Element::Face(_) => Some((Element::Face(f), (hit.uv.0, hit.uv.1))),
+                Element::Edge(_) => self
+                    .hit_segment(f, &hit, p)
+                    .filter(|(s, _)| matches!(s, Element::Edge(_)))
+                    .map(|(s, q)| (s, (q[0], q[1]))),
+                Element::Vertex(_) => self
+                    .hit_segment(f, &hit, p)
+                    .filter(|(s, _)| matches!(s, Element::Vertex(_)))
+                    .map(|(s, q)| (s, (q[0], q[1]))),
+            };
+            let Some((seg, uv)) = seg else { continue };
+            // The segment must touch this very ball there: P − r·N = centre.
+            let fits = seg
+                .eval(self.model, [uv.0, uv.1])
+                .is_some_and(|e| (e.p - e.n * r - p).length() <= self.opts.accuracy);
+            if segs.contains(&seg) || out.iter().any(|o| o.0 == seg) || !uv.0.is_finite() || !fits {
+                continue;
+            }
+            // A segment touching next to a touch point already counted (a face's reflex edge
+            // just past where the ball touches the face) is the same contact, not another
+            // place (verify counts places at the same separation): triplets with both would
+            // be one contact twice.
+            let sep = separation(r, self.opts.accuracy);
+            let Some(q) = sys_point(self.model, seg, [uv.0, uv.1]) else {
+                continue;
+            };
+            if touch
+                .iter()
+                .chain(out.iter().map(|o| &o.2))
+                .all(|t| t.distance(q) > sep)
+            {
+                out.push((seg, uv, q));
+            }
+        }
+        out
+    }
+
     /// Records a junction (or finds the same one already found) and queues the seams that
     /// leave it. All faces at distance `r` from the centre touch it (more than four at a
     /// non-generic junction, such as a cube's centre). A seam leaves along the normal `n` of the
@@ -307,56 +373,11 @@ impl Tracer<'_> {
         {
             return id;
         }
-        // Other faces touching the same ball (non-generic junctions).
-        for f in self.boundary.within(self.model, p, r + tol) {
-            if self.face_solid[f] != solid {
-                continue;
-            }
-            let hit = self
-                .boundary
-                .nearest_on_face(self.model, f, p, None, f64::INFINITY);
-            // Touching to the output accuracy (the junction itself is solved far tighter),
-            // so every touch point reported is within it; a hit on a face's convex edge is
-            // not a touch of that face.
-            let Some(hit) = hit.filter(|h| (h.distance - r).abs() <= self.opts.accuracy) else {
-                continue;
-            };
-            let seg = match hit.on {
-                Element::Face(_) => Some((Element::Face(f), (hit.uv.0, hit.uv.1))),
-                Element::Edge(_) => self
-                    .hit_segment(f, &hit, p)
-                    .filter(|(s, _)| matches!(s, Element::Edge(_)))
-                    .map(|(s, q)| (s, (q[0], q[1]))),
-                Element::Vertex(_) => self
-                    .hit_segment(f, &hit, p)
-                    .filter(|(s, _)| matches!(s, Element::Vertex(_)))
-                    .map(|(s, q)| (s, (q[0], q[1]))),
-            };
-            // The segment must touch this very ball there: P − r·N = centre.
-            let fits = |seg: Element, uv: (f64, f64)| {
-                seg.eval(self.model, [uv.0, uv.1])
-                    .is_some_and(|e| (e.p - e.n * r - p).length() <= self.opts.accuracy)
-            };
-            // A segment touching next to a touch point already counted (a face's reflex
-            // edge just past where the ball touches the face) is the same contact, not
-            // another place (verify counts places at the same separation): triplets with
-            // both would be one contact twice.
-            let another_place = |q: DVec3| {
-                touch
-                    .iter()
-                    .all(|t| t.distance(q) > separation(r, self.opts.accuracy))
-            };
-            if let Some((seg, uv)) = seg {
-                if !segs.contains(&seg) && uv.0.is_finite() && fits(seg, uv) {
-                    if let Some(q) =
-                        sys_point(self.model, seg, [uv.0, uv.1]).filter(|&q| another_place(q))
-                    {
-                        segs.push(seg);
-                        params.push(uv);
-                        touch.push(q);
-                    }
-                }
-            }
+        // Other elements touching the same ball (non-generic junctions).
+        for (seg, uv, q) in self.more_contacts(solid, p, r, &segs, &touch) {
+            segs.push(seg);
+            params.push(uv);
+            touch.push(q);
         }
         let id = self.junctions.len();
         let mut junction = Junction {

@@ -40,10 +40,12 @@
 //! The files: [`options`] (options and budgets), `entry` (the public functions), `tracer`
 //! (state and model queries), `unknowns` (the layout of the unknowns), `queue`, `starts`,
 //! `seeds`, `arcs` (seeds on reflex edges' sheets), `march`, `handover`, `junctions`, `pinch`,
-//! `skeletal` (skeletal edges at vertices), `degenerate` (degenerate curves traced), `apex` (cone apexes at vertices).
+//! `skeletal` (skeletal edges at vertices), `degenerate` (degenerate curves traced), `apex` (cone apexes at vertices),
+//! `contacts` (non-generic seams: more than three elements touching every ball).
 
 mod apex;
 mod arcs;
+mod contacts;
 mod degenerate;
 mod entry;
 mod handover;

@@ -138,7 +138,7 @@ impl Tracer<'_> {
 
 /// True when the seam `new` runs along the seam `old`: its middle point is no farther from a
 /// point of `old` than `old`'s longest step.
-fn runs_along(new: &[SeamPoint], old: &[SeamPoint]) -> bool {
+pub(super) fn runs_along(new: &[SeamPoint], old: &[SeamPoint]) -> bool {
     let c = |p: &SeamPoint| glam::DVec3::new(p.point[0], p.point[1], p.point[2]);
     let Some(mid) = new.get(new.len() / 2).map(c) else {
         return true;

@@ -75,7 +75,7 @@ impl Tracer<'_> {
     fn met_at_vertex(
         &self,
         segs: &[Element],
-        touch: &[[f64; 3]; 3],
+        touch: &[[f64; 3]],
         near: f64,
     ) -> Option<([Element; 2], usize)> {
         for (i, k) in [(0, 1), (0, 2), (1, 2)] {
@@ -85,7 +85,10 @@ impl Tracer<'_> {
             if self.groups.of(a) != self.groups.of(b) {
                 continue;
             }
-            let (ta, tb) = (DVec3::from_array(touch[i]), DVec3::from_array(touch[k]));
+            let (Some(&ta), Some(&tb)) = (touch.get(i), touch.get(k)) else {
+                continue;
+            };
+            let (ta, tb) = (DVec3::from_array(ta), DVec3::from_array(tb));
             let v = (0..self.model.vertices.len()).find(|&v| {
                 let p = self.model.vertices[v].point;
                 p.distance(ta) <= near

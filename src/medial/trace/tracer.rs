@@ -462,10 +462,12 @@ impl<'a> Tracer<'a> {
         if let Some(f) = sys.residual(self.model, x) {
             self.stats.worst_residual = self.stats.worst_residual.max(f.amax());
         }
-        let touch = std::array::from_fn(|i| {
-            sys_point(self.model, sys.segments[i], slot(x, i))
-                .map_or([f64::NAN; 3], |p| p.to_array())
-        });
+        let touch = (0..sys.segments.len())
+            .map(|i| {
+                sys_point(self.model, sys.segments[i], slot(x, i))
+                    .map_or([f64::NAN; 3], |p| p.to_array())
+            })
+            .collect();
         SeamPoint {
             point: [x[0], x[1], x[2], x[3]],
             touch,

@@ -106,9 +106,16 @@ pub(super) fn check_elements(model: &Model, axis: &MedialAxis, v: &mut Verificat
                 });
             }
         }
-        let three = s.segments.len() == 3 && s.end_segments.len() == 3;
-        check(v, three, &|| {
-            format!("seam {} does not name three elements", s.id)
+        // Three elements, or more at a non-generic seam: as many at its end and at every
+        // point as at its start.
+        let k = s.segments.len();
+        let slots =
+            k >= 3 && s.end_segments.len() == k && s.points.iter().all(|p| p.touch.len() == k);
+        check(v, slots, &|| {
+            format!(
+                "seam {} does not name three or more elements, as many at each point",
+                s.id
+            )
         });
         check(v, s.solid < model.solids.len(), &|| {
             format!(
