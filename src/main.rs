@@ -330,17 +330,18 @@ fn batch(args: BatchArgs) -> anyhow::Result<ExitCode> {
         summary.seconds,
         path.display()
     ));
-    if c.open_ends > 0 {
-        let why: Vec<String> = c
-            .open_ends_by_reason
-            .iter()
-            .map(|(why, n)| format!("{why} {n}"))
-            .collect();
-        emit(&format!(
-            "{} open seam ends: {}\n",
-            c.open_ends,
-            why.join(", ")
-        ));
+    for (n, by, what) in [
+        (c.open_ends, &c.open_ends_by_reason, "open seam ends"),
+        (
+            c.degenerate_open_ends,
+            &c.degenerate_open_ends_by_reason,
+            "open degenerate-curve ends",
+        ),
+    ] {
+        if n > 0 {
+            let why: Vec<String> = by.iter().map(|(why, n)| format!("{why} {n}")).collect();
+            emit(&format!("{n} {what}: {}\n", why.join(", ")));
+        }
     }
     Ok(if summary.all_ok() {
         ExitCode::SUCCESS
@@ -491,13 +492,14 @@ fn summary(part: &std::path::Path, outcome: &matrace::pipeline::PartOutcome) -> 
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{}: {} seams ({} open), {} junctions, {} sheets, {} degenerate, {} points, {:.3} s, worst residual {:.2e} mm -> {}",
+        "{}: {} seams ({} open), {} junctions, {} sheets, {} degenerate ({} open ends), {} points, {:.3} s, worst residual {:.2e} mm -> {}",
         part.display(),
         st.seams,
         st.open_ends,
         st.junctions,
         st.sheets,
         st.degenerate,
+        st.degenerate_open_ends,
         st.points,
         st.seconds,
         st.worst_residual,

@@ -55,6 +55,11 @@ pub struct PartRecord {
     /// (`stats.open_ends_by_reason`; empty without a report).
     pub open_ends: Option<usize>,
     pub open_ends_by_reason: BTreeMap<String, usize>,
+    /// Degenerate-curve ends not located (`stats.degenerate_open_ends`), and by cause
+    /// (`stats.degenerate_open_ends_by_reason`; empty without a report, or in a report
+    /// written before they were counted).
+    pub degenerate_open_ends: Option<usize>,
+    pub degenerate_open_ends_by_reason: BTreeMap<String, usize>,
     /// The trace's own time (`stats.seconds` of its report) when it has one, else the
     /// wall-clock time of the failed attempt.
     pub seconds: f64,
@@ -77,6 +82,9 @@ pub struct Counts {
     /// gives up over a library.
     pub open_ends: usize,
     pub open_ends_by_reason: BTreeMap<String, usize>,
+    /// Degenerate-curve ends not located over every part with a report, and by cause.
+    pub degenerate_open_ends: usize,
+    pub degenerate_open_ends_by_reason: BTreeMap<String, usize>,
 }
 
 impl Counts {
@@ -93,6 +101,13 @@ impl Counts {
             counts.open_ends += p.open_ends.unwrap_or(0);
             for (why, n) in &p.open_ends_by_reason {
                 *counts.open_ends_by_reason.entry(why.clone()).or_default() += n;
+            }
+            counts.degenerate_open_ends += p.degenerate_open_ends.unwrap_or(0);
+            for (why, n) in &p.degenerate_open_ends_by_reason {
+                *counts
+                    .degenerate_open_ends_by_reason
+                    .entry(why.clone())
+                    .or_default() += n;
             }
         }
         counts
@@ -192,12 +207,9 @@ pub(super) fn record_from_report(
         seams: count(&stats["seams"]),
         junctions: count(&stats["junctions"]),
         open_ends: count(&stats["open_ends"]),
-        open_ends_by_reason: stats["open_ends_by_reason"]
-            .as_object()
-            .into_iter()
-            .flatten()
-            .filter_map(|(why, n)| Some((why.clone(), n.as_u64()? as usize)))
-            .collect(),
+        open_ends_by_reason: by_reason(&stats["open_ends_by_reason"]),
+        degenerate_open_ends: count(&stats["degenerate_open_ends"]),
+        degenerate_open_ends_by_reason: by_reason(&stats["degenerate_open_ends_by_reason"]),
         seconds: stats["seconds"].as_f64().unwrap_or(0.0),
         worst_error,
         outputs: opts
@@ -206,6 +218,15 @@ pub(super) fn record_from_report(
             .map(|o| dir_rel.join(o).display().to_string())
             .collect(),
     }
+}
+
+/// A report's counts by reason (`{"left_face": 2, …}`); empty where it has none.
+fn by_reason(v: &serde_json::Value) -> BTreeMap<String, usize> {
+    v.as_object()
+        .into_iter()
+        .flatten()
+        .filter_map(|(why, n)| Some((why.clone(), n.as_u64()? as usize)))
+        .collect()
 }
 
 /// A record for a part that did not finish.
@@ -230,6 +251,8 @@ pub(super) fn failed_record(
         junctions: None,
         open_ends: None,
         open_ends_by_reason: BTreeMap::new(),
+        degenerate_open_ends: None,
+        degenerate_open_ends_by_reason: BTreeMap::new(),
         seconds,
         worst_error: None,
         outputs: vec![],
@@ -254,11 +277,13 @@ pub fn write_summary(summary: &Summary, out_dir: &Path, shard: Option<Shard>) ->
 }
 
 /// The CSV table:
-/// `part,status,error,faces,seams,junctions,seconds,worst_error,resumed,output,open_ends`
+/// `part,status,error,faces,seams,junctions,seconds,worst_error,resumed,output,open_ends,`
+/// `degenerate_open_ends`
 /// (RFC 4180 quoting; empty cells for unknown numbers).
 pub fn summary_csv(summary: &Summary) -> String {
     let mut s = String::from(
-        "part,status,error,faces,seams,junctions,seconds,worst_error,resumed,output,open_ends\n",
+        "part,status,error,faces,seams,junctions,seconds,worst_error,resumed,output,open_ends,\
+         degenerate_open_ends\n",
     );
     let num = |n: Option<usize>| n.map(|n| n.to_string()).unwrap_or_default();
     for p in &summary.parts {
@@ -274,6 +299,7 @@ pub fn summary_csv(summary: &Summary) -> String {
             p.resumed.to_string(),
             csv_cell(&p.output),
             num(p.open_ends),
+            num(p.degenerate_open_ends),
         ];
         s.push_str(&cells.join(","));
         s.push('\n');
@@ -307,6 +333,12 @@ mod tests {
             open_ends_by_reason: open
                 .map(|(_, by)| by.iter().map(|(k, n)| (k.to_string(), *n)).collect())
                 .unwrap_or_default(),
+            // One open degenerate end wherever a report has open seam ends.
+            degenerate_open_ends: open.map(|(n, _)| usize::from(n > 0)),
+            degenerate_open_ends_by_reason: open
+                .filter(|(n, _)| *n > 0)
+                .map(|_| [("left_face".to_string(), 1)].into())
+                .unwrap_or_default(),
             seconds: 0.0,
             worst_error: None,
             outputs: vec![],
@@ -333,6 +365,8 @@ mod tests {
             .map(|(k, n)| (k.as_str(), *n))
             .collect();
         assert_eq!(by, [("no_junction", 4), ("reached_edge", 1)]);
+        assert_eq!(c.degenerate_open_ends, 2);
+        assert_eq!(c.degenerate_open_ends_by_reason["left_face"], 2);
         let csv = summary_csv(&Summary {
             schema: SCHEMA,
             shard: None,
@@ -349,9 +383,13 @@ mod tests {
             parts: parts.to_vec(),
         });
         let rows: Vec<&str> = csv.lines().collect();
-        assert!(rows[0].ends_with(",output,open_ends"), "{}", rows[0]);
-        assert!(rows[2].ends_with(",p,3"), "{}", rows[2]);
-        assert!(rows[4].ends_with(",p,"), "{}", rows[4]);
+        assert!(
+            rows[0].ends_with(",output,open_ends,degenerate_open_ends"),
+            "{}",
+            rows[0]
+        );
+        assert!(rows[2].ends_with(",p,3,1"), "{}", rows[2]);
+        assert!(rows[4].ends_with(",p,,"), "{}", rows[4]);
     }
 
     #[test]

@@ -99,6 +99,12 @@ pub struct StatsReport {
     pub open_ends: usize,
     /// Open seam ends by reason (`step_size_underflow`, …; see `OpenReason::kind`).
     pub open_ends_by_reason: BTreeMap<&'static str, usize>,
+    /// Degenerate-curve ends not located (`mat.degenerate[].ends` of kind `open`).
+    pub degenerate_open_ends: usize,
+    /// The same by cause (`left_face`, …; see `DegenerateOpen::kind`).
+    pub degenerate_open_ends_by_reason: BTreeMap<&'static str, usize>,
+    /// Seams whose every ball touches more than three elements.
+    pub non_generic_seams: usize,
     pub points: usize,
     /// Triangles in `<stem>.sheets.obj`.
     pub mesh_triangles: usize,
@@ -141,6 +147,9 @@ impl TraceReport {
                 skeletal_edges: mat.skeletal_edges.len(),
                 open_ends: topology.open_ends,
                 open_ends_by_reason: mat.open_ends_by_reason(),
+                degenerate_open_ends: mat.degenerate_open_ends_by_reason().values().sum(),
+                degenerate_open_ends_by_reason: mat.degenerate_open_ends_by_reason(),
+                non_generic_seams: mat.stats.non_generic_seams,
                 points: mat.stats.points,
                 mesh_triangles: 0,
                 accuracy: options.accuracy,

@@ -390,8 +390,89 @@ pub enum DegenerateEnd {
     Vanishes { vertex: usize },
     /// The curve closes on itself (a torus's core circle).
     Closed,
-    /// Not located: the continuation stopped for `reason`.
-    Open { reason: String },
+    /// Not located: the continuation stopped for `reason` (its text), of kind `cause`.
+    Open {
+        reason: String,
+        /// What stopped it, for counting (`stats.degenerate_open_ends_by_reason`); a report
+        /// written before causes were recorded reads back as `other`.
+        #[serde(default)]
+        cause: DegenerateOpen,
+    },
+}
+
+impl DegenerateEnd {
+    /// An open end of kind `cause`, with its text.
+    pub fn open(cause: DegenerateOpen, reason: impl Into<String>) -> DegenerateEnd {
+        DegenerateEnd::Open {
+            reason: reason.into(),
+            cause,
+        }
+    }
+}
+
+/// Why a degenerate curve's end was not located: each is an event the continuation does not
+/// handle yet. The report writes it in snake case (`left_face`, …), which
+/// `stats.degenerate_open_ends_by_reason` counts.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    PartialOrd,
+    Ord,
+    serde::Serialize,
+    serde::Deserialize,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum DegenerateOpen {
+    /// The centre's direction is undefined at the ball the curve was sampled at.
+    NoDirection,
+    /// The ball budget ran out with no end.
+    BallBudget,
+    /// The hand-over budget ran out with no end.
+    HandoverBudget,
+    /// The curve turned too much at every step down to the smallest.
+    TurnsEveryStep,
+    /// The corrector failed at every step down to the smallest.
+    CorrectorFailed,
+    /// The two touch points came within one place of each other (the continuum is too
+    /// short for the accuracy).
+    TouchPointsMeet,
+    /// The balls stopped touching a continuum (the sheet opens again).
+    SheetOpens,
+    /// No boundary was found near the ball.
+    NoBoundary,
+    /// A touch point left its face, and no face beside it carries the continuum on.
+    LeftFace,
+    /// The ball stopped being empty, but no other element touches it.
+    NoToucher,
+    /// `r` reached 0 with no vertex within reach.
+    ZeroRadiusAwayFromVertex,
+    /// Read back from a report that does not say.
+    #[default]
+    Other,
+}
+
+impl DegenerateOpen {
+    /// The name the report counts it under.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            DegenerateOpen::NoDirection => "no_direction",
+            DegenerateOpen::BallBudget => "ball_budget",
+            DegenerateOpen::HandoverBudget => "handover_budget",
+            DegenerateOpen::TurnsEveryStep => "turns_every_step",
+            DegenerateOpen::CorrectorFailed => "corrector_failed",
+            DegenerateOpen::TouchPointsMeet => "touch_points_meet",
+            DegenerateOpen::SheetOpens => "sheet_opens",
+            DegenerateOpen::NoBoundary => "no_boundary",
+            DegenerateOpen::LeftFace => "left_face",
+            DegenerateOpen::NoToucher => "no_toucher",
+            DegenerateOpen::ZeroRadiusAwayFromVertex => "zero_radius_away_from_vertex",
+            DegenerateOpen::Other => "other",
+        }
+    }
 }
 
 /// A skeletal edge: a free edge of a sheet, where the sheet ends because the two touch points
@@ -462,6 +543,21 @@ impl MedialAxis {
         }
         counts
     }
+
+    /// Open degenerate-curve ends counted by [`DegenerateOpen::kind`].
+    pub fn degenerate_open_ends_by_reason(
+        &self,
+    ) -> std::collections::BTreeMap<&'static str, usize> {
+        let mut counts = std::collections::BTreeMap::new();
+        for d in &self.degenerate {
+            for e in &d.ends {
+                if let DegenerateEnd::Open { cause, .. } = e {
+                    *counts.entry(cause.kind()).or_insert(0) += 1;
+                }
+            }
+        }
+        counts
+    }
 }
 
 /// Reading numbers back from a report, where serde_json writes a NaN as `null`: a `null`
@@ -519,4 +615,42 @@ mod nullable {
         balls: Vec<[f64; 4]>,
         pairs: Vec<[[f64; 3]; 2]>
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Open degenerate ends are counted by cause; an end read back from a report written
+    /// before causes were recorded counts as `other`, and a cause survives the round trip.
+    #[test]
+    fn degenerate_open_ends_are_counted_by_cause() {
+        let old: DegenerateEnd =
+            serde_json::from_str(r#"{"kind": "open", "reason": "made up"}"#).unwrap();
+        let left = DegenerateEnd::open(DegenerateOpen::LeftFace, "a touch point left F3");
+        let back: DegenerateEnd =
+            serde_json::from_str(&serde_json::to_string(&left).unwrap()).unwrap();
+        assert_eq!(back, left);
+        let curve = |ends: Vec<DegenerateEnd>| Degenerate {
+            solid: 0,
+            kind: DegenerateKind::Curve,
+            segments: vec![Element::Face(0), Element::Face(0)],
+            balls: vec![],
+            touch: vec![],
+            ends,
+            around: false,
+        };
+        let mat = MedialAxis {
+            seams: vec![],
+            junctions: vec![],
+            degenerate: vec![
+                curve(vec![left.clone(), left]),
+                curve(vec![old, DegenerateEnd::Closed]),
+            ],
+            skeletal_edges: vec![],
+            stats: TraceStats::default(),
+        };
+        let counts: Vec<(&str, usize)> = mat.degenerate_open_ends_by_reason().into_iter().collect();
+        assert_eq!(counts, [("left_face", 2), ("other", 1)]);
+    }
 }

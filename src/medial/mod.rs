@@ -20,8 +20,8 @@ pub mod trace;
 pub mod verify;
 
 pub use axis::{
-    Degenerate, DegenerateKind, Handover, Junction, MedialAxis, Node, OpenReason, Seam, SeamEnd,
-    SeamPoint, SkeletalEdge, TraceStats,
+    Degenerate, DegenerateEnd, DegenerateKind, DegenerateOpen, Handover, Junction, MedialAxis,
+    Node, OpenReason, Seam, SeamEnd, SeamPoint, SkeletalEdge, TraceStats,
 };
 pub use equations::{FieldEval, MedialSystem, NormalField};
 pub use sheet_mesh::{sheet_mesh, MeshOptions, SheetMesh};

@@ -124,6 +124,14 @@ fn batch_records_two_failures_and_resume_redoes_only_them() {
                 report["stats"]["open_ends_by_reason"]
             );
             assert_eq!(
+                p["degenerate_open_ends"],
+                report["stats"]["degenerate_open_ends"]
+            );
+            assert_eq!(
+                p["degenerate_open_ends_by_reason"],
+                report["stats"]["degenerate_open_ends_by_reason"]
+            );
+            assert_eq!(
                 p["faces"].as_u64().unwrap() as usize,
                 report["model"]["faces"].as_array().unwrap().len()
             );
@@ -136,6 +144,11 @@ fn batch_records_two_failures_and_resume_redoes_only_them() {
     );
     let open: u64 = parts.iter().filter_map(|p| p["open_ends"].as_u64()).sum();
     assert_eq!(summary["counts"]["open_ends"], open);
+    let open: u64 = parts
+        .iter()
+        .filter_map(|p| p["degenerate_open_ends"].as_u64())
+        .sum();
+    assert_eq!(summary["counts"]["degenerate_open_ends"], open);
     let csv = std::fs::read_to_string(o.join("summary.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 6, "{csv}");

@@ -29,7 +29,7 @@ use super::options::{
 };
 use super::tracer::Tracer;
 use super::unknowns::{slot, sys_point, to_chord, v3};
-use crate::medial::axis::{Degenerate, DegenerateEnd, DegenerateKind};
+use crate::medial::axis::{Degenerate, DegenerateEnd, DegenerateKind, DegenerateOpen};
 use crate::medial::equations::MedialSystem;
 use crate::medial::maximal::curvature_allows;
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
@@ -149,8 +149,8 @@ enum StepFail {
         which: usize,
         ball: DVector<f64>,
     },
-    /// Anything else (the step may be too long): why.
-    Other(String),
+    /// Anything else (the step may be too long): of what kind, and why.
+    Other(DegenerateOpen, String),
 }
 
 /// What [`Tracer::margin`] measures along the step that failed: how far a ball is from the
@@ -213,9 +213,10 @@ impl Tracer<'_> {
         };
         let Some(CentreMotion::Along(dir)) = centre_motion(self.model, &sys, x0) else {
             piece.push(self.model, first, x0);
-            let open = DegenerateEnd::Open {
-                reason: "the centre's direction is undefined at the sampled ball".into(),
-            };
+            let open = DegenerateEnd::open(
+                DegenerateOpen::NoDirection,
+                "the centre's direction is undefined at the sampled ball",
+            );
             piece.ends = vec![open.clone(), open];
             return piece;
         };
@@ -348,9 +349,10 @@ impl Tracer<'_> {
                 }
             }
         }
-        out.end = DegenerateEnd::Open {
-            reason: format!("handed over {MAX_DEGENERATE_HANDOVERS} times and no end"),
-        };
+        out.end = DegenerateEnd::open(
+            DegenerateOpen::HandoverBudget,
+            format!("handed over {MAX_DEGENERATE_HANDOVERS} times and no end"),
+        );
         out
     }
 
@@ -377,12 +379,15 @@ impl Tracer<'_> {
         let (mut x, mut d) = (x0.clone(), dir);
         let mut travelled = 0.0;
         let mut out = vec![];
-        let open = |reason: String| DegenerateEnd::Open { reason };
+        let open = DegenerateEnd::open;
         loop {
             if out.len() >= MAX_DEGENERATE_BALLS {
                 return (
                     out,
-                    open(format!("{MAX_DEGENERATE_BALLS} balls and no end")),
+                    open(
+                        DegenerateOpen::BallBudget,
+                        format!("{MAX_DEGENERATE_BALLS} balls and no end"),
+                    ),
                     false,
                 );
             }
@@ -390,7 +395,8 @@ impl Tracer<'_> {
                 Ok((xn, dn)) if dn.angle_between(d) > MAX_TURN_RAD => {
                     h *= 0.5;
                     if h < h_min {
-                        return (out, open("the curve turns at every step".into()), false);
+                        let why = "the curve turns at every step";
+                        return (out, open(DegenerateOpen::TurnsEveryStep, why.into()), false);
                     }
                     let _ = xn;
                 }
@@ -404,10 +410,10 @@ impl Tracer<'_> {
                     (x, d) = (xn, dn);
                     h = (h * STEP_GROWTH).min(h_max);
                 }
-                Err(StepFail::Other(why)) => {
+                Err(StepFail::Other(cause, why)) => {
                     h *= 0.5;
                     if h < h_min {
-                        return (out, open(why), false);
+                        return (out, open(cause, why), false);
                     }
                 }
                 Err(fail) => {
@@ -425,13 +431,16 @@ impl Tracer<'_> {
                         // corner blend it runs into); carrying on onto the next face is
                         // not done yet.
                         StepFail::Left { seg, .. } => match self.meets(sys, solid, &end, d) {
-                            DegenerateEnd::Open { .. } => open(format!(
-                                "a touch point left {seg}, and the curve is not carried on \
-                                 onto the next face"
-                            )),
+                            DegenerateEnd::Open { .. } => open(
+                                DegenerateOpen::LeftFace,
+                                format!(
+                                    "a touch point left {seg}, and the curve is not carried \
+                                     on onto the next face"
+                                ),
+                            ),
                             met => met,
                         },
-                        StepFail::Other(why) => open(why),
+                        StepFail::Other(cause, why) => open(cause, why),
                     };
                     return (out, how, left);
                 }
@@ -542,7 +551,7 @@ impl Tracer<'_> {
                     along,
                 })
             }
-            StepFail::Other(_) => None,
+            StepFail::Other(..) => None,
         }
     }
 
@@ -599,10 +608,10 @@ impl Tracer<'_> {
             },
         );
         if sol.status != SolveStatus::Converged {
-            return Err(StepFail::Other(format!(
-                "the corrector did not converge ({:?})",
-                sol.status
-            )));
+            return Err(StepFail::Other(
+                DegenerateOpen::CorrectorFailed,
+                format!("the corrector did not converge ({:?})", sol.status),
+            ));
         }
         let xn = sol.x;
         let r = xn[3];
@@ -626,6 +635,7 @@ impl Tracer<'_> {
                 <= (DISTINCT_TOUCH_REL_RADIUS * r).max(SEPARATED_STEP_MARGIN * one_place)
             {
                 return Err(StepFail::Other(
+                    DegenerateOpen::TouchPointsMeet,
                     "its two touch points come within one place of each other (the continuum \
                      is too short for the accuracy)"
                         .into(),
@@ -642,6 +652,7 @@ impl Tracer<'_> {
             }
             _ => {
                 return Err(StepFail::Other(
+                    DegenerateOpen::SheetOpens,
                     "the sheet opens again (not degenerate)".into(),
                 ))
             }
@@ -651,7 +662,12 @@ impl Tracer<'_> {
                 return Err(StepFail::NotEmpty { ball: xn, face })
             }
             Some(_) => {}
-            None => return Err(StepFail::Other("no boundary near the ball".into())),
+            None => {
+                return Err(StepFail::Other(
+                    DegenerateOpen::NoBoundary,
+                    "no boundary near the ball".into(),
+                ))
+            }
         }
         Ok((xn, dn))
     }
@@ -949,9 +965,10 @@ impl Tracer<'_> {
                 touch: touch.to_array(),
                 osculates,
             },
-            None => DegenerateEnd::Open {
-                reason: "its ball stops being empty, but no other element touches it".into(),
-            },
+            None => DegenerateEnd::open(
+                DegenerateOpen::NoToucher,
+                "its ball stops being empty, but no other element touches it",
+            ),
         }
     }
 
@@ -969,9 +986,10 @@ impl Tracer<'_> {
             .min_by(|a, b| a.1.total_cmp(&b.1));
         match nearest {
             Some((vertex, dist)) if dist <= reach => DegenerateEnd::Vanishes { vertex },
-            _ => DegenerateEnd::Open {
-                reason: "r reached 0 with no vertex within reach".into(),
-            },
+            _ => DegenerateEnd::open(
+                DegenerateOpen::ZeroRadiusAwayFromVertex,
+                "r reached 0 with no vertex within reach",
+            ),
         }
     }
 }
@@ -994,7 +1012,7 @@ fn fail_ball(f: &StepFail) -> Option<&DVector<f64>> {
         StepFail::NotEmpty { ball, .. }
         | StepFail::Vanished { ball }
         | StepFail::Left { ball, .. } => Some(ball),
-        StepFail::Other(_) => None,
+        StepFail::Other(..) => None,
     }
 }
 

@@ -407,7 +407,7 @@ fn check_degenerate_ends(
                         "it does not come back to its first ball".into(),
                     )
                 }
-                DegenerateEnd::Open { reason } => (false, format!("open: {reason}")),
+                DegenerateEnd::Open { reason, .. } => (false, format!("open: {reason}")),
             };
             v.record("degenerate_ends", ok, || {
                 format!("degenerate {i} end {k}: {what}")
