@@ -41,7 +41,8 @@
 //! (state and model queries), `unknowns` (the layout of the unknowns), `queue`, `starts`,
 //! `seeds`, `arcs` (seeds on reflex edges' sheets), `march`, `handover`, `junctions`, `pinch`,
 //! `skeletal` (skeletal edges at vertices), `degenerate` (degenerate curves traced), `apex` (cone apexes at vertices),
-//! `contacts` (non-generic seams: more than three elements touching every ball).
+//! `contacts` (non-generic seams: more than three elements touching every ball), `through`
+//! (seams carried across a junction, dropped).
 
 mod apex;
 mod arcs;
@@ -59,6 +60,7 @@ mod skeletal;
 mod starts;
 #[cfg(test)]
 mod tests;
+mod through;
 mod tracer;
 mod unknowns;
 
