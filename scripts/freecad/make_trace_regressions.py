@@ -596,6 +596,29 @@ def rounded_pin():
     return pin.fuse(Part.makeSphere(3, V(0, 0, 10))).removeSplitter()
 
 
+@part("hip_roof_block",
+      "Block 30 x 30 x 10 (z from 0 to 10) under a square hip roof: four triangular faces "
+      "rising from its top edges to an apex at (15, 15, 18).",
+      30 * 30 * 10 + 30 * 30 * 8 / 3,
+      "Five non-generic seams, each touched by four faces at every ball (its sheets are the "
+      "four between neighbouring faces round it, not the two between opposite ones): from "
+      "the apex straight down the block's axis between the four roof faces, r = "
+      "(18 - z)·15/17, to the junction at z = 8.4375 (r = 8.4375) where the bottom touches "
+      "the ball too; from each of the block's top corners, where two walls and two roof "
+      "faces meet, down the corner's diagonal plane to the junction at (6.25, 6.25, 6.25) "
+      "(and its mirror images), r = 6.25, with the bottom. Every sheet closes; the Euler "
+      "characteristic is 1, the solid's.")
+def hip_roof_block():
+    block = Part.makeBox(30, 30, 10)
+    corners = [V(0, 0, 10), V(30, 0, 10), V(30, 30, 10), V(0, 30, 10)]
+    apex = V(15, 15, 18)
+    faces = [Part.Face(Part.makePolygon([corners[k], corners[(k + 1) % 4], apex, corners[k]]))
+             for k in range(4)]
+    faces.append(Part.Face(Part.makePolygon(corners + [corners[0]])))
+    roof = Part.Solid(Part.Shell(faces))
+    return block.fuse(roof).removeSplitter()
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

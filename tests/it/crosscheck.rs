@@ -32,8 +32,9 @@ const OPEN_AND_SHALLOW: &str = "seams end open where a touch point is handed to 
     a vertex between faces at a shallow angle have points whose touch points on those faces \
     lie closer than √(8·r·accuracy), listed as unresolved and verified as such; where a seam \
     ends open, a point may hold two touch points on one face or edge that nothing explains \
-    (`separated`); a junction whose seam ended open misses that seam end \
-    (`junction_seams`); sheet boundaries stay open where seams end open, at non-generic \
+    (`separated`); a junction whose seam ended open misses that seam end, and at a few \
+    junctions two seams leave along one triplet, the two ways (`junction_seams`); sheet \
+    boundaries stay open where seams end open, at non-generic \
     junctions (five elements touched) and at mixed vertices where a convex edge's rim meets \
     no seam or skeletal edge (on the LCD knob 12, at its 0.03 mm edges: `sheets_closed`, \
     issue 20)";
@@ -49,10 +50,10 @@ const PINCHED: &str = "no seams end open: the seams under its holes, each inscri
 /// No seam end open any more, but faceted walls above the angle tolerance.
 const SHALLOW_FACETS: &str = "no seam ends open; seams leaving a vertex between faces at a \
     shallow angle (above the tolerance) have points whose touch points on those faces lie \
-    closer than √(8·r·accuracy), listed as unresolved and verified as such; some junctions \
-    miss a seam end (`junction_seams`) and sheet boundaries stay open at non-generic \
-    junctions and at mixed vertices where no seam or skeletal edge meets a rim \
-    (`sheets_closed`, issue 20)";
+    closer than √(8·r·accuracy), listed as unresolved and verified as such; at some \
+    junctions two seams leave along one triplet, the two ways (`junction_seams`), and sheet \
+    boundaries stay open there and at mixed vertices where no seam or skeletal edge meets a \
+    rim (`sheets_closed`, issue 20)";
 
 /// Shallow facets, but every sheet closes.
 const SHALLOW_FACETS_CLOSED: &str = "no seam ends open; seams leaving a vertex between faces \
@@ -213,14 +214,12 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "prusa_adapter-printer.stp",
         &[
-            ("occt:junction_seams", 1),
             ("occt:mesh_contacts", 3),
-            ("occt:seam_ends", 10),
+            ("occt:seam_ends", 9),
             ("occt:separated", 1),
             ("occt:touch_on_boundary", 1),
-            ("verify:junction_seams", 1),
-            ("verify:seam_ends", 10),
-            ("verify:sheets_closed", 10),
+            ("verify:seam_ends", 9),
+            ("verify:sheets_closed", 5),
         ],
         GAPS_ACCEPTED,
     ),
@@ -307,33 +306,33 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "voron0_Hotend_Mount_Dragon.step",
         &[
-            ("occt:junction_seams", 5),
-            ("verify:junction_seams", 5),
-            ("verify:sheets_closed", 22),
+            ("occt:junction_seams", 4),
+            ("verify:junction_seams", 4),
+            ("verify:sheets_closed", 18),
         ],
         SHALLOW_FACETS,
     ),
     (
         "voron0_Hotend_Mount_Revo_Voron.step",
         &[
-            ("occt:junction_seams", 5),
+            ("occt:junction_seams", 2),
             ("occt:seam_ends", 5),
-            ("verify:junction_seams", 5),
+            ("verify:junction_seams", 2),
             ("verify:seam_ends", 5),
-            ("verify:sheets_closed", 16),
+            ("verify:sheets_closed", 7),
         ],
         OPEN_AND_SHALLOW,
     ),
     (
         "voron0_Manta_M4P_Din_Mount_2pc.step",
         &[
-            ("occt:junction_seams", 10),
+            ("occt:junction_seams", 4),
             ("occt:seam_ends", 3),
             ("occt:separated", 2),
-            ("verify:junction_seams", 10),
+            ("verify:junction_seams", 4),
             ("verify:seam_ends", 3),
             ("verify:separated", 2),
-            ("verify:sheets_closed", 75),
+            ("verify:sheets_closed", 35),
         ],
         OPEN_AND_SHALLOW,
     ),

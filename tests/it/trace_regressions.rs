@@ -674,3 +674,74 @@ fn a_boxs_vertical_edges_end_in_skeletal_edges_straight_down_into_the_plate() {
         report["mat"]["topology"]["unpaired"]
     );
 }
+
+/// The hip roof: five seams each touched by four faces at every ball (the apex's between the
+/// four roof faces, each top corner's between two walls and two roof faces), named with all
+/// four in their order round the seam, and every sheet closes (the sheets lie between
+/// neighbouring faces only). The apex seam runs down the axis, r = (18 − z)·15/17, to the
+/// junction with the bottom at z = 8.4375.
+#[test]
+fn a_hip_roofs_seams_are_touched_by_four_faces_and_bound_the_sheets_of_neighbours() {
+    let report = traced_and_verified("hip_roof_block");
+    assert_eq!(report["stats"]["non_generic_seams"], 5);
+    let four: Vec<&Value> = seams(&report)
+        .iter()
+        .filter(|s| s["segments"].as_array().unwrap().len() == 4)
+        .collect();
+    assert_eq!(four.len(), 5);
+    // In their order round the seam: the polygon of touch points at the middle ball turns
+    // the same way round the seam's direction at every corner (a diagonal taken for a side
+    // would make it cross itself).
+    for s in &four {
+        let points = s["points"].as_array().unwrap();
+        let m = points.len() / 2;
+        let v = |p: &Value| -> glam::DVec3 {
+            glam::DVec3::new(
+                p[0].as_f64().unwrap(),
+                p[1].as_f64().unwrap(),
+                p[2].as_f64().unwrap(),
+            )
+        };
+        let along = v(&points[m + 1]["point"]) - v(&points[m - 1]["point"]);
+        let t: Vec<glam::DVec3> = (0..4).map(|i| v(&points[m]["touch"][i])).collect();
+        let turns: Vec<f64> = (0..4)
+            .map(|i| {
+                let (a, b, c) = (t[i], t[(i + 1) % 4], t[(i + 2) % 4]);
+                (b - a).cross(c - b).dot(along)
+            })
+            .collect();
+        assert!(
+            turns.iter().all(|&x| x > 0.0) || turns.iter().all(|&x| x < 0.0),
+            "seam {}: {turns:?}",
+            s["id"]
+        );
+    }
+    let apex = four
+        .iter()
+        .find(|s| {
+            let p = &s["points"][0]["point"];
+            distance(p, [15.0, 15.0, 18.0]) < 1e-9
+        })
+        .expect("a seam from the apex");
+    for p in apex["points"].as_array().unwrap() {
+        let b = &p["point"];
+        let (z, r) = (b[2].as_f64().unwrap(), b[3].as_f64().unwrap());
+        assert!(distance(b, [15.0, 15.0, z]) < 1e-9, "{b}: on the axis");
+        assert!((r - (18.0 - z) * 15.0 / 17.0).abs() < 1e-9, "{b}");
+    }
+    let last = apex["points"].as_array().unwrap().last().unwrap();
+    assert!(
+        distance(&last["point"], [15.0, 15.0, 8.4375]) < 1e-9,
+        "{last}"
+    );
+    assert!(
+        report["mat"]["topology"]["unpaired"]
+            .as_array()
+            .unwrap()
+            .is_empty(),
+        "{}",
+        report["mat"]["topology"]["unpaired"]
+    );
+    let euler = &report["mat"]["topology"]["euler"][0];
+    assert_eq!(euler["mat_euler"], 1, "{euler}");
+}
