@@ -1,5 +1,5 @@
 //! The arcs of sheet boundaries (`docs/design.md`, sheets, step 1): three per seam (one per
-//! pair of its touch slots), one per rim (a convex edge between two faces), one per skeletal
+//! pair of its touch slots; a non-generic seam's, one per pair of neighbouring slots), one per rim (a convex edge between two faces), one per skeletal
 //! edge, each with the places its ends are at and the segment pairs along it.
 
 use crate::classify::{Classification, EdgeKind};
@@ -99,7 +99,7 @@ pub(super) fn end_balls(mat: &MedialAxis) -> HashMap<[usize; 2], Place> {
 /// the touch points lie on one circle round the seam, its slots in their order round it), the
 /// neighbours round that circle — the sides of the polygon of touch points, not its
 /// diagonals.
-pub(crate) fn slot_pairs(k: usize) -> Vec<(usize, usize)> {
+fn slot_pairs(k: usize) -> Vec<(usize, usize)> {
     match k {
         0..=2 => vec![],
         3 => vec![(0, 1), (1, 2), (0, 2)],

@@ -8,8 +8,9 @@
 //! edges, joined at junctions, vertices, and the balls where seams end at a pinch or at a
 //! skeletal edge. This module walks them:
 //!
-//! 1. every seam gives three *arcs* (one per pair of its touch slots; a closed seam's arcs are
-//!    loops on their own), every convex edge one, every skeletal edge one;
+//! 1. every seam gives three *arcs* (one per pair of its touch slots; a non-generic seam one
+//!    per pair of neighbouring slots round it; a closed seam's arcs are loops on their own),
+//!    every convex edge one, every skeletal edge one;
 //! 2. at each node (a junction, a vertex where seams end or rims meet, a seam's end ball) the
 //!    arc ends are
 //!    paired by the sheet they bound, named by the two *segment groups* touched: faces joined

@@ -15,7 +15,7 @@
 //! ball, and the seam's slots are put in their order round the circle. The same seam traced
 //! from two triplets of its contacts is then seen to be one, and traced once.
 
-use super::queue::runs_along;
+use super::queue::{named, runs_along};
 use super::tracer::Tracer;
 use crate::geom::distance::nearest_on_edge;
 use crate::medial::axis::{Node, Seam};
@@ -52,14 +52,6 @@ impl Tracer<'_> {
     /// one naming more, or else the first, is kept. Renumbers the rest; returns how many
     /// were dropped.
     pub(super) fn drop_repeated_seams(&mut self) -> usize {
-        let names = |s: &Seam| {
-            let mut v: Vec<Element> = s.segments.clone();
-            v.extend(&s.end_segments);
-            v.extend(s.handovers.iter().flat_map(|h| [h.from, h.to]));
-            v.sort();
-            v.dedup();
-            v
-        };
         let nodes = |s: &Seam| {
             let (a, b) = (s.ends[0].node()?, s.ends[1].node()?);
             Some([a.min(b), a.max(b)])
@@ -73,7 +65,7 @@ impl Tracer<'_> {
         let mut drop = vec![false; self.seams.len()];
         for group in by_nodes.values().filter(|g| g.len() > 1) {
             for &b in group {
-                let (sb, nb) = (&self.seams[b], names(&self.seams[b]));
+                let (sb, nb) = (&self.seams[b], named(&self.seams[b]));
                 let repeats = group.iter().any(|&a| {
                     let sa = &self.seams[a];
                     let keeps_a = sa.segments.len() > sb.segments.len()
@@ -81,26 +73,14 @@ impl Tracer<'_> {
                     a != b
                         && !drop[a]
                         && keeps_a
-                        && nb.iter().all(|e| names(sa).contains(e))
+                        && nb.iter().all(|e| named(sa).contains(e))
                         && runs_along(&sb.points, &sa.points)
                         && runs_along(&sa.points, &sb.points)
                 });
                 drop[b] = repeats;
             }
         }
-        let dropped = drop.iter().filter(|&&d| d).count();
-        if dropped > 0 {
-            let mut k = 0;
-            self.seams.retain(|_| {
-                k += 1;
-                !drop[k - 1]
-            });
-            for (id, s) in self.seams.iter_mut().enumerate() {
-                s.id = id;
-            }
-            self.stats.points = self.seams.iter().map(|s| s.points.len()).sum();
-        }
-        dropped
+        self.remove_seams(&drop)
     }
 
     /// The elements other than `s`'s own that touch every interior ball of `s` (to the

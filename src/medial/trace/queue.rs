@@ -136,6 +136,37 @@ impl Tracer<'_> {
     }
 }
 
+impl Tracer<'_> {
+    /// Removes the seams marked in `drop` (by index), renumbers the rest and recounts the
+    /// points; returns how many were removed.
+    pub(super) fn remove_seams(&mut self, drop: &[bool]) -> usize {
+        let n = drop.iter().filter(|&&d| d).count();
+        if n > 0 {
+            let mut k = 0;
+            self.seams.retain(|_| {
+                k += 1;
+                !drop[k - 1]
+            });
+            for (id, s) in self.seams.iter_mut().enumerate() {
+                s.id = id;
+            }
+            self.stats.points = self.seams.iter().map(|s| s.points.len()).sum();
+        }
+        n
+    }
+}
+
+/// Every element seam `s` names (its slots at both ends and along its hand-overs), sorted,
+/// each once.
+pub(super) fn named(s: &Seam) -> Vec<Element> {
+    let mut v: Vec<Element> = s.segments.clone();
+    v.extend(&s.end_segments);
+    v.extend(s.handovers.iter().flat_map(|h| [h.from, h.to]));
+    v.sort();
+    v.dedup();
+    v
+}
+
 /// True when the seam `new` runs along the seam `old`: its middle point is no farther from a
 /// point of `old` than `old`'s longest step.
 pub(super) fn runs_along(new: &[SeamPoint], old: &[SeamPoint]) -> bool {

@@ -14,9 +14,9 @@
 //! against the seams left.
 
 use super::options::MAX_TURN_RAD;
+use super::queue::named;
 use super::tracer::Tracer;
 use crate::medial::axis::{Seam, SeamEnd};
-use crate::model::Element;
 use glam::DVec3;
 
 /// How far, in accuracies, a point may be from a seam's polyline besides the polyline's own
@@ -41,17 +41,7 @@ impl Tracer<'_> {
                 dropped[k] = true;
             }
         }
-        let n = dropped.iter().filter(|&&d| d).count();
-        let mut k = 0;
-        self.seams.retain(|_| {
-            k += 1;
-            !dropped[k - 1]
-        });
-        for (id, s) in self.seams.iter_mut().enumerate() {
-            s.id = id;
-        }
-        self.stats.points = self.seams.iter().map(|s| s.points.len()).sum();
-        n
+        self.remove_seams(&dropped)
     }
 
     /// True when the centre of a junction of `s`'s solid other than its end junctions lies on
@@ -103,16 +93,6 @@ impl Tracer<'_> {
     }
 }
 
-/// Every element seam `s` names (its slots at both ends and along its hand-overs).
-fn named(s: &Seam) -> Vec<Element> {
-    let mut v: Vec<Element> = s.segments.clone();
-    v.extend(&s.end_segments);
-    v.extend(s.handovers.iter().flat_map(|h| [h.from, h.to]));
-    v.sort();
-    v.dedup();
-    v
-}
-
 /// True when the ball `(c, r)` lies on seam `s`'s polyline of balls: within the chord's sag
 /// (at [`MAX_TURN_RAD`] per step) plus `slack` of a chord, with the radius interpolated there
 /// within the same.
@@ -136,6 +116,7 @@ fn ball_on(s: &Seam, c: DVec3, r: f64, slack: f64) -> bool {
 mod tests {
     use super::*;
     use crate::medial::axis::SeamPoint;
+    use crate::model::Element;
 
     fn seam(points: &[[f64; 4]]) -> Seam {
         Seam {
