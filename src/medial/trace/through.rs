@@ -55,10 +55,30 @@ impl Tracer<'_> {
                 _ => None,
             })
             .collect();
+        // The box of its centres, widened by the most any chord's sag allows: a junction
+        // outside it is not on the seam (the test stays linear in the junctions).
+        let centre = |k: usize| {
+            let p = s.points[k].point;
+            DVec3::new(p[0], p[1], p[2])
+        };
+        let Some(first) = s.points.first().map(|_| centre(0)) else {
+            return false;
+        };
+        let (mut lo, mut hi, mut chord) = (first, first, 0.0f64);
+        for k in 1..s.points.len() {
+            let c = centre(k);
+            (lo, hi) = (lo.min(c), hi.max(c));
+            chord = chord.max(c.distance(centre(k - 1)));
+        }
+        let reach = chord * MAX_TURN_RAD / 8.0 + slack;
+        let (lo, hi) = (lo - DVec3::splat(reach), hi + DVec3::splat(reach));
         self.junctions.iter().any(|j| {
+            let at = DVec3::from_array(j.point);
             j.solid == s.solid
+                && at.cmpge(lo).all()
+                && at.cmple(hi).all()
                 && !ends.contains(&j.id)
-                && ball_on(s, DVec3::from_array(j.point), j.radius, slack)
+                && ball_on(s, at, j.radius, slack)
         })
     }
 
