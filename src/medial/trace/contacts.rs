@@ -64,16 +64,17 @@ impl Tracer<'_> {
         }
         let mut drop = vec![false; self.seams.len()];
         for group in by_nodes.values().filter(|g| g.len() > 1) {
-            for &b in group {
-                let (sb, nb) = (&self.seams[b], named(&self.seams[b]));
-                let repeats = group.iter().any(|&a| {
+            let names: Vec<Vec<Element>> = group.iter().map(|&k| named(&self.seams[k])).collect();
+            for (m, &b) in group.iter().enumerate() {
+                let sb = &self.seams[b];
+                let repeats = group.iter().enumerate().any(|(l, &a)| {
                     let sa = &self.seams[a];
                     let keeps_a = sa.segments.len() > sb.segments.len()
                         || (sa.segments.len() == sb.segments.len() && a < b);
                     a != b
                         && !drop[a]
                         && keeps_a
-                        && nb.iter().all(|e| named(sa).contains(e))
+                        && names[m].iter().all(|e| names[l].contains(e))
                         && runs_along(&sb.points, &sa.points)
                         && runs_along(&sa.points, &sb.points)
                 });
@@ -92,9 +93,7 @@ impl Tracer<'_> {
             return None;
         }
         // Every element the seam names (its slots change at hand-overs).
-        let mut own: Vec<Element> = s.segments.clone();
-        own.extend(&s.end_segments);
-        own.extend(s.handovers.iter().flat_map(|h| [h.from, h.to]));
+        let own = named(s);
         let ball = |k: usize| {
             let p = &s.points[k];
             let c = DVec3::new(p.point[0], p.point[1], p.point[2]);

@@ -585,11 +585,7 @@ fn degenerate_curves_are_traced_between_located_ends() {
     complete_and_verified("torus.step", &m, &mat);
 
     let (m, mat) = traced("filleted_box.step");
-    let curves: Vec<_> = mat
-        .degenerate
-        .iter()
-        .filter(|d| d.kind == DegenerateKind::Curve)
-        .collect();
+    let curves = curves_of(&mat);
     assert_eq!(curves.len(), 12);
     for d in curves {
         assert!(!d.around);
@@ -634,11 +630,7 @@ fn degenerate_curves_are_traced_between_located_ends() {
     assert_eq!(axis_euler(&m, &mat), Some(1));
 
     let (m, mat) = traced("trace/rounded_pin.step");
-    let curves: Vec<_> = mat
-        .degenerate
-        .iter()
-        .filter(|d| d.kind == DegenerateKind::Curve)
-        .collect();
+    let curves = curves_of(&mat);
     let [d] = &curves[..] else {
         panic!("{:?}", mat.degenerate)
     };
@@ -656,6 +648,14 @@ fn degenerate_curves_are_traced_between_located_ends() {
         .collect();
     assert!(osculating.contains(&true) && osculating.contains(&false));
     complete_and_verified("trace/rounded_pin.step", &m, &mat);
+}
+
+/// The degenerate curves of `mat` (not its points).
+fn curves_of(mat: &MedialAxis) -> Vec<&crate::medial::Degenerate> {
+    mat.degenerate
+        .iter()
+        .filter(|d| d.kind == DegenerateKind::Curve)
+        .collect()
 }
 
 /// Asserts that both ends of degenerate curve `d` meet an element, osculating it or not.
@@ -811,12 +811,7 @@ fn boss_on_a_plate() {
             assert_junction_at("boss_on_plate.step", &m, &mat, [x, y, 5.0], 5.0);
         }
     }
-    let axis: Vec<&[f64; 4]> = mat
-        .degenerate
-        .iter()
-        .filter(|d| d.kind == DegenerateKind::Curve)
-        .flat_map(|d| &d.balls)
-        .collect();
+    let axis: Vec<&[f64; 4]> = curves_of(&mat).into_iter().flat_map(|d| &d.balls).collect();
     assert!(!axis.is_empty());
     for b in axis {
         let e = (b[0] - 40.0).hypot(b[1] - 30.0) + (b[3] - 12.0).abs();

@@ -16,6 +16,7 @@
 use super::options::MAX_TURN_RAD;
 use super::queue::named;
 use super::tracer::Tracer;
+use super::unknowns::along_chord;
 use crate::medial::axis::{Seam, SeamEnd};
 use glam::DVec3;
 
@@ -120,15 +121,9 @@ fn ball_on(s: &Seam, c: DVec3, r: f64, slack: f64) -> bool {
     s.points.windows(2).any(|w| {
         let (a, b) = (w[0].point, w[1].point);
         let (pa, pb) = (DVec3::new(a[0], a[1], a[2]), DVec3::new(b[0], b[1], b[2]));
-        let ab = pb - pa;
-        let len2 = ab.length_squared();
-        let t = if len2 > 0.0 {
-            ((c - pa).dot(ab) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let tol = len2.sqrt() * MAX_TURN_RAD / 8.0 + slack;
-        (pa + ab * t).distance(c) <= tol && (a[3] + (b[3] - a[3]) * t - r).abs() <= tol
+        let t = along_chord(c, pa, pb);
+        let tol = pa.distance(pb) * MAX_TURN_RAD / 8.0 + slack;
+        pa.lerp(pb, t).distance(c) <= tol && (a[3] + (b[3] - a[3]) * t - r).abs() <= tol
     })
 }
 

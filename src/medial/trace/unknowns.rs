@@ -36,13 +36,18 @@ pub(super) fn slot(x: &DVector<f64>, i: usize) -> [f64; 2] {
 
 /// Distance from `p` to the segment `[a, b]`.
 pub(super) fn to_chord(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    p.distance(a.lerp(b, along_chord(p, a, b)))
+}
+
+/// Where on the segment `[a, b]` the point nearest `p` is: its parameter in `[0, 1]` (0 for a
+/// segment of no length).
+pub(super) fn along_chord(p: DVec3, a: DVec3, b: DVec3) -> f64 {
     let d = b - a;
-    let t = if d.length_squared() > 0.0 {
+    if d.length_squared() > 0.0 {
         ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
     } else {
         0.0
-    };
-    p.distance(a + d * t)
+    }
 }
 
 /// Which pairs of touch points [`touches_meet`] compares.
