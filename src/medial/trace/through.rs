@@ -9,15 +9,20 @@
 //! and the one it left from each count a seam end too many.
 //!
 //! After tracing, a seam is dropped when a junction's centre (not at one of its ends) lies on
-//! it, with the junction's radius, and every interior ball of it lies on other seams that
-//! name every element it names. The longest such seams go first, each checked again
-//! against the seams left.
+//! it, with the junction's radius, and every interior ball of it lies on another seam that
+//! names every element the ball touches (the seam's elements at that ball, after the
+//! hand-overs before it). The balls may be covered by different seams: a seam that passes a
+//! junction where a touch point is handed from one reflex edge to the next at their shared
+//! vertex (a faceted profile's crease, where a third seam arrives along the crease) runs along
+//! one seam leaving the junction before the hand-over and another after it. The longest such
+//! seams go first, each checked again against the seams left.
 
 use super::options::MAX_TURN_RAD;
 use super::queue::named;
 use super::tracer::Tracer;
 use super::unknowns::along_chord;
 use crate::medial::axis::{Seam, SeamEnd};
+use crate::model::Element;
 use glam::DVec3;
 
 /// How far, in accuracies, a point may be from a seam's polyline besides the polyline's own
@@ -84,34 +89,53 @@ impl Tracer<'_> {
     }
 
     /// True when every interior ball of seam `k` (both balls of a two-point seam) lies on
-    /// another seam not `dropped` that names every element seam `k` names.
+    /// another seam not `dropped` that names every element seam `k` touches at that ball.
     fn covered_by_others(&self, k: usize, dropped: &[bool], slack: f64) -> bool {
         let s = &self.seams[k];
-        let names = named(s);
-        let others: Vec<&Seam> = self
+        let others: Vec<(&Seam, Vec<Element>)> = self
             .seams
             .iter()
             .enumerate()
-            .filter(|&(m, t)| {
-                m != k && !dropped[m] && t.solid == s.solid && {
-                    let theirs = named(t);
-                    names.iter().all(|e| theirs.contains(e))
-                }
-            })
-            .map(|(_, t)| t)
+            .filter(|&(m, t)| m != k && !dropped[m] && t.solid == s.solid)
+            .map(|(_, t)| (t, named(t)))
             .collect();
+        let touched = touched_at(s);
         let n = s.points.len();
-        let inner = if n > 2 {
-            &s.points[1..n - 1]
-        } else {
-            &s.points[..]
-        };
-        !others.is_empty()
-            && inner.iter().all(|p| {
-                let c = DVec3::new(p.point[0], p.point[1], p.point[2]);
-                others.iter().any(|t| ball_on(t, c, p.point[3], slack))
+        let inner = if n > 2 { 1..n - 1 } else { 0..n };
+        inner.into_iter().all(|i| {
+            let p = s.points[i].point;
+            let c = DVec3::new(p[0], p[1], p[2]);
+            others.iter().any(|(t, theirs)| {
+                touched[i]
+                    .iter()
+                    .any(|set| set.iter().all(|e| theirs.contains(e)))
+                    && ball_on(t, c, p[3], slack)
             })
+        })
     }
+}
+
+/// The elements seam `s` touches at each of its points: its first elements with the
+/// hand-overs before the point made; at a hand-over's point (which is on both elements) also
+/// with that hand-over made.
+fn touched_at(s: &Seam) -> Vec<[Vec<Element>; 2]> {
+    let mut now = s.segments.clone();
+    let hand = |now: &mut Vec<Element>, from: Element, to: Element| {
+        if let Some(slot) = now.iter_mut().find(|e| **e == from) {
+            *slot = to;
+        }
+    };
+    let mut out = Vec::with_capacity(s.points.len());
+    let mut h = 0;
+    for i in 0..s.points.len() {
+        let before = now.clone();
+        while let Some(ho) = s.handovers.get(h).filter(|ho| ho.point <= i) {
+            hand(&mut now, ho.from, ho.to);
+            h += 1;
+        }
+        out.push([before, now.clone()]);
+    }
+    out
 }
 
 /// True when the ball `(c, r)` lies on seam `s`'s polyline of balls: within the chord's sag
@@ -130,8 +154,7 @@ fn ball_on(s: &Seam, c: DVec3, r: f64, slack: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::medial::axis::SeamPoint;
-    use crate::model::Element;
+    use crate::medial::axis::{Handover, SeamPoint};
 
     fn seam(points: &[[f64; 4]]) -> Seam {
         Seam {
@@ -165,5 +188,30 @@ mod tests {
         assert!(!ball_on(&s, DVec3::new(0.5, 0.02, 0.0), 1.5, slack));
         assert!(!ball_on(&s, DVec3::new(0.5, 0.0, 0.0), 1.6, slack));
         assert!(!ball_on(&s, DVec3::new(1.5, 0.0, 0.0), 2.0, slack));
+    }
+
+    /// The elements at each point follow the hand-overs: at a hand-over's point both sets.
+    #[test]
+    fn the_elements_at_each_point_follow_the_hand_overs() {
+        let mut s = seam(&[[0.0; 4]; 4]);
+        s.handovers = vec![
+            Handover {
+                point: 1,
+                from: Element::Face(1),
+                to: Element::Edge(7),
+            },
+            Handover {
+                point: 2,
+                from: Element::Edge(7),
+                to: Element::Edge(8),
+            },
+        ];
+        let (f, e) = (Element::Face, Element::Edge);
+        let at = touched_at(&s);
+        assert_eq!(at[0][0], vec![f(0), f(1), f(2)]);
+        assert_eq!(at[0][1], vec![f(0), f(1), f(2)]);
+        assert_eq!(at[1], [vec![f(0), f(1), f(2)], vec![f(0), e(7), f(2)]]);
+        assert_eq!(at[2], [vec![f(0), e(7), f(2)], vec![f(0), e(8), f(2)]]);
+        assert_eq!(at[3], [vec![f(0), e(8), f(2)], vec![f(0), e(8), f(2)]]);
     }
 }
