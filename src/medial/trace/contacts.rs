@@ -16,9 +16,11 @@
 //! from two triplets of its contacts is then seen to be one, and traced once.
 
 use super::queue::{named, runs_along};
+use super::through::{ball_on, ON_SEAM_REL_ACCURACY};
 use super::tracer::Tracer;
 use crate::geom::distance::nearest_on_edge;
-use crate::medial::axis::{Node, Seam};
+use crate::medial::axis::{Node, Seam, SeamPoint};
+use crate::medial::verify::separation;
 use crate::medial::verify::unresolved_points;
 use crate::model::Element;
 use glam::DVec3;
@@ -46,39 +48,63 @@ impl Tracer<'_> {
         }
     }
 
-    /// Drops each seam that repeats another between the same two nodes: it runs along it,
-    /// and every element it names the other names too (the same non-generic seam traced
-    /// from different triplets, told apart only once their other contacts are added). The
-    /// one naming more, or else the first, is kept. Renumbers the rest; returns how many
-    /// were dropped.
+    /// Drops each seam that repeats another from the same node: between the same two nodes,
+    /// running along it, every element it names named by the other too (the same
+    /// non-generic seam traced from different triplets, told apart only once their other
+    /// contacts are added); or, wherever it ends, every ball of each on the other and
+    /// touching the same places (the same curve of balls from a non-generic junction found
+    /// twice, or on triplets that differ only in which of two contacts at one place they
+    /// name). The one naming more, or else
+    /// the one without an open end, or else the first, is kept. Renumbers the rest; returns
+    /// how many were dropped.
     pub(super) fn drop_repeated_seams(&mut self) -> usize {
-        let nodes = |s: &Seam| {
-            let (a, b) = (s.ends[0].node()?, s.ends[1].node()?);
-            Some([a.min(b), a.max(b)])
-        };
-        let mut by_nodes: HashMap<[Node; 2], Vec<usize>> = HashMap::new();
+        let mut at_node: HashMap<Node, Vec<usize>> = HashMap::new();
         for (k, s) in self.seams.iter().enumerate() {
-            if let Some(key) = nodes(s) {
-                by_nodes.entry(key).or_default().push(k);
+            let mut nodes: Vec<Node> = s.ends.iter().filter_map(|e| e.node()).collect();
+            nodes.dedup();
+            for n in nodes {
+                at_node.entry(n).or_default().push(k);
             }
         }
+        let names: Vec<Vec<Element>> = self.seams.iter().map(named).collect();
+        let slack = ON_SEAM_REL_ACCURACY * self.opts.accuracy;
+        let on = |s: &Seam, t: &Seam| {
+            s.points.iter().all(|p| {
+                let c = DVec3::new(p.point[0], p.point[1], p.point[2]);
+                ball_on(t, c, p.point[3], slack)
+            })
+        };
+        let ends = |s: &Seam| {
+            let mut e: Vec<Option<Node>> = s.ends.iter().map(|e| e.node()).collect();
+            e.sort();
+            e
+        };
+        // Whether seam `a` is kept over seam `b` when they repeat each other.
+        let keeps = |a: usize, b: usize| {
+            let (sa, sb) = (&self.seams[a], &self.seams[b]);
+            (sa.segments.len(), !sa.is_open(), std::cmp::Reverse(a))
+                > (sb.segments.len(), !sb.is_open(), std::cmp::Reverse(b))
+        };
+        let repeats = |a: usize, b: usize| {
+            let (sa, sb) = (&self.seams[a], &self.seams[b]);
+            let named_again = ends(sa) == ends(sb)
+                && sa.ends.iter().all(|e| e.node().is_some())
+                && names[b].iter().all(|e| names[a].contains(e))
+                && runs_along(&sb.points, &sa.points)
+                && runs_along(&sa.points, &sb.points);
+            named_again || (on(sa, sb) && on(sb, sa) && same_places(sa, sb, self.opts.accuracy))
+        };
         let mut drop = vec![false; self.seams.len()];
-        for group in by_nodes.values().filter(|g| g.len() > 1) {
-            let names: Vec<Vec<Element>> = group.iter().map(|&k| named(&self.seams[k])).collect();
-            for (m, &b) in group.iter().enumerate() {
-                let sb = &self.seams[b];
-                let repeats = group.iter().enumerate().any(|(l, &a)| {
-                    let sa = &self.seams[a];
-                    let keeps_a = sa.segments.len() > sb.segments.len()
-                        || (sa.segments.len() == sb.segments.len() && a < b);
-                    a != b
-                        && !drop[a]
-                        && keeps_a
-                        && names[m].iter().all(|e| names[l].contains(e))
-                        && runs_along(&sb.points, &sa.points)
-                        && runs_along(&sa.points, &sb.points)
-                });
-                drop[b] = repeats;
+        let mut groups: Vec<&Vec<usize>> = at_node.values().filter(|g| g.len() > 1).collect();
+        groups.sort();
+        for group in groups {
+            for &b in group {
+                if drop[b] {
+                    continue;
+                }
+                drop[b] = group
+                    .iter()
+                    .any(|&a| a != b && !drop[a] && keeps(a, b) && repeats(a, b));
             }
         }
         self.remove_seams(&drop)
@@ -204,9 +230,39 @@ pub(super) fn order_round(centre: DVec3, along: DVec3, touch: &[DVec3]) -> Vec<u
     order
 }
 
+/// True when the middle ball of seam `b` touches the same places as the nearest ball of seam
+/// `a`: each of its touch points within the separation (`√(8·r·a)`), widened by twice `a`'s
+/// longest step (the two balls are that far apart along the curve at most), of one of
+/// `a`'s. Seams of near-symmetric faces run within the accuracy of each other for a while
+/// yet touch places a millimetre apart.
+fn same_places(a: &Seam, b: &Seam, accuracy: f64) -> bool {
+    let centre = |p: &SeamPoint| DVec3::new(p.point[0], p.point[1], p.point[2]);
+    let Some(pb) = b.points.get(b.points.len() / 2) else {
+        return false;
+    };
+    let Some(pa) = a.points.iter().min_by(|x, y| {
+        centre(x)
+            .distance(centre(pb))
+            .total_cmp(&centre(y).distance(centre(pb)))
+    }) else {
+        return false;
+    };
+    let step = a
+        .points
+        .windows(2)
+        .map(|w| centre(&w[0]).distance(centre(&w[1])))
+        .fold(0.0, f64::max);
+    let tol = separation(pb.point[3], accuracy) + 2.0 * step;
+    let near =
+        |t: &[f64; 3], q: &[f64; 3]| DVec3::from_array(*t).distance(DVec3::from_array(*q)) <= tol;
+    pb.touch.iter().all(|t| pa.touch.iter().any(|q| near(t, q)))
+        && pa.touch.iter().all(|q| pb.touch.iter().any(|t| near(t, q)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::medial::axis::SeamEnd;
 
     #[test]
     fn touch_points_are_ordered_round_the_seam() {
@@ -222,5 +278,49 @@ mod tests {
         // Looking the other way round, the same neighbours.
         let back = order_round(c, -DVec3::Z, &touch);
         assert_eq!(back, vec![0, 3, 1, 2]);
+    }
+
+    /// A seam along the x axis with touch points at `touch` (moved with the centre).
+    fn seam(touch: &[[f64; 3]]) -> Seam {
+        Seam {
+            id: 0,
+            solid: 0,
+            segments: (0..touch.len()).map(Element::Face).collect(),
+            ends: [SeamEnd::Closed, SeamEnd::Closed],
+            end_segments: (0..touch.len()).map(Element::Face).collect(),
+            points: (0..5)
+                .map(|k| {
+                    let x = 0.05 * k as f64;
+                    SeamPoint {
+                        point: [x, 0.0, 0.0, 1.0],
+                        touch: touch.iter().map(|t| [t[0] + x, t[1], t[2]]).collect(),
+                    }
+                })
+                .collect(),
+            handovers: vec![],
+            unresolved: vec![],
+            trace_seconds: 0.0,
+        }
+    }
+
+    /// Two seams of the same balls touching the same places (one naming a face where the
+    /// other names another face at the same place) are one; seams of the same balls whose
+    /// touch points are a millimetre apart (near-symmetric faces) are not.
+    #[test]
+    fn seams_of_the_same_balls_repeat_only_where_they_touch_the_same_places() {
+        let acc = 1e-4;
+        let a = seam(&[[0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]]);
+        let b = seam(&[[0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.002, 0.999]]);
+        assert!(same_places(&a, &b, acc));
+        assert!(same_places(&b, &a, acc));
+        let c = seam(&[[0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]]);
+        assert!(!same_places(&a, &c, acc));
+        let d = seam(&[
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+        ]);
+        assert!(!same_places(&a, &d, acc));
     }
 }

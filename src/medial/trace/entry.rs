@@ -52,6 +52,7 @@ pub fn trace_with_seeds(
     t.seed_by_arcs();
     t.drop_open_halves();
     t.add_more_contacts();
+    t.merge_junctions_found_twice();
     t.stats.duplicate_seams += t.drop_repeated_seams();
     t.stats.duplicate_seams += t.drop_seams_through_junctions();
     t.stats.non_generic_seams = t.seams.iter().filter(|s| s.segments.len() > 3).count();

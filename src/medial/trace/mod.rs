@@ -41,8 +41,8 @@
 //! (state and model queries), `unknowns` (the layout of the unknowns), `queue`, `starts`,
 //! `seeds`, `arcs` (seeds on reflex edges' sheets), `march`, `handover`, `junctions`, `pinch`,
 //! `skeletal` (skeletal edges at vertices), `degenerate` (degenerate curves traced), `apex` (cone apexes at vertices),
-//! `contacts` (non-generic seams: more than three elements touching every ball), `through`
-//! (seams carried across a junction, dropped).
+//! `contacts` (non-generic seams: more than three elements touching every ball), `merge`
+//! (junctions found twice, merged), `through` (seams carried across a junction, dropped).
 
 mod apex;
 mod arcs;
@@ -52,6 +52,7 @@ mod entry;
 mod handover;
 mod junctions;
 mod march;
+mod merge;
 pub mod options;
 mod pinch;
 mod queue;

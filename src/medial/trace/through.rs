@@ -27,7 +27,7 @@ use glam::DVec3;
 
 /// How far, in accuracies, a point may be from a seam's polyline besides the polyline's own
 /// sag (`chord·MAX_TURN_RAD/8`) and still lie on the seam.
-const ON_SEAM_REL_ACCURACY: f64 = 10.0;
+pub(super) const ON_SEAM_REL_ACCURACY: f64 = 10.0;
 
 impl Tracer<'_> {
     /// Drops every seam that runs through a junction along other seams (above); renumbers
@@ -141,7 +141,7 @@ fn touched_at(s: &Seam) -> Vec<[Vec<Element>; 2]> {
 /// True when the ball `(c, r)` lies on seam `s`'s polyline of balls: within the chord's sag
 /// (at [`MAX_TURN_RAD`] per step) plus `slack` of a chord, with the radius interpolated there
 /// within the same.
-fn ball_on(s: &Seam, c: DVec3, r: f64, slack: f64) -> bool {
+pub(super) fn ball_on(s: &Seam, c: DVec3, r: f64, slack: f64) -> bool {
     s.points.windows(2).any(|w| {
         let (a, b) = (w[0].point, w[1].point);
         let (pa, pb) = (DVec3::new(a[0], a[1], a[2]), DVec3::new(b[0], b[1], b[2]));
