@@ -14,7 +14,9 @@ rib whose chamfered end meets its foot fillets tangentially at convex vertices, 
 with a drill point (its apex written two ways), a cube whose corner dips 0.02 mm into a plate,
 a thin tube grazing a cube's corner (analytic and as NURBS), a boss whose foot circle grazes the
 line of an edge seam's touch points, a plate with two shallow pockets, a pin with a
-hemispherical tip (a degenerate curve that ends where its ball is a face's sphere).
+hemispherical tip (a degenerate curve that ends where its ball is a face's sphere), a block
+with a hip roof (seams touched by four faces), a plate with a pocket half as deep as the plate
+is thick (a closed seam whose touch point runs along the pocket's foot edges).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -617,6 +619,21 @@ def hip_roof_block():
     faces.append(Part.Face(Part.makePolygon(corners + [corners[0]])))
     roof = Part.Solid(Part.Shell(faces))
     return block.fuse(roof).removeSplitter()
+
+
+@part("pocket_half_plate_deep",
+      "Plate 30x30x8 with a square pocket 10x10 at its middle, 4 mm deep: half the plate's "
+      "thickness, so the pocket's floor lies in the plate's mid-plane.",
+      30 * 30 * 8 - 10 * 10 * 4,
+      "No seam from the plate's corners reaches the pocket (they run along the mid-plane "
+      "4 mm in from the plate's sides), so its seams are found by sampling its faces. The "
+      "ball between the plate's top and bottom (r = 4, in the mid-plane) touches a pocket "
+      "wall at its foot edge, where the wall meets the floor: one closed seam runs round the "
+      "pocket 4 mm from its walls, touching top, bottom and the walls, handed from a wall "
+      "onto its foot edge, onto the floor's corner vertex and on to the next wall at each "
+      "corner. Every sheet closes; the Euler characteristic is 1, the solid's.")
+def pocket_half_plate_deep():
+    return Part.makeBox(30, 30, 8).cut(Part.makeBox(10, 10, 4, V(10, 10, 4)))
 
 
 def main():

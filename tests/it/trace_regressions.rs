@@ -737,3 +737,39 @@ fn sheets_close_with_euler_one(report: &Value) {
     assert_eq!(euler["mat_euler"], 1, "{euler}");
     assert_eq!(euler["solid_euler"], 1, "{euler}");
 }
+
+/// A pocket half as deep as its plate is thick, at the plate's middle, where no seam from the
+/// plate's corners reaches: found by sampling its faces, one closed seam runs round it in the
+/// plate's mid-plane (r = 4) 4 mm from its walls, touching the top, the bottom and the walls
+/// at their foot edges, rounding each corner on the floor's corner vertex. Every face is
+/// touched, every sheet closes and the Euler characteristic is the solid's.
+#[test]
+fn a_pocket_half_as_deep_as_its_plate_has_a_seam_round_it_in_the_mid_plane() {
+    let report = traced_and_verified("pocket_half_plate_deep");
+    let round: Vec<&Value> = seams(&report)
+        .iter()
+        .filter(|s| s["ends"][0] == "closed")
+        .collect();
+    assert_eq!(round.len(), 1, "{round:?}");
+    let points = round[0]["points"].as_array().unwrap();
+    for p in points {
+        let b = &p["point"];
+        let (x, y) = (b[0].as_f64().unwrap(), b[1].as_f64().unwrap());
+        assert!((b[2].as_f64().unwrap() - 4.0).abs() < 1e-9, "{b}");
+        assert!((b[3].as_f64().unwrap() - 4.0).abs() < 1e-9, "{b}");
+        // 4 mm from the pocket [10, 20]²: from its nearest wall, or corner vertex.
+        let dx = (10.0 - x).max(x - 20.0).max(0.0);
+        let dy = (10.0 - y).max(y - 20.0).max(0.0);
+        assert!(((dx * dx + dy * dy).sqrt() - 4.0).abs() < 1e-6, "{b}");
+    }
+    let named = |e: &str| {
+        let h = round[0]["handovers"].as_array().unwrap();
+        h.iter().any(|h| h["to"] == e)
+    };
+    // Onto each of the floor's four corner vertices (V12 … V15 as the file numbers them).
+    let corners = (0..16).filter(|v| named(&format!("V{v}"))).count();
+    assert_eq!(corners, 4);
+    let faces_touched = &report["stats"]["verification"]["checks"]["faces_touched"];
+    assert_eq!(faces_touched["failed"], 0, "{faces_touched}");
+    sheets_close_with_euler_one(&report);
+}

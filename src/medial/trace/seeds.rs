@@ -99,6 +99,16 @@ impl Tracer<'_> {
         }) {
             thirds.extend(self.hit_segment(k, &hit3, b));
         }
+        // Where the ball reaches a face of `f`'s own edge as it reaches another face (a
+        // pocket half as deep as its plate is thick: the ball between the plate's faces
+        // touches the wall at its foot edge, where it meets the floor), the third nearest
+        // past `f`'s neighbours too: the seam runs with its touch point on `f`'s edge.
+        let neighbours = self.faces_next_to(f);
+        if let Some((k, hit3)) = self.boundary.nearest_face_where(self.model, b, |h| {
+            self.face_solid[h] == solid && !neighbours.contains(&h) && Element::Face(h) != seg2
+        }) {
+            thirds.extend(self.hit_segment(k, &hit3, b));
+        }
         for (seg, touch) in [(first, ev.p), (seg2, hit.point)] {
             if let Element::Face(h) = seg {
                 let opposite = b * 2.0 - touch;
@@ -379,5 +389,20 @@ impl Tracer<'_> {
         let k = svd.singular_values.imin();
         let d = DVec3::new(vt[(k, 0)], vt[(k, 1)], vt[(k, 2)]);
         (d.length() > UNIT_ROUNDING).then(|| d.normalize())
+    }
+}
+
+impl Tracer<'_> {
+    /// Face `f` and the faces sharing an edge with it.
+    fn faces_next_to(&self, f: usize) -> Vec<usize> {
+        let mut out = vec![f];
+        for oe in self.model.faces[f].loops.iter().flat_map(|l| &l.edges) {
+            for &g in &self.model.edges[oe.edge].faces {
+                if !out.contains(&g) {
+                    out.push(g);
+                }
+            }
+        }
+        out
     }
 }
