@@ -31,16 +31,31 @@ impl Tracer<'_> {
     /// merged.
     pub(super) fn merge_junctions_found_twice(&mut self) -> usize {
         let n = self.junctions.len();
+        let acc = self.opts.accuracy;
+        // The junctions by x, to find each one's neighbours within the largest separation.
+        let x = |j: usize| self.junctions[j].point[0];
+        let mut by_x: Vec<usize> = (0..n).collect();
+        by_x.sort_by(|&a, &b| x(a).total_cmp(&x(b)));
+        let largest = self.junctions.iter().map(|j| j.radius).fold(0.0, f64::max);
+        let reach = separation(largest, acc);
+        let near = |a: usize| {
+            let lo = by_x.partition_point(|&j| x(j) < x(a) - reach);
+            let hi = by_x.partition_point(|&j| x(j) <= x(a) + reach);
+            by_x[lo..hi].to_vec()
+        };
+        // Those touching more elements first: they keep.
+        let rank = |j: usize| (std::cmp::Reverse(self.junctions[j].segments.len()), j);
         let mut order: Vec<usize> = (0..n).collect();
-        order.sort_by_key(|&j| (std::cmp::Reverse(self.junctions[j].segments.len()), j));
+        order.sort_by_key(|&j| rank(j));
         let mut into: Vec<usize> = (0..n).collect();
-        for (i, &a) in order.iter().enumerate() {
+        for &a in &order {
             if into[a] != a {
                 continue;
             }
-            for &b in &order[i + 1..] {
-                if into[b] == b
-                    && found_twice(&self.junctions[a], &self.junctions[b], self.opts.accuracy)
+            for b in near(a) {
+                if rank(b) > rank(a)
+                    && into[b] == b
+                    && found_twice(&self.junctions[a], &self.junctions[b], acc)
                 {
                     into[b] = a;
                 }

@@ -15,6 +15,7 @@ use crate::medial::axis::{Degenerate, DegenerateKind, Handover, SeamEnd, SeamPoi
 use crate::medial::equations::{MedialSystem, NormalField};
 use crate::medial::maximal::curvature_allows;
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
+use crate::medial::verify::separation;
 use crate::model::Element;
 use glam::DVec3;
 use nalgebra::DVector;
@@ -287,7 +288,8 @@ impl Tracer<'_> {
             && r > self.opts.accuracy
             && !osculates
             && self.is_medial(&seed.triplet, &x)
-            && !self.on_traced_seam(&seed.triplet, &x);
+            && !self.on_traced_seam(&seed.triplet, &x)
+            && !self.touches_along(&seed.triplet, &x);
         let dir = valid.then(|| self.null_direction(&sys, &x)).flatten();
         let Some(dir) = dir else {
             self.stats.skipped_seeds += 1;
@@ -393,6 +395,49 @@ impl Tracer<'_> {
 }
 
 impl Tracer<'_> {
+    /// True when the ball of seam point `x` (on `triplet`) touches the boundary all along
+    /// the way between two of its touch points: the point of its sphere midway between them
+    /// (on the great circle) is on the boundary too, to the accuracy. It is then a ball of a
+    /// degenerate piece (a full round's axis: the ball of the fillet's radius touches the
+    /// fillet along an arc and the faces on either side at its ends), traced as such, not a
+    /// seam point; a seam's ball touches its three places only.
+    fn touches_along(&self, triplet: &[Element; 3], x: &DVector<f64>) -> bool {
+        let Some(touch) = self
+            .touches(triplet, x)
+            .into_iter()
+            .collect::<Option<Vec<DVec3>>>()
+        else {
+            return false;
+        };
+        let (c, r) = (v3(x), x[3]);
+        // Touch points closer than twice the separation are one place or next to it: a
+        // surface through them stays within the accuracy of the sphere between them anyway.
+        let apart = 2.0 * separation(r, self.opts.accuracy);
+        (0..3).any(|i| {
+            (i + 1..3).any(|j| {
+                let mid = 0.5 * (touch[i] + touch[j]) - c;
+                // Opposite touch points have no one midway.
+                touch[i].distance(touch[j]) > apart && mid.length() > 0.1 * r && {
+                    let q = c + mid.normalize() * r;
+                    // On a face there that the ball osculates (its curvature that of the
+                    // ball: a full round's fillet), not merely passing near it.
+                    self.boundary
+                        .nearest_face(self.model, q)
+                        .is_some_and(|(f, hit)| {
+                            hit.distance <= self.opts.accuracy
+                                && hit.on == Element::Face(f)
+                                && !curvature_allows(
+                                    self.model,
+                                    Element::Face(f),
+                                    [hit.uv.0, hit.uv.1],
+                                    r * (1.0 + OSCULATING_REL_RADIUS),
+                                )
+                        })
+                }
+            })
+        })
+    }
+
     /// Face `f` and the faces sharing an edge with it.
     fn faces_next_to(&self, f: usize) -> Vec<usize> {
         let mut out = vec![f];
