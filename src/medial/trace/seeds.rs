@@ -108,7 +108,12 @@ impl Tracer<'_> {
         if let Some((k, hit3)) = self.boundary.nearest_face_where(self.model, b, |h| {
             self.face_solid[h] == solid && !neighbours.contains(&h) && Element::Face(h) != seg2
         }) {
-            thirds.extend(self.hit_segment(k, &hit3, b));
+            // The same seed again where it is the nearest third anyway.
+            let known: Vec<Element> = thirds.iter().map(|t| t.0).collect();
+            thirds.extend(
+                self.hit_segment(k, &hit3, b)
+                    .filter(|(seg, _)| !known.contains(seg)),
+            );
         }
         for (seg, touch) in [(first, ev.p), (seg2, hit.point)] {
             if let Element::Face(h) = seg {
