@@ -54,9 +54,8 @@ impl Tracer<'_> {
     /// contacts are added); or, wherever it ends, every ball of each on the other and
     /// touching the same places (the same curve of balls from a non-generic junction found
     /// twice, or on triplets that differ only in which of two contacts at one place they
-    /// name). The one naming more, or else
-    /// the one without an open end, or else the first, is kept. Renumbers the rest; returns
-    /// how many were dropped.
+    /// name). The one naming more, or else the one without an open end, or else the first,
+    /// is kept. Renumbers the rest; returns how many were dropped.
     pub(super) fn drop_repeated_seams(&mut self) -> usize {
         let mut at_node: HashMap<Node, Vec<usize>> = HashMap::new();
         for (k, s) in self.seams.iter().enumerate() {

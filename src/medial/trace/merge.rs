@@ -75,7 +75,7 @@ impl Tracer<'_> {
                     continue;
                 }
                 let kept = &self.junctions[into[j]];
-                s.ends[end] = SeamEnd::Junction(kept.id);
+                s.ends[end] = SeamEnd::Junction(into[j]);
                 let elements = if end == 0 {
                     &s.segments
                 } else {
