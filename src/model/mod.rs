@@ -214,6 +214,26 @@ impl Edge {
 }
 
 impl Model {
+    /// Face `f` and the faces sharing an edge with it (none but `f` when the model has no
+    /// face `f`).
+    pub fn faces_next_to(&self, f: usize) -> Vec<usize> {
+        let mut out = vec![f];
+        for oe in self
+            .faces
+            .get(f)
+            .iter()
+            .flat_map(|face| &face.loops)
+            .flat_map(|l| &l.edges)
+        {
+            for &g in self.edges.get(oe.edge).map_or(&[][..], |e| &e.faces[..]) {
+                if !out.contains(&g) {
+                    out.push(g);
+                }
+            }
+        }
+        out
+    }
+
     /// Axis-aligned bounding box `(min, max)` of the model, from vertices and sampled edges
     /// and faces (exact for planar parts, a close inner estimate for curved ones).
     pub fn bounding_box(&self) -> (DVec3, DVec3) {

@@ -20,6 +20,7 @@
 //! was the step between the two and goes. Junctions of small features close together stay
 //! distinct: one of them touches a place the other does not.
 
+use super::queue::keep_where;
 use super::tracer::Tracer;
 use crate::medial::axis::{Junction, SeamEnd, SeamPoint};
 use crate::medial::verify::separation;
@@ -118,16 +119,9 @@ impl Tracer<'_> {
                 next += 1;
             }
         }
-        let mut k = 0;
-        self.junctions.retain(|_| {
-            k += 1;
-            into[k - 1] == k - 1
-        });
-        let mut k = 0;
-        self.arrivals.retain(|_| {
-            k += 1;
-            into[k - 1] == k - 1
-        });
+        let keep: Vec<bool> = (0..n).map(|j| into[j] == j).collect();
+        keep_where(&mut self.junctions, &keep);
+        keep_where(&mut self.arrivals, &keep);
         for (id, j) in self.junctions.iter_mut().enumerate() {
             j.id = id;
         }

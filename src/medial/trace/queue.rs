@@ -142,11 +142,8 @@ impl Tracer<'_> {
     pub(super) fn remove_seams(&mut self, drop: &[bool]) -> usize {
         let n = drop.iter().filter(|&&d| d).count();
         if n > 0 {
-            let mut k = 0;
-            self.seams.retain(|_| {
-                k += 1;
-                !drop[k - 1]
-            });
+            let keep: Vec<bool> = drop.iter().map(|d| !d).collect();
+            keep_where(&mut self.seams, &keep);
             for (id, s) in self.seams.iter_mut().enumerate() {
                 s.id = id;
             }
@@ -154,6 +151,12 @@ impl Tracer<'_> {
         }
         n
     }
+}
+
+/// Keeps the items of `v` whose flag in `keep` (one per item, in order) is set.
+pub(super) fn keep_where<T>(v: &mut Vec<T>, keep: &[bool]) {
+    let mut flags = keep.iter();
+    v.retain(|_| flags.next().copied().unwrap_or(true));
 }
 
 /// Every element seam `s` names (its slots at both ends and along its hand-overs), sorted,

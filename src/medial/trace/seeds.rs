@@ -104,7 +104,7 @@ impl Tracer<'_> {
         // pocket half as deep as its plate is thick: the ball between the plate's faces
         // touches the wall at its foot edge, where it meets the floor), the third nearest
         // past `f`'s neighbours too: the seam runs with its touch point on `f`'s edge.
-        let neighbours = self.faces_next_to(f);
+        let neighbours = self.model.faces_next_to(f);
         if let Some((k, hit3)) = self.boundary.nearest_face_where(self.model, b, |h| {
             self.face_solid[h] == solid && !neighbours.contains(&h) && Element::Face(h) != seg2
         }) {
@@ -441,18 +441,5 @@ impl Tracer<'_> {
                 }
             })
         })
-    }
-
-    /// Face `f` and the faces sharing an edge with it.
-    fn faces_next_to(&self, f: usize) -> Vec<usize> {
-        let mut out = vec![f];
-        for oe in self.model.faces[f].loops.iter().flat_map(|l| &l.edges) {
-            for &g in &self.model.edges[oe.edge].faces {
-                if !out.contains(&g) {
-                    out.push(g);
-                }
-            }
-        }
-        out
     }
 }

@@ -79,25 +79,6 @@ pub fn unresolved_points(s: &Seam, accuracy: f64) -> Vec<usize> {
         .collect()
 }
 
-/// The faces sharing an edge with face `f` (with `f` itself).
-fn neighbours(model: &Model, f: usize) -> Vec<usize> {
-    let mut out = vec![f];
-    for oe in model
-        .faces
-        .get(f)
-        .iter()
-        .flat_map(|face| &face.loops)
-        .flat_map(|l| &l.edges)
-    {
-        for &g in model.edges.get(oe.edge).map_or(&[][..], |e| &e.faces[..]) {
-            if !out.contains(&g) {
-                out.push(g);
-            }
-        }
-    }
-    out
-}
-
 /// True when every two touch points closer than `sep` lie on two different faces that meet
 /// (share a vertex: a shallow crease, a sliver face between two edges) and not on the same
 /// faces (not both on one edge), or on one face where `same_ok` allows it (a face of the
@@ -330,7 +311,7 @@ impl Checker<'_> {
                 return found;
             }
             for f in self.faces_within(solid, p, self.accuracy + gap, 4) {
-                for g in neighbours(self.model, f) {
+                for g in self.model.faces_next_to(f) {
                     if found.len() < 4 && !found.contains(&g) && self.on_surface(g, p) {
                         found.push(g);
                     }
