@@ -121,6 +121,32 @@ pub struct Classification {
     pub vertices: Vec<VertexKind>,
 }
 
+impl Classification {
+    /// For each face of `model`, the least face of the smooth surface it belongs to: faces
+    /// joined across edges classified smooth along their whole length are one surface (a
+    /// tube's wall and the hemisphere closing it; a fillet and the faces it blends).
+    pub fn smooth_surfaces(&self, model: &Model) -> Vec<usize> {
+        fn find(root: &mut [usize], mut f: usize) -> usize {
+            while root[f] != f {
+                root[f] = root[root[f]];
+                f = root[f];
+            }
+            f
+        }
+        let mut root: Vec<usize> = (0..model.faces.len()).collect();
+        for (class, edge) in self.edges.iter().zip(&model.edges) {
+            if class.kind != EdgeKind::Smooth {
+                continue;
+            }
+            for w in edge.faces.windows(2) {
+                let (a, b) = (find(&mut root, w[0]), find(&mut root, w[1]));
+                root[a.max(b)] = a.min(b);
+            }
+        }
+        (0..root.len()).map(|f| find(&mut root, f)).collect()
+    }
+}
+
 /// Classifies every edge and vertex of `model`.
 pub fn classify(model: &Model, opts: &ClassifyOptions) -> Classification {
     let edges: Vec<EdgeClass> = (0..model.edges.len())

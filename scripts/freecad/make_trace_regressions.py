@@ -16,7 +16,9 @@ a thin tube grazing a cube's corner (analytic and as NURBS), a boss whose foot c
 line of an edge seam's touch points, a plate with two shallow pockets, a pin with a
 hemispherical tip (a degenerate curve that ends where its ball is a face's sphere), a block
 with a hip roof (seams touched by four faces), a plate with a pocket half as deep as the plate
-is thick (a closed seam whose touch point runs along the pocket's foot edges).
+is thick (a closed seam whose touch point runs along the pocket's foot edges), a thin tube closed
+by a hemispherical end (a face too narrow for the seeds' first grid; faces touched only by a
+sheet's balls).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -634,6 +636,27 @@ def hip_roof_block():
       "corner. Every sheet closes; the Euler characteristic is 1, the solid's.")
 def pocket_half_plate_deep():
     return Part.makeBox(30, 30, 8).cut(Part.makeBox(10, 10, 4, V(10, 10, 4)))
+
+
+TUBE_R, TUBE_BORE, TUBE_LEN = 5.0, 4.8, 20.0
+
+
+@part("test_tube",
+      "A thin tube (r=5, bore 4.8, 20 long, along z from 0) closed at z=0 by a "
+      "hemispherical shell of the same wall, open at z=20: the open end a 0.2 mm annulus.",
+      PI * (TUBE_R ** 2 - TUBE_BORE ** 2) * TUBE_LEN
+      + 2.0 / 3.0 * PI * (TUBE_R ** 3 - TUBE_BORE ** 3),
+      "One closed seam, the circle r = 4.9 at z = 19.9 (balls r = 0.1 touching the annulus, "
+      "the wall and the bore); no junction. The wall's sheet (the cylinder r = 4.9) runs on "
+      "into the sphere r = 4.9 between the hemispheres, which no seam touches: the faces "
+      "joined to the wall across smooth edges are touched by the sheet's balls only. The "
+      "annulus covers 6 % of its face's domain: no centre of a 4 x 4 grid over it is on it.")
+def test_tube():
+    def body(r, extra):
+        cylinder = Part.makeCylinder(r, TUBE_LEN + extra, V(0, 0, 0))
+        cap = Part.makeSphere(r, V(0, 0, 0), V(0, 0, 1), -90, 0, 360)
+        return cylinder.fuse(cap).removeSplitter()
+    return body(TUBE_R, 0.0).cut(body(TUBE_BORE, 1.0)).removeSplitter()
 
 
 def main():

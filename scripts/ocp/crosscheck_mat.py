@@ -39,7 +39,11 @@ could grow away from its only contact is not on the medial axis.
 
 The report must describe a medial axis, not merely hold no wrong point:
   nonempty           the report has balls;
-  faces_touched      every face of the part is touched by some ball (a touch point on it);
+  faces_touched      every face of the part is touched by some ball (a touch point on it), or
+                     a face joined to it across smooth edges is (the medial axis does not see
+                     an edge where the faces' normals agree, within 1 degree at 9 points
+                     along it: a hemisphere closing a tube is touched only by the wall's
+                     sheet, which no seam need reach);
   seam_ends          no seam end is open, and at a seam end at a pinch two of the touch points
                      are at a vertex of the part;
   junction_seams     every junction with 4 segments has 4 seam ends, and every junction a seam
@@ -74,17 +78,19 @@ import sys
 
 from OCP.Bnd import Bnd_Box
 from OCP.BRep import BRep_Builder, BRep_Tool
+from OCP.BRepAdaptor import BRepAdaptor_Curve
 from OCP.BRepBndLib import BRepBndLib
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
 from OCP.BRepClass import BRepClass_FaceClassifier
 from OCP.BRepClass3d import BRepClass3d_SolidClassifier
 from OCP.BRepExtrema import BRepExtrema_DistShapeShape, BRepExtrema_SupportType
 from OCP.GeomAPI import GeomAPI_ProjectPointOnCurve, GeomAPI_ProjectPointOnSurf
+from OCP.GeomLProp import GeomLProp_SLProps
 from OCP.gp import gp_Pnt, gp_Pnt2d
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.STEPControl import STEPControl_Reader
-from OCP.TopAbs import (TopAbs_EDGE, TopAbs_FACE, TopAbs_IN, TopAbs_ON, TopAbs_OUT, TopAbs_SHELL,
-                        TopAbs_SOLID, TopAbs_VERTEX)
+from OCP.TopAbs import (TopAbs_EDGE, TopAbs_FACE, TopAbs_IN, TopAbs_ON, TopAbs_OUT, TopAbs_REVERSED,
+                        TopAbs_SHELL, TopAbs_SOLID, TopAbs_VERTEX)
 from OCP.TopExp import TopExp, TopExp_Explorer
 from OCP.TopoDS import TopoDS, TopoDS_Compound
 from OCP.collections import (
@@ -93,6 +99,10 @@ from OCP.collections import (
 )
 
 SEAM_PLACES = 3
+# Faces whose normals agree within this angle along an edge, at as many points, are one
+# smooth surface (faces_touched).
+SMOOTH_DEG = 1.0
+SMOOTH_SAMPLES = 9
 CURVATURE_END_PLACES = 2
 PINCH_END_PLACES = 2
 JUNCTION_PLACES = 4
@@ -609,7 +619,59 @@ def check_degenerate_ends(part, checks, touched, i, d, tol):
         checks.record("degenerate_ends", ok, lambda: f"{what} end {k} ({e}) is not located on the part")
 
 
-def check_graph(mat, checks, touched, n_faces):
+def outward_normal(face, p):
+    """The unit outward normal of face (oriented in its shell) at its surface's point nearest p,
+    or None where the surface has none."""
+    surface = BRep_Tool.Surface_s(face)
+    proj = GeomAPI_ProjectPointOnSurf(p, surface)
+    if proj.NbPoints() == 0:
+        return None
+    u, v = proj.LowerDistanceParameters()
+    props = GeomLProp_SLProps(surface, u, v, 1, 1e-9)
+    if not props.IsNormalDefined():
+        return None
+    n = props.Normal()
+    k = -1.0 if face.Orientation() == TopAbs_REVERSED else 1.0
+    return (k * n.X(), k * n.Y(), k * n.Z())
+
+
+def smooth_surfaces(part):
+    """For each face (index from 1), the least face of its smooth surface: faces joined across an
+    edge where their outward normals agree within SMOOTH_DEG at SMOOTH_SAMPLES points along it."""
+    root = list(range(part.faces.Extent() + 1))
+
+    def find(f):
+        while root[f] != f:
+            root[f] = root[root[f]]
+            f = root[f]
+        return f
+
+    cos_tol = math.cos(math.radians(SMOOTH_DEG))
+    for i in range(1, part.edge_faces.Extent() + 1):
+        edge = TopoDS.Edge(part.edge_faces.FindKey(i))
+        faces = []
+        for f in part.edge_faces.FindFromIndex(i):
+            k = part.faces.FindIndex(f)
+            if k not in [g for g, _ in faces]:
+                faces.append((k, TopoDS.Face(f)))
+        if len(faces) != 2 or BRep_Tool.Degenerated_s(edge):
+            continue
+        curve = BRepAdaptor_Curve(edge)
+        t0, t1 = curve.FirstParameter(), curve.LastParameter()
+        smooth = True
+        for s in range(SMOOTH_SAMPLES):
+            p = curve.Value(t0 + (t1 - t0) * (s + 0.5) / SMOOTH_SAMPLES)
+            n = [outward_normal(f, p) for _, f in faces]
+            if None in n or sum(a * b for a, b in zip(n[0], n[1])) < cos_tol:
+                smooth = False
+                break
+        if smooth:
+            a, b = find(faces[0][0]), find(faces[1][0])
+            root[max(a, b)] = min(a, b)
+    return [find(f) for f in range(len(root))]
+
+
+def check_graph(mat, checks, touched, part):
     seams, junctions = mat.get("seams", []), mat.get("junctions", [])
     n_balls = sum(len(s.get("points", [])) for s in seams) + len(junctions) + sum(
         len(d.get("balls", [])) for d in mat.get("degenerate", []))
@@ -629,8 +691,12 @@ def check_graph(mat, checks, touched, n_faces):
         generic = len(junctions[j].get("segments", [])) == 4
         if generic:
             checks.record("junction_seams", n == 4, lambda: f"junction {j} (4 segments) has {n} seam ends")
-    for f in range(1, n_faces + 1):
-        checks.record("faces_touched", f in touched, lambda: f"face F{f - 1} is touched by no ball")
+    surface = smooth_surfaces(part)
+    reached = {surface[f] for f in touched}
+    for f in range(1, part.faces.Extent() + 1):
+        checks.record("faces_touched", surface[f] in reached,
+                      lambda: f"face F{f - 1} is touched by no ball (nor is a face joined to it "
+                      "across smooth edges)")
 
 
 def main():
@@ -695,7 +761,7 @@ def main():
             unresolved = (CURVATURE_END_PLACES, at_limit) if k in s.get("unresolved", []) else None
             check_ball(part, checks, touched, f"seam {s['id']} point {k}", p["point"][:3], p["point"][3],
                        p["touch"], need, unresolved)
-    check_graph(mat, checks, touched, part.faces.Extent())
+    check_graph(mat, checks, touched, part)
     if a.mesh:
         for i, v in mesh_vertices(a.mesh, a.mesh_samples):
             check_mesh_vertex(part, checks, f"mesh vertex {i + 1}", v)

@@ -602,3 +602,41 @@ fn touch_points_near_a_files_gap_are_held_to_the_gap_and_no_more() {
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+/// A thin tube closed by a hemispherical shell (`samples/trace/test_tube`): its one seam,
+/// round the open end, touches the annulus, the wall and the bore; the hemispheres, joined to
+/// the wall and the bore across smooth edges, are touched only by the balls of the wall's
+/// sheet. Both checkers count faces joined across smooth edges as one surface, so the genuine
+/// report passes; with its seam removed, every face fails `faces_touched`, the hemispheres
+/// with the rest.
+#[test]
+fn faces_joined_across_smooth_edges_are_touched_together_and_no_more() {
+    let dir = tempfile::tempdir().unwrap();
+    let occt_present = require(
+        "verify::faces_joined_across_smooth_edges_are_touched_together_and_no_more (OCCT half)",
+        &[Tool::Occt],
+    );
+    let part = sample("trace/test_tube.step");
+    let report = genuine("trace/test_tube.step", dir.path());
+    let mut bare = report.clone();
+    bare["mat"]["seams"] = json!([]);
+    let mut problems = vec![];
+    for (name, report, must_pass) in [("genuine", &report, true), ("no seam", &bare, false)] {
+        let path = write(dir.path(), &name.replace(' ', "_"), report);
+        let mut checkers = vec![("verify", verify(&part, &path))];
+        if occt_present {
+            checkers.push(("OCCT", occt(&part, &path)));
+        }
+        for (who, (code, failed)) in checkers {
+            println!("{who} {name}: exit {code}, failed {failed:?}");
+            let untouched = failed.iter().any(|f| f == "faces_touched");
+            if must_pass && code != 0 {
+                problems.push(format!("{who} rejects the {name} report: {failed:?}"));
+            }
+            if !must_pass && (code != 1 || !untouched) {
+                problems.push(format!("{who} accepts the {name} report: {failed:?}"));
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}

@@ -19,6 +19,16 @@ pub const MAX_POINTS: usize = 20_000;
 /// oscillating (a touch point handed between a vertex and its edges without the seam moving).
 /// A seam passing a corner needs a few (onto an edge, its vertex, the next edge, a face).
 pub const MAX_HANDOVERS_IN_PLACE: usize = 8;
+/// Points a face no seam touches is sampled at, at least, for seeds (the grid over its domain
+/// made finer until as many of its cells' centres are on the face).
+pub const MIN_FACE_SAMPLES: usize = 4;
+/// Most cells a side of the sampling grid over a face's domain (a face covering less than
+/// about `MIN_FACE_SAMPLES / MAX_SAMPLE_GRID²` of its domain may get fewer samples).
+pub const MAX_SAMPLE_GRID: usize = 32;
+/// Steps of a walk across a face's domain from a sample to its end, looking for the seam that
+/// bounds the sampled ball's sheet: a change of the segment touched between two steps is
+/// bracketed by bisection (two changes within one step are not seen).
+pub const WALK_STEPS: usize = 8;
 /// Budget of seams per part (guards against a tracer loop on unexpected geometry).
 pub const MAX_SEAMS: usize = 10_000;
 /// Distance between unit directions under which a branch leaving a junction is the seam that

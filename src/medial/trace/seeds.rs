@@ -5,8 +5,8 @@
 
 use super::degenerate::{centre_motion, CentreMotion};
 use super::options::{
-    DISTINCT_TOUCH_REL_RADIUS, MAX_REFINE_ITER, MAX_SEAMS, OSCULATING_REL_RADIUS,
-    SAME_PLACE_REL_ACCURACY, SHRINK_STEPS, UNIT_ROUNDING,
+    DISTINCT_TOUCH_REL_RADIUS, MAX_REFINE_ITER, MAX_SAMPLE_GRID, MAX_SEAMS, MIN_FACE_SAMPLES,
+    OSCULATING_REL_RADIUS, SAME_PLACE_REL_ACCURACY, SHRINK_STEPS, UNIT_ROUNDING, WALK_STEPS,
 };
 use super::tracer::Tracer;
 use super::unknowns::{seam_x, slot, sys_point, to_chord, touches_meet, v3, Pairs};
@@ -40,6 +40,15 @@ impl Seed {
     }
 }
 
+/// A maximal ball grown from a face (see [`Tracer::walk_seeds`]): its centre, radius, and the
+/// other segment it touches with the parameters of the touch.
+#[derive(Clone, Debug)]
+struct SheetBall {
+    centre: DVec3,
+    r: f64,
+    seg: (Element, [f64; 2]),
+}
+
 impl Tracer<'_> {
     /// Completes the trace beyond the paper (`docs/design.md`, seeds by sampling): on
     /// every face no seam touches yet, samples boundary points, grows the maximal ball at
@@ -48,27 +57,164 @@ impl Tracer<'_> {
     /// whose sheet has collapsed (a cylinder's axis, a sphere's centre) are reported as
     /// [`Degenerate`] instead.
     pub(super) fn seed_by_sampling(&mut self) {
-        const GRID: usize = 4;
         for f in 0..self.model.faces.len() {
-            let d = self.model.faces[f].domain;
-            for k in 0..GRID * GRID {
+            if self.touched[f] {
+                continue;
+            }
+            for s in self.sample_points(f) {
                 if self.touched[f] || self.seams.len() >= MAX_SEAMS {
                     break;
                 }
-                let u = d.u.0 + (d.u.1 - d.u.0) * ((k % GRID) as f64 + 0.5) / GRID as f64;
-                let v = d.v.0 + (d.v.1 - d.v.0) * ((k / GRID) as f64 + 0.5) / GRID as f64;
-                if !self.on_segment(Element::Face(f), [u, v]) {
-                    continue;
+                let seeds = self.sample_seeds(f, s);
+                self.try_seeds(seeds);
+            }
+        }
+        // Surfaces (faces joined across smooth edges) that no ball touches yet, their
+        // sampled balls touching one other face each and the seam that bounds that sheet out
+        // of reach of the seeds above (the wall of a hole between a floor and a ceiling
+        // sampled away from them): walk the sheet from a few samples.
+        let surface = self.class.smooth_surfaces(self.model);
+        for f in 0..self.model.faces.len() {
+            if self.surface_reached(&surface, surface[f]) {
+                continue;
+            }
+            let samples = self.sample_points(f);
+            let every = samples.len().div_ceil(MIN_FACE_SAMPLES).max(1);
+            for s in samples.into_iter().step_by(every) {
+                for dir in [[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]] {
+                    if self.surface_reached(&surface, surface[f]) || self.seams.len() >= MAX_SEAMS {
+                        break;
+                    }
+                    let seeds = self.walk_seeds(f, s, dir);
+                    self.try_seeds(seeds);
                 }
-                for seed in self.sample_seeds(f, [u, v]) {
-                    let before = self.seams.len();
-                    self.trace_seed(&seed);
-                    self.run_queue();
-                    if self.seams.len() > before {
+            }
+        }
+    }
+
+    /// True when a seam touches a face of smooth surface `root` (`surface` from
+    /// [`crate::classify::Classification::smooth_surfaces`]) or one of its faces' edges.
+    fn surface_reached(&self, surface: &[usize], root: usize) -> bool {
+        (0..self.model.faces.len())
+            .filter(|&f| surface[f] == root)
+            .any(|f| {
+                self.touched[f]
+                    || self.model.faces[f]
+                        .loops
+                        .iter()
+                        .flat_map(|l| &l.edges)
+                        .any(|oe| self.touched_edges[oe.edge])
+            })
+    }
+
+    /// Traces from the first of `seeds` that gives a new seam.
+    fn try_seeds(&mut self, seeds: Vec<Seed>) {
+        for seed in seeds {
+            let before = self.seams.len();
+            self.trace_seed(&seed);
+            self.run_queue();
+            if self.seams.len() > before {
+                break;
+            }
+        }
+    }
+
+    /// Seeds where the sheet of the maximal balls touching face `f` changes what else they
+    /// touch, met walking from `s` along `dir` in the face's parameters to the end of its
+    /// domain or its trim: each change is bracketed to the solver's tolerance, and the ball
+    /// there, touching `f` and the segments on either side of it, seeds a seam (a change
+    /// between faces of one smooth surface seeds nothing: its refinement fails).
+    fn walk_seeds(&mut self, f: usize, s: [f64; 2], dir: [f64; 2]) -> Vec<Seed> {
+        let d = self.model.faces[f].domain;
+        let span = [d.u.1 - d.u.0, d.v.1 - d.v.0];
+        let at = |t: f64| [s[0] + dir[0] * span[0] * t, s[1] + dir[1] * span[1] * t];
+        let inside = |p: [f64; 2]| p[0] >= d.u.0 && p[0] <= d.u.1 && p[1] >= d.v.0 && p[1] <= d.v.1;
+        let mut seeds = vec![];
+        let Some(mut prev) = self.sheet_ball(f, s) else {
+            return seeds;
+        };
+        let mut t0 = 0.0;
+        for k in 1..=WALK_STEPS {
+            let t1 = k as f64 / WALK_STEPS as f64;
+            let p = at(t1);
+            if !inside(p) || !self.on_segment(Element::Face(f), p) {
+                break;
+            }
+            let Some(next) = self.sheet_ball(f, p) else {
+                break;
+            };
+            if next.seg.0 != prev.seg.0 {
+                // Bracket the change.
+                let (mut lo, mut hi) = ((t0, prev.clone()), (t1, next.clone()));
+                for _ in 0..MAX_REFINE_ITER {
+                    let mid = 0.5 * (lo.0 + hi.0);
+                    let Some(ball) = self.sheet_ball(f, at(mid)) else {
+                        break;
+                    };
+                    if ball.seg.0 == lo.1.seg.0 {
+                        lo = (mid, ball);
+                    } else {
+                        hi = (mid, ball);
+                    }
+                    if (hi.0 - lo.0) * span[0].hypot(span[1]) <= self.opts.solver_tol {
                         break;
                     }
                 }
+                let sf = at(lo.0);
+                let (a, b) = (&lo.1, &hi.1);
+                seeds.push(Seed::new(
+                    [Element::Face(f), a.seg.0, b.seg.0],
+                    a.centre,
+                    a.r,
+                    [
+                        (sf[0], sf[1]),
+                        (a.seg.1[0], a.seg.1[1]),
+                        (b.seg.1[0], b.seg.1[1]),
+                    ],
+                ));
             }
+            (t0, prev) = (t1, next);
+        }
+        seeds
+    }
+
+    /// The maximal ball touching face `f` at `s` and the segment it touches besides, or None
+    /// at a convex edge, where it osculates the face, or where it cannot be grown.
+    fn sheet_ball(&self, f: usize, s: [f64; 2]) -> Option<SheetBall> {
+        let solid = self.face_solid[f];
+        let ev = Element::Face(f).eval(self.model, s)?;
+        let (r, centre, g, hit) = self.maximal_along(solid, ev.p, ev.n)?;
+        if r <= SAME_PLACE_REL_ACCURACY * self.opts.accuracy
+            || hit.point.distance(ev.p) <= DISTINCT_TOUCH_REL_RADIUS * r
+        {
+            return None;
+        }
+        let seg = self.hit_segment(g, &hit, centre)?;
+        Some(SheetBall { centre, r, seg })
+    }
+
+    /// Points of face `f` to sample from: the centres of a grid of cells over its domain that
+    /// are on the face, the grid made finer (up to [`MAX_SAMPLE_GRID`] cells a side) while
+    /// fewer than [`MIN_FACE_SAMPLES`] are (a thin face: a tube's annular end, a narrow
+    /// chamfer or land, whose trim covers little of its domain).
+    pub(super) fn sample_points(&self, f: usize) -> Vec<[f64; 2]> {
+        let d = self.model.faces[f].domain;
+        let mut grid = 4;
+        loop {
+            let points: Vec<[f64; 2]> = (0..grid * grid)
+                .map(|k| {
+                    let at = |i: usize| (i as f64 + 0.5) / grid as f64;
+                    [
+                        d.u.0 + (d.u.1 - d.u.0) * at(k % grid),
+                        d.v.0 + (d.v.1 - d.v.0) * at(k / grid),
+                    ]
+                })
+                .filter(|&s| self.on_segment(Element::Face(f), s))
+                .collect();
+            if points.len() >= MIN_FACE_SAMPLES || grid >= MAX_SAMPLE_GRID {
+                return points;
+            }
+            grid *= 2;
         }
     }
 
@@ -293,6 +439,15 @@ impl Tracer<'_> {
             && r > self.opts.accuracy
             && !osculates
             && self.is_medial(&seed.triplet, &x)
+            // Three places, not two (a sheet's ball where it crosses a smooth edge touches
+            // the faces on either side at one point, and the system is solvable there).
+            && !touches_meet(
+                self.model,
+                &seed.triplet,
+                &x,
+                DISTINCT_TOUCH_REL_RADIUS * r,
+                Pairs::All,
+            )
             && !self.on_traced_seam(&seed.triplet, &x)
             && !self.touches_along(&seed.triplet, &x);
         let dir = valid.then(|| self.null_direction(&sys, &x)).flatten();
