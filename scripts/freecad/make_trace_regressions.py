@@ -18,7 +18,8 @@ hemispherical tip (a degenerate curve that ends where its ball is a face's spher
 with a hip roof (seams touched by four faces), a plate with a pocket half as deep as the plate
 is thick (a closed seam whose touch point runs along the pocket's foot edges), a thin tube closed
 by a hemispherical end (a face too narrow for the seeds' first grid; faces touched only by a
-sheet's balls).
+sheet's balls), a flat ring with a bead round each rim whose fillet axis's balls reach the
+bottom (a face touched at no listed touch point).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -657,6 +658,44 @@ def test_tube():
         cap = Part.makeSphere(r, V(0, 0, 0), V(0, 0, 1), -90, 0, 360)
         return cylinder.fuse(cap).removeSplitter()
     return body(TUBE_R, 0.0).cut(body(TUBE_BORE, 1.0)).removeSplitter()
+
+
+def beaded_ring():
+    """The (r, z) profile of a flat ring (r 10 to 20, 2 thick) with a bead of radius 1.5 round
+    each rim, centred 1.5 above the bottom (tangent to the walls), revolved about z."""
+    top = 2.0
+    rise = math.sqrt(1.5 ** 2 - (top - 1.5) ** 2)
+
+    def p(r, z):
+        return V(r, 0, z)
+
+    def arc(c, a0, a1):
+        mid = 0.5 * (a0 + a1)
+        return Part.Arc(*(p(c + 1.5 * math.cos(a), 1.5 + 1.5 * math.sin(a)) for a in (a0, mid, a1)))
+    up = math.asin((top - 1.5) / 1.5)
+    edges = [
+        Part.LineSegment(p(10, 0), p(20, 0)).toShape(),
+        Part.LineSegment(p(20, 0), p(20, 1.5)).toShape(),
+        arc(18.5, 0.0, PI - up).toShape(),
+        Part.LineSegment(p(18.5 - rise, top), p(11.5 + rise, top)).toShape(),
+        arc(11.5, up, PI).toShape(),
+        Part.LineSegment(p(10, 1.5), p(10, 0)).toShape(),
+    ]
+    face = Part.Face(Part.Wire(edges))
+    return face.revolve(V(0, 0, 0), V(0, 0, 1), 360)
+
+
+@part("beaded_ring",
+      "A flat ring (r 10 to 20, 2 thick) with a bead of radius 1.5 round each rim, centred "
+      "1.5 above the bottom and tangent to the wall, rising to z = 3 and meeting the top "
+      "z = 2 at a reflex edge (the profile of NIST FTC 11, revolved).",
+      None,
+      "No vertex, no seam: the beads' axes (the tori's core circles, r = 1.5) are degenerate "
+      "curves whose balls touch the bead along an arc, and the wall and the bottom at one "
+      "point each (the bottom at the foot of the centre, at no listed touch point); the "
+      "bottom is touched by no other ball the report lists.")
+def beaded_ring_part():
+    return beaded_ring()
 
 
 def main():

@@ -39,7 +39,8 @@ could grow away from its only contact is not on the medial axis.
 
 The report must describe a medial axis, not merely hold no wrong point:
   nonempty           the report has balls;
-  faces_touched      every face of the part is touched by some ball (a touch point on it), or
+  faces_touched      every face of the part is touched by some ball (a touch point on it, or
+                     within r + tol of its centre, in the solid holding it), or
                      a face joined to it across smooth edges is (the medial axis does not see
                      an edge where the faces' normals agree, within 1 degree at 9 points
                      along it: a hemisphere closing a tube is touched only by the wall's
@@ -693,6 +694,29 @@ def check_graph(mat, checks, touched, part):
             checks.record("junction_seams", n == 4, lambda: f"junction {j} (4 segments) has {n} seam ends")
     surface = smooth_surfaces(part)
     reached = {surface[f] for f in touched}
+    # A face no touch point is on may still be touched by a ball at a place the report does not
+    # list: within r + tol of a ball's centre (in the solid holding it; the balls are checked
+    # empty on their own).
+    untouched = [f for f in range(1, part.faces.Extent() + 1) if surface[f] not in reached]
+    if untouched:
+        balls = [p["point"] for s in seams for p in s.get("points", [])]
+        balls += [list(j["point"]) + [j["radius"]] for j in junctions]
+        balls += [b for d in mat.get("degenerate", []) for b in d.get("balls", [])]
+        for f in untouched:
+            if surface[f] in reached:
+                continue
+            for b in balls:
+                reach = b[3] + checks.tol
+                if not finite(b[:3], b[3]) or box_distance(part.face_boxes[f - 1], b[:3]) > reach:
+                    continue
+                solids = part.solids_holding(b[:3])
+                if solids != [None] and not any(f in part.solid_faces[k] for k in solids):
+                    continue
+                d = BRepExtrema_DistShapeShape(vertex(b[:3]), part.faces.FindKey(f))
+                d.Perform()
+                if d.IsDone() and d.NbSolution() > 0 and d.Value() <= reach:
+                    reached.add(surface[f])
+                    break
     for f in range(1, part.faces.Extent() + 1):
         checks.record("faces_touched", surface[f] in reached,
                       lambda: f"face F{f - 1} is touched by no ball (nor is a face joined to it "

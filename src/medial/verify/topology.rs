@@ -417,7 +417,8 @@ fn check_degenerate_ends(
 }
 
 /// Every face of every solid is touched by some ball: a face no touch point is on (to the
-/// accuracy) is a part of the boundary the medial axis has not reached. Faces joined across
+/// accuracy), and no ball reaches (within `r + a` of its centre), is a part of the boundary
+/// the medial axis has not reached. Faces joined across
 /// smooth edges count as one surface (the medial axis does not see a smooth edge): a
 /// hemispherical end blending into a tube's wall is touched only by the balls of the wall's
 /// sheet, which no seam or junction need reach, and passes when the wall is touched.
@@ -461,6 +462,38 @@ fn check_faces_touched(
     let mut surface_touched = vec![false; model.faces.len()];
     for (f, &hit) in touched.iter().enumerate() {
         surface_touched[surface[f]] |= hit;
+    }
+    // A face no touch point is on may still be touched by a ball at a place the report does
+    // not list (a bead's fillet axis whose balls reach the flat bottom under it: the ball
+    // touches the bottom at one point besides its arc on the torus): the face within r + a
+    // of a ball's centre, in the ball's solid, is touched (the balls are checked empty).
+    if (0..model.faces.len()).any(|f| !surface_touched[surface[f]]) {
+        let balls = axis
+            .seams
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| (s.solid, p.point)))
+            .chain(
+                axis.junctions
+                    .iter()
+                    .map(|j| (j.solid, [j.point[0], j.point[1], j.point[2], j.radius])),
+            )
+            .chain(
+                axis.degenerate
+                    .iter()
+                    .flat_map(|d| d.balls.iter().map(|b| (d.solid, *b))),
+            );
+        for (solid, b) in balls {
+            let (c, r) = (DVec3::new(b[0], b[1], b[2]), b[3]);
+            if !(c.is_finite() && r.is_finite()) {
+                continue;
+            }
+            boundary.within_into(model, c, r + a, &mut near);
+            for &f in &near {
+                if model.solid_of_face(f) == solid {
+                    surface_touched[surface[f]] = true;
+                }
+            }
+        }
     }
     for f in 0..model.faces.len() {
         v.record("faces_touched", surface_touched[surface[f]], || {
