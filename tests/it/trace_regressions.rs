@@ -773,3 +773,25 @@ fn a_pocket_half_as_deep_as_its_plate_has_a_seam_round_it_in_the_mid_plane() {
     assert_eq!(faces_touched["failed"], 0, "{faces_touched}");
     sheets_close_with_euler_one(&report);
 }
+
+/// The boss beside the pocket (`touching_features`): its side is tangent to the pocket's wall
+/// (r = 3, the axis at (23, 16), the wall the plane x = 26 below the plate's top z = 6). The
+/// boss's axis, a degenerate curve from the ball touching the boss's top, is handed onto the
+/// boss's foot circle at z = 6 and ends there: below, its ball grows past the pocket's wall.
+/// The wall is met where the foot circle touches it, on the circle of the ball's continuum —
+/// not a face lying along the continuum (a fillet's tangent plane) but the face that stopped
+/// the ball being empty; the end was left open ("no other element touches it").
+#[test]
+fn a_bosss_axis_ends_at_the_pocket_wall_tangent_to_its_side() {
+    let report = traced_and_verified("touching_features");
+    let axes = report["mat"]["degenerate"].as_array().unwrap();
+    assert_eq!(axes.len(), 1, "{axes:?}");
+    let ends = axes[0]["ends"].as_array().unwrap();
+    let wall = ends
+        .iter()
+        .find(|e| e["kind"] == "meets" && e["touch"][0].as_f64() == Some(26.0))
+        .unwrap_or_else(|| panic!("no end meets the wall x = 26: {ends:?}"));
+    let t = &wall["touch"];
+    assert!((t[1].as_f64().unwrap() - 16.0).abs() < 1e-6, "{wall}");
+    assert!((t[2].as_f64().unwrap() - 6.0).abs() < 0.05, "{wall}");
+}

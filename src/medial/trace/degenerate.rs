@@ -424,13 +424,15 @@ impl Tracer<'_> {
                     }
                     let left = matches!(last, StepFail::Left { .. });
                     let how = match last {
-                        StepFail::NotEmpty { .. } => self.meets(sys, solid, &end, d),
+                        StepFail::NotEmpty { face, .. } => {
+                            self.meets(sys, solid, &end, d, Some(face))
+                        }
                         StepFail::Vanished { .. } => self.vanishes(sys, &end),
                         // Where the continuum reaches its face's border, the curve ends if
                         // the ball touches something else there (a fillet's axis at the
                         // corner blend it runs into); carrying on onto the next face is
                         // not done yet.
-                        StepFail::Left { seg, .. } => match self.meets(sys, solid, &end, d) {
+                        StepFail::Left { seg, .. } => match self.meets(sys, solid, &end, d, None) {
                             DegenerateEnd::Open { .. } => open(
                                 DegenerateOpen::LeftFace,
                                 format!(
@@ -914,13 +916,15 @@ impl Tracer<'_> {
     /// the nearest element its ball touches there off its own continuum. A face touching
     /// the ball on the circle of its continuum (a plane tangent to a fillet along its edge)
     /// is not met there; a face the ball osculates (a corner's spherical blend) is met
-    /// wherever.
+    /// wherever, and so is `intruder`, the face that came closer than `r` just past `x`
+    /// (a pocket's wall tangent to a boss, met where the boss's foot circle touches it).
     fn meets(
         &self,
         sys: &MedialSystem,
         solid: usize,
         x: &DVector<f64>,
         dir: DVec3,
+        intruder: Option<usize>,
     ) -> DegenerateEnd {
         let own: Vec<usize> = sys
             .segments
@@ -953,7 +957,7 @@ impl Tracer<'_> {
             };
             let osculates =
                 !curvature_allows(self.model, element, s, r * (1.0 + OSCULATING_REL_RADIUS));
-            if (osculates || !on_circle(hit.point))
+            if (osculates || intruder == Some(g) || !on_circle(hit.point))
                 && best.as_ref().is_none_or(|b| hit.distance < b.0)
             {
                 best = Some((hit.distance, element, hit.point, osculates));
