@@ -789,7 +789,12 @@ fn a_bosss_axis_ends_at_the_pocket_wall_tangent_to_its_side() {
     let ends = axes[0]["ends"].as_array().unwrap();
     let wall = ends
         .iter()
-        .find(|e| e["kind"] == "meets" && e["touch"][0].as_f64() == Some(26.0))
+        .find(|e| {
+            e["kind"] == "meets"
+                && e["touch"][0]
+                    .as_f64()
+                    .is_some_and(|x| (x - 26.0).abs() < 1e-6)
+        })
         .unwrap_or_else(|| panic!("no end meets the wall x = 26: {ends:?}"));
     let t = &wall["touch"];
     assert!((t[1].as_f64().unwrap() - 16.0).abs() < 1e-6, "{wall}");
