@@ -29,8 +29,9 @@ use super::options::{
 };
 use super::tracer::Tracer;
 use super::unknowns::{slot, sys_point, to_chord, v3};
+use crate::geom::eval::eval_curve;
 use crate::medial::axis::{Degenerate, DegenerateEnd, DegenerateKind, DegenerateOpen};
-use crate::medial::equations::MedialSystem;
+use crate::medial::equations::{edge_angle, MedialSystem};
 use crate::medial::maximal::curvature_allows;
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
 use crate::model::{Element, Model};
@@ -380,6 +381,7 @@ impl Tracer<'_> {
         let mut travelled = 0.0;
         let mut out = vec![];
         let open = DegenerateEnd::open;
+        let mut respread = false;
         loop {
             if out.len() >= MAX_DEGENERATE_BALLS {
                 return (
@@ -408,7 +410,27 @@ impl Tracer<'_> {
                     }
                     out.push(xn.clone());
                     (x, d) = (xn, dn);
+                    respread = false;
                     h = (h * STEP_GROWTH).min(h_max);
+                }
+                Err(StepFail::Other(DegenerateOpen::TouchPointsMeet, _)) if !respread => {
+                    // The touch points drifted together round the circle of contact (a
+                    // circular edge touched all round, where they are free to): spread them
+                    // along the arc again and retry, once per step.
+                    respread = true;
+                    let spread = match sys.segments[..] {
+                        [Element::Edge(e), Element::Edge(f)] if e == f => {
+                            self.spread_on_edge(e, &x)
+                        }
+                        _ => self
+                            .recentred(sys, &x, d, true)
+                            .filter(|(pair, _)| pair[..] == sys.segments[..])
+                            .map(|(_, y)| y),
+                    };
+                    match spread {
+                        Some(y) => x = y,
+                        None => h *= 0.5,
+                    }
                 }
                 Err(StepFail::Other(cause, why)) => {
                     h *= 0.5;
@@ -794,6 +816,52 @@ impl Tracer<'_> {
         let sys = MedialSystem::new(pair.to_vec());
         let sol = self.degenerate_step(&sys, self.solid_of(pair[0]), &y, dir, 0.0);
         sol.ok().map(|(y, _)| (pair, y))
+    }
+
+    /// Ball `x`, touching edge `e` twice along an arc of it (a circular edge round the
+    /// centre's line of motion: a slot's round end, a boss's foot), with its touch points
+    /// moved to a quarter and three quarters along the longest run of the edge's samples at
+    /// distance `r` from the centre and on the edge's arc of normals. `None` when the run is
+    /// too short to hold two separate places.
+    fn spread_on_edge(&self, e: usize, x: &DVector<f64>) -> Option<DVector<f64>> {
+        const N: usize = 2 * AROUND_SAMPLES;
+        let (c, r) = (v3(x), x[3]);
+        let tol = AROUND_REL_ACCURACY * self.opts.accuracy;
+        let (t0, t1) = self.model.edges[e].range;
+        let flags: Vec<Option<[f64; 2]>> = (0..=N)
+            .map(|k| {
+                let t = t0 + (t1 - t0) * k as f64 / N as f64;
+                let p = eval_curve(&self.model.edges[e].curve, t).p;
+                let n = (p - c).try_normalize()?;
+                let th = edge_angle(self.model, e, t, n)?;
+                ((p.distance(c) - r).abs() <= tol && self.on_segment(Element::Edge(e), [t, th]))
+                    .then_some([t, th])
+            })
+            .collect();
+        let (mut best, mut cur) = ((0, 0), (0, 0));
+        for (k, f) in flags.iter().enumerate() {
+            cur = match (f, cur.1) {
+                (None, _) => (0, 0),
+                (Some(_), 0) => (k, 1),
+                (Some(_), len) => (cur.0, len + 1),
+            };
+            if cur.1 > best.1 {
+                best = cur;
+            }
+        }
+        let (k0, len) = best;
+        if len < 3 {
+            return None;
+        }
+        let mut y = x.clone();
+        for (i, k) in [k0 + len / 4, k0 + 3 * len / 4].into_iter().enumerate() {
+            let s = flags[k]?;
+            y[4 + 2 * i] = s[0];
+            y[5 + 2 * i] = s[1];
+        }
+        let one_place = (8.0 * r * self.opts.accuracy).sqrt();
+        let [ta, tb] = [0, 1].map(|i| sys_point(self.model, Element::Edge(e), slot(&y, i)));
+        (ta?.distance(tb?) > SEPARATED_MARGIN * one_place).then_some(y)
     }
 
     /// Where a curve touching `segs` whose touch point left its element at ball `x` (centre
