@@ -308,7 +308,10 @@ impl Tracer<'_> {
         let mut visited = vec![segments[0], segments[1]];
         // The located end the last hand-over went past (an element met, osculating).
         let mut handed_past: Option<DegenerateEnd> = None;
-        for _ in 0..=MAX_DEGENERATE_HANDOVERS {
+        let (mut handovers, mut respreads) = (0, 0);
+        // Set by a spread, until the march from it has taken a step.
+        let mut just_spread = false;
+        while handovers <= MAX_DEGENERATE_HANDOVERS && respreads <= MAX_DEGENERATE_BALLS {
             let sys = MedialSystem::new(segs.to_vec());
             let (balls, end, left) = self.march_degenerate(&sys, solid, &x, d);
             if balls.is_empty() && matches!(end, DegenerateEnd::Open { .. }) {
@@ -320,6 +323,7 @@ impl Tracer<'_> {
                     return out;
                 }
             }
+            let balls_taken = balls.len();
             out.balls.extend(balls.into_iter().map(|b| (segs, b)));
             let last = out.balls.last().map_or(&x, |(_, b)| b).clone();
             // Where a touch point left its element and nothing else stops the ball there, the
@@ -333,11 +337,34 @@ impl Tracer<'_> {
                         ..
                     } | DegenerateEnd::Open { .. }
                 );
+            // A touch point that left its segment off the end of the arc the ball touches it
+            // along, where the arc runs on on the same segments (a thread's root, a helical
+            // strip whose arc turns round the axis as the centre moves): the touch points are
+            // spread along the arc again and the curve goes on.
+            let progressed = !(just_spread && balls_taken == 0);
+            just_spread = false;
+            if left && progressed && matches!(end, DegenerateEnd::Open { .. }) {
+                if let Some(y) = self.spread(&sys, &last, d) {
+                    let moved = (0..2).any(|i| {
+                        let p = |z: &DVector<f64>| sys_point(self.model, segs[i], slot(z, i));
+                        p(&y)
+                            .zip(p(&last))
+                            .is_some_and(|(a, b)| a.distance(b) > self.opts.accuracy)
+                    });
+                    if moved {
+                        x = y;
+                        respreads += 1;
+                        just_spread = true;
+                        continue;
+                    }
+                }
+            }
             let next = carry_on
                 .then(|| self.degenerate_hand_over(solid, &last, d, (segs, &end), &visited))
                 .flatten();
             match next {
                 Some((pair, y, v)) => {
+                    handovers += 1;
                     handed_past = matches!(end, DegenerateEnd::Meets { .. }).then_some(end);
                     segs = pair;
                     visited.extend(pair);
@@ -418,16 +445,7 @@ impl Tracer<'_> {
                     // circular edge touched all round, where they are free to): spread them
                     // along the arc again and retry, once per step.
                     respread = true;
-                    let spread = match sys.segments[..] {
-                        [Element::Edge(e), Element::Edge(f)] if e == f => {
-                            self.spread_on_edge(e, &x)
-                        }
-                        _ => self
-                            .recentred(sys, &x, d, true)
-                            .filter(|(pair, _)| pair[..] == sys.segments[..])
-                            .map(|(_, y)| y),
-                    };
-                    match spread {
+                    match self.spread(sys, &x, d) {
                         Some(y) => x = y,
                         None => h *= 0.5,
                     }
@@ -816,6 +834,19 @@ impl Tracer<'_> {
         let sys = MedialSystem::new(pair.to_vec());
         let sol = self.degenerate_step(&sys, self.solid_of(pair[0]), &y, dir, 0.0);
         sol.ok().map(|(y, _)| (pair, y))
+    }
+
+    /// Ball `x` with its touch points spread along the arc it touches its segments along
+    /// ([`Self::spread_on_edge`] on an edge touched twice, else [`Self::recentred`] on the
+    /// same segments), or `None`.
+    fn spread(&self, sys: &MedialSystem, x: &DVector<f64>, d: DVec3) -> Option<DVector<f64>> {
+        match sys.segments[..] {
+            [Element::Edge(e), Element::Edge(f)] if e == f => self.spread_on_edge(e, x),
+            _ => self
+                .recentred(sys, x, d, true)
+                .filter(|(pair, _)| pair[..] == sys.segments[..])
+                .map(|(_, y)| y),
+        }
     }
 
     /// Ball `x`, touching edge `e` twice along an arc of it (a circular edge round the
