@@ -418,10 +418,10 @@ fn check_degenerate_ends(
 
 /// Every face of every solid is touched by some ball: a face no touch point is on (to the
 /// accuracy), and no ball reaches (within `r + a` of its centre), is a part of the boundary
-/// the medial axis has not reached. Faces joined across
-/// smooth edges count as one surface (the medial axis does not see a smooth edge): a
-/// hemispherical end blending into a tube's wall is touched only by the balls of the wall's
-/// sheet, which no seam or junction need reach, and passes when the wall is touched.
+/// the medial axis has not reached. Faces joined across smooth edges count as one surface
+/// (the medial axis does not see a smooth edge): a hemispherical end blending into a tube's
+/// wall is touched only by the balls of the wall's sheet, which no seam or junction need
+/// reach, and passes when the wall is touched.
 fn check_faces_touched(
     model: &Model,
     class: &Classification,
