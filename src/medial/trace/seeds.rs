@@ -40,13 +40,17 @@ impl Seed {
     }
 }
 
-/// A maximal ball grown from a face (see [`Tracer::walk_seeds`]): its centre, radius, and the
+/// A maximal ball grown from a face ([`Tracer::sheet_ball`]): its centre, radius, and the
 /// other segment it touches with the parameters of the touch.
 #[derive(Clone, Debug)]
 struct SheetBall {
+    /// The point of the face it is grown from.
+    foot: DVec3,
     centre: DVec3,
     r: f64,
     seg: (Element, [f64; 2]),
+    /// Where it touches `seg`.
+    touch: DVec3,
 }
 
 impl Tracer<'_> {
@@ -179,7 +183,8 @@ impl Tracer<'_> {
     }
 
     /// The maximal ball touching face `f` at `s` and the segment it touches besides, or None
-    /// at a convex edge, where it osculates the face, or where it cannot be grown.
+    /// at a convex edge (`r` within the accuracy), where it osculates the face (its second
+    /// touch at the first), or where it cannot be grown.
     fn sheet_ball(&self, f: usize, s: [f64; 2]) -> Option<SheetBall> {
         let solid = self.face_solid[f];
         let ev = Element::Face(f).eval(self.model, s)?;
@@ -190,7 +195,13 @@ impl Tracer<'_> {
             return None;
         }
         let seg = self.hit_segment(g, &hit, centre)?;
-        Some(SheetBall { centre, r, seg })
+        Some(SheetBall {
+            foot: ev.p,
+            centre,
+            r,
+            seg,
+            touch: hit.point,
+        })
     }
 
     /// Points of face `f` to sample from: the centres of a grid of cells over its domain that
@@ -228,14 +239,8 @@ impl Tracer<'_> {
 
     pub(super) fn sample_ball(&mut self, f: usize, s: [f64; 2]) -> Option<Vec<Seed>> {
         let solid = self.face_solid[f];
-        let ev = Element::Face(f).eval(self.model, s)?;
-        let (r, b, g, hit) = self.maximal_along(solid, ev.p, ev.n)?;
-        if r <= SAME_PLACE_REL_ACCURACY * self.opts.accuracy
-            || hit.point.distance(ev.p) <= DISTINCT_TOUCH_REL_RADIUS * r
-        {
-            return None; // at a convex edge, or where the ball osculates the face
-        }
-        let (seg2, s2) = self.hit_segment(g, &hit, b)?;
+        let ball = self.sheet_ball(f, s)?;
+        let (b, r, (seg2, s2)) = (ball.centre, ball.r, ball.seg);
         let first = Element::Face(f);
         if self.collapsed(first, s, seg2, s2, b, r) {
             return None;
@@ -261,7 +266,7 @@ impl Tracer<'_> {
                     .filter(|(seg, _)| !known.contains(seg)),
             );
         }
-        for (seg, touch) in [(first, ev.p), (seg2, hit.point)] {
+        for (seg, touch) in [(first, ball.foot), (seg2, ball.touch)] {
             if let Element::Face(h) = seg {
                 let opposite = b * 2.0 - touch;
                 if let Some(uv) = project_point(&self.model.faces[h].surface, opposite, None) {
