@@ -19,7 +19,8 @@ with a hip roof (seams touched by four faces), a plate with a pocket half as dee
 is thick (a closed seam whose touch point runs along the pocket's foot edges), a thin tube closed
 by a hemispherical end (a face too narrow for the seeds' first grid; faces touched only by a
 sheet's balls), a flat ring with a bead round each rim whose fillet axis's balls reach the
-bottom (a face touched at no listed touch point).
+bottom (a face touched at no listed touch point), a wall whose foot fillets end at its flat end
+faces (seams that end at pinches under the cusp vertices there).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -697,6 +698,27 @@ def beaded_ring():
 def beaded_ring_part():
     return beaded_ring()
 
+
+
+@part("filleted_wall_end",
+      "Plate 40x30x6 with a wall 20x4x8 standing on it (x 10 to 30, y 13 to 17), its two long "
+      "foot edges filleted (r = 2); the fillets end flush with the wall's flat end faces.",
+      40 * 30 * 6 + 20 * 4 * 8 + 2 * 20 * (4 - PI),
+      "Where a fillet runs into the wall's end face, the end face's convex edge with the "
+      "fillet comes down tangent to the floor and turns back along the end face's reflex "
+      "foot edge: a cusp vertex. The rim sheet of that convex edge is closed there by a "
+      "skeletal edge: the straight line of balls touching the vertex alone, from the vertex "
+      "down to the ball where the seam of the fillet, the end face's foot edge and the "
+      "plate's bottom ends (a pinch at the vertex, r = 3, centre 3 below it). Every sheet "
+      "closes at those vertices.")
+def filleted_wall_end():
+    body = Part.makeBox(40, 30, 6).fuse(Part.makeBox(20, 4, 8, V(10, 13, 6))).removeSplitter()
+    foot = [e for e in body.Edges
+            if abs(e.BoundBox.ZMin - 6) < 1e-9 and abs(e.BoundBox.ZMax - 6) < 1e-9
+            and abs(e.BoundBox.XLength - 20) < 1e-9
+            and min(abs(e.BoundBox.YMin - 13), abs(e.BoundBox.YMin - 17)) < 1e-9]
+    assert len(foot) == 2, foot
+    return body.makeFillet(2, foot)
 
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))

@@ -665,6 +665,44 @@ fn a_boxs_vertical_edges_end_in_skeletal_edges_straight_down_into_the_plate() {
     sheets_close_with_euler_one(&report);
 }
 
+/// A wall on a plate whose foot fillets end at the wall's flat end faces: at each of the four
+/// cusp vertices there (the end face's convex edge with the fillet coming down tangent to the
+/// floor, its reflex foot edge going back) the seam of the fillet or floor, the foot edge and
+/// the plate's bottom ends where its touch points on the first two meet at the vertex: a
+/// pinch located exactly there (r = 3, straight below the vertex), not a curvature limit the
+/// hand-over's step left short of it. The skeletal edge from that ball to the vertex closes
+/// the rim sheet of the end face's convex edge.
+#[test]
+fn a_fillet_ending_at_a_walls_end_face_ends_its_seam_in_a_pinch_at_the_cusp() {
+    let report = traced_and_verified("filleted_wall_end");
+    let vertices = report["model"]["vertices"].as_array().unwrap();
+    let mut cusps = vec![];
+    for s in seams(&report) {
+        for (k, end) in s["ends"].as_array().unwrap().iter().enumerate() {
+            let Some(v) = end["pinch"]["vertex"].as_u64() else {
+                continue;
+            };
+            let at = &vertices[v as usize]["point"];
+            let at: Vec<f64> = (0..3).map(|c| at[c].as_f64().unwrap()).collect();
+            let points = s["points"].as_array().unwrap();
+            let ball = &points[if k == 0 { 0 } else { points.len() - 1 }]["point"];
+            let ball: Vec<f64> = (0..4).map(|c| ball[c].as_f64().unwrap()).collect();
+            let off = [ball[0] - at[0], ball[1] - at[1], ball[2] + 3.0 - at[2]];
+            assert!(
+                off.iter().all(|d| d.abs() < 1e-9) && (ball[3] - 3.0).abs() < 1e-9,
+                "seam {} ends at {ball:?}, not 3 below {at:?}",
+                s["id"]
+            );
+            cusps.push([at[0].round() as i64, at[1].round() as i64]);
+        }
+    }
+    cusps.sort();
+    assert_eq!(cusps, [[10, 11], [10, 19], [30, 11], [30, 19]]);
+    let edges = report["mat"]["skeletal_edges"].as_array().unwrap();
+    assert_eq!(edges.len(), 4, "{edges:?}");
+    sheets_close_with_euler_one(&report);
+}
+
 /// The hip roof: five seams each touched by four faces at every ball (the apex's between the
 /// four roof faces, each top corner's between two walls and two roof faces), named with all
 /// four in their order round the seam, and every sheet closes (the sheets lie between

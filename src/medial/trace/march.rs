@@ -338,10 +338,20 @@ impl Tracer<'_> {
                 && matches!((at(k), at(i)), (Some(a), Some(b)) if a.distance(b) <= MERGED_TOUCH_REL_RADIUS * xc[3])
         });
         match merged {
-            Some(_) => {
-                m.points.push(self.seam_point(&m.sys, crossing));
-                SeamEnd::CurvatureLimit { segment: to }
-            }
+            // Where they meet at a vertex both reach (a floor and the reflex edge at the foot
+            // of a wall's end face, where a fillet along the wall runs into that end), the
+            // meeting is located exactly there: a pinch, where the sheet's skeletal edge to
+            // the vertex starts. The crossing is only as near as the hand-over's step.
+            Some(_) => match self.pinch(&m.sys, &m.triplet, crossing) {
+                Some((end, y)) => {
+                    m.points.push(self.seam_point(&m.sys, &y));
+                    end
+                }
+                None => {
+                    m.points.push(self.seam_point(&m.sys, crossing));
+                    SeamEnd::CurvatureLimit { segment: to }
+                }
+            },
             // Elsewhere they meet at the vertex the touch point was handed over at: a pinch.
             None => match self.pinch(&m.sys, &m.triplet, crossing) {
                 Some((end, y)) => {
