@@ -109,7 +109,11 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
         })
         .collect();
     let tol = SAME_TOUCH_REL_DIAGONAL * model.diagonal();
-    let (mut uf, paired, unpaired) = pair_ends(&arcs, &twice, tol);
+    let near = |v: usize| -> Option<LocalGroups> {
+        let groups = SegmentGroups::at_vertex(model, class, v);
+        Some(Box::new(move |e| groups.of(e)))
+    };
+    let (mut uf, paired, unpaired) = pair_ends(&arcs, &twice, tol, &near);
     let feet = Feet {
         model,
         mat,
@@ -152,6 +156,7 @@ fn pair_ends(
     arcs: &[Arc],
     twice: &BTreeSet<(Place, Element)>,
     tol: f64,
+    near: &dyn Fn(usize) -> Option<LocalGroups>,
 ) -> (UnionFind, Vec<[bool; 2]>, Vec<String>) {
     let mut at: BTreeMap<Place, Vec<(usize, usize)>> = BTreeMap::new();
     for (k, arc) in arcs.iter().enumerate() {
@@ -161,15 +166,17 @@ fn pair_ends(
             }
         }
     }
-    let mut uf = UnionFind::new(arcs.len());
-    let mut paired = vec![[false; 2]; arcs.len()];
-    let mut unpaired = vec![];
+    let mut out = Pairing {
+        uf: UnionFind::new(arcs.len()),
+        paired: vec![[false; 2]; arcs.len()],
+        unpaired: vec![],
+    };
     for (node, ends) in &at {
         if let Some(pairs) = at_skeletal_ball(arcs, *node, ends) {
             for [(k1, e1), (k2, e2)] in pairs {
-                uf.union(k1, k2);
-                paired[k1][e1] = true;
-                paired[k2][e2] = true;
+                out.uf.union(k1, k2);
+                out.paired[k1][e1] = true;
+                out.paired[k2][e2] = true;
             }
             continue;
         }
@@ -177,56 +184,108 @@ fn pair_ends(
         for &(k, end) in ends {
             by_group.entry(arcs[k].groups).or_default().push((k, end));
         }
+        let local = match node {
+            Place::Node(Node::Vertex(v)) => near(*v),
+            _ => None,
+        };
         for (_, list) in by_group {
-            let mut tries = vec![list];
-            if tries[0].len() > 2 {
-                // Keyed by the pair's names: the order in which `unpaired` lists them.
-                let mut by_pair: BTreeMap<[String; 2], Vec<(usize, usize)>> = BTreeMap::new();
-                for &(k, end) in &tries[0] {
-                    let pair = arcs[k].ends[end].as_ref().unwrap().1;
-                    by_pair
-                        .entry(pair.map(|e| e.to_string()))
-                        .or_default()
-                        .push((k, end));
-                }
-                tries = by_pair
-                    .into_values()
-                    .flat_map(|list| {
-                        let (k, end) = list[0];
+            // Ambiguous at a vertex: first by the groups as they are at the vertex (a touch
+            // point moves on across the smooth and reflex edges that end there only).
+            let lists = match &local {
+                Some(g) if list.len() > 2 => {
+                    let mut by_local: BTreeMap<[usize; 2], Vec<(usize, usize)>> = BTreeMap::new();
+                    for &(k, end) in &list {
                         let pair = arcs[k].ends[end].as_ref().unwrap().1;
-                        if pair.iter().any(|e| twice.contains(&(*node, *e))) {
-                            by_touch(arcs, list, tol)
-                        } else {
-                            vec![list]
-                        }
-                    })
-                    .collect();
-            }
-            for list in tries {
-                if let [(k1, e1), (k2, e2)] = list[..] {
-                    uf.union(k1, k2);
-                    paired[k1][e1] = true;
-                    paired[k2][e2] = true;
-                } else {
-                    let names: Vec<String> = list
-                        .iter()
-                        .map(|&(k, end)| {
-                            let pair = &arcs[k].ends[end].as_ref().unwrap().1;
-                            format!("{} {{{},{}}}", name(arcs[k].element), pair[0], pair[1])
-                        })
-                        .collect();
-                    unpaired.push(format!(
-                        "{}: {} arc end(s) of one sheet: {}",
-                        node_name(*node),
-                        list.len(),
-                        names.join(", ")
-                    ));
+                        let mut key = pair.map(g);
+                        key.sort_unstable();
+                        by_local.entry(key).or_default().push((k, end));
+                    }
+                    by_local.into_values().collect()
                 }
+                _ => vec![list],
+            };
+            for list in lists {
+                pair_list(arcs, twice, tol, *node, list, &mut out);
             }
         }
     }
 
-    (uf, paired, unpaired)
+    (out.uf, out.paired, out.unpaired)
+}
+
+/// The group of each element as the groups are at one vertex (see
+/// [`SegmentGroups::at_vertex`]).
+type LocalGroups = Box<dyn Fn(Element) -> usize>;
+
+/// Arc ends paired so far: the union of paired arcs, which ends are paired, and the ends
+/// that could not be (with why).
+struct Pairing {
+    uf: UnionFind,
+    paired: Vec<[bool; 2]>,
+    unpaired: Vec<String>,
+}
+
+/// Pairs the arc ends `list` at `node`, all of one group pair: two are one sheet's; more are
+/// split by segment pair (and, where an element is touched twice there, by touch points);
+/// an end left alone, or more than two that cannot be told apart, go to `unpaired`.
+fn pair_list(
+    arcs: &[Arc],
+    twice: &BTreeSet<(Place, Element)>,
+    tol: f64,
+    node: Place,
+    list: Vec<(usize, usize)>,
+    out: &mut Pairing,
+) {
+    let Pairing {
+        uf,
+        paired,
+        unpaired,
+    } = out;
+    let mut tries = vec![list];
+    if tries[0].len() > 2 {
+        // Keyed by the pair's names: the order in which `unpaired` lists them.
+        let mut by_pair: BTreeMap<[String; 2], Vec<(usize, usize)>> = BTreeMap::new();
+        for &(k, end) in &tries[0] {
+            let pair = arcs[k].ends[end].as_ref().unwrap().1;
+            by_pair
+                .entry(pair.map(|e| e.to_string()))
+                .or_default()
+                .push((k, end));
+        }
+        tries = by_pair
+            .into_values()
+            .flat_map(|list| {
+                let (k, end) = list[0];
+                let pair = arcs[k].ends[end].as_ref().unwrap().1;
+                if pair.iter().any(|e| twice.contains(&(node, *e))) {
+                    by_touch(arcs, list, tol)
+                } else {
+                    vec![list]
+                }
+            })
+            .collect();
+    }
+    for list in tries {
+        if let [(k1, e1), (k2, e2)] = list[..] {
+            uf.union(k1, k2);
+            paired[k1][e1] = true;
+            paired[k2][e2] = true;
+        } else {
+            let names: Vec<String> = list
+                .iter()
+                .map(|&(k, end)| {
+                    let pair = &arcs[k].ends[end].as_ref().unwrap().1;
+                    format!("{} {{{},{}}}", name(arcs[k].element), pair[0], pair[1])
+                })
+                .collect();
+            unpaired.push(format!(
+                "{}: {} arc end(s) of one sheet: {}",
+                node_name(node),
+                list.len(),
+                names.join(", ")
+            ));
+        }
+    }
 }
 
 /// At the ball where one seam ends and a skeletal edge starts: the seam's side on the two
@@ -538,7 +597,7 @@ mod tests {
             arc(2, [bottom, a]),
             arc(3, [b, bottom]),
         ];
-        let (mut uf, paired, unpaired) = pair_ends(&arcs, &twice, 1e-9);
+        let (mut uf, paired, unpaired) = pair_ends(&arcs, &twice, 1e-9, &|_| None);
         assert!(paired.iter().all(|p| p[0]), "{paired:?}");
         assert!(
             unpaired.iter().all(|u| !u.contains("junction")),
@@ -550,7 +609,7 @@ mod tests {
         // Arc 3 off by more than the tolerance: arcs 1 and 3 are not one sheet's.
         let mut wrong = arcs;
         wrong[3] = arc(3, [b + DVec3::X * 1e-6, bottom]);
-        let (_, paired, unpaired) = pair_ends(&wrong, &twice, 1e-9);
+        let (_, paired, unpaired) = pair_ends(&wrong, &twice, 1e-9, &|_| None);
         assert!(!paired[1][0] && !paired[3][0], "{paired:?}");
         assert_eq!(
             unpaired
@@ -561,7 +620,7 @@ mod tests {
             "{unpaired:?}"
         );
         // Without the face touched twice the four are one ambiguous set, as before.
-        let (_, _, unpaired) = pair_ends(&wrong, &BTreeSet::new(), 1e-9);
+        let (_, _, unpaired) = pair_ends(&wrong, &BTreeSet::new(), 1e-9, &|_| None);
         assert!(
             unpaired
                 .iter()
@@ -599,7 +658,7 @@ mod tests {
         let mut edge = arc(BoundaryRef::Skeletal(0), [a, b], None);
         edge.ends = [Some((ball, [a, b])), Some((v, [a, b]))];
         arcs.push(edge);
-        let (mut uf, paired, unpaired) = pair_ends(&arcs, &BTreeSet::new(), 1e-9);
+        let (mut uf, paired, unpaired) = pair_ends(&arcs, &BTreeSet::new(), 1e-9, &|_| None);
         assert!(
             paired[0][1] && paired[1][1] && paired[2][1] && paired[3][0],
             "{paired:?}"
@@ -611,6 +670,66 @@ mod tests {
         assert_eq!(uf.find(0), uf.find(3), "along the skeletal edge");
         assert_eq!(uf.find(1), uf.find(2), "round the ball");
         assert_ne!(uf.find(0), uf.find(1));
+    }
+
+    /// The Prusa extruder idler's vertex V64, where the corner of a hexagonal nut pocket (two
+    /// walls joined by a reflex edge) reaches the top face exactly on a groove's edge: two
+    /// seams end there at `r = 0`, one touching the top, the groove's half on one side and
+    /// one pocket wall, the other the top, the other half and the other wall; four rims end
+    /// there too. Everything is one group across the part. The seams' sides on the top and
+    /// a wall are one sheet, its touch point crossing the reflex edge at the vertex: paired
+    /// by the groups as they are at the vertex; by the segments alone they are two ends left
+    /// open (as before), and with the local groups taken away again they are not paired.
+    #[test]
+    fn arcs_at_a_vertex_pair_across_a_reflex_edge_that_ends_there() {
+        let v = Place::Node(Node::Vertex(64));
+        let [top, half1, half2, wall1, wall2] = [12, 25, 69, 39, 68].map(Element::Face);
+        let arc = |element: BoundaryRef, pair: [Element; 2]| Arc {
+            element,
+            solid: 0,
+            ends: [Some((v, pair)), None],
+            groups: [0, 0],
+            closed: false,
+            pair,
+            touch: [None, None],
+            pieces: vec![pair],
+            slots: None,
+        };
+        let arcs = vec![
+            arc(BoundaryRef::Seam(128), [top, half1]),
+            arc(BoundaryRef::Seam(128), [half1, wall1]),
+            arc(BoundaryRef::Seam(128), [top, wall1]),
+            arc(BoundaryRef::Seam(147), [wall2, half2]),
+            arc(BoundaryRef::Seam(147), [top, wall2]),
+            arc(BoundaryRef::Seam(147), [top, half2]),
+            arc(BoundaryRef::Edge(76), [top, half1]),
+            arc(BoundaryRef::Edge(115), [half1, wall1]),
+            arc(BoundaryRef::Edge(75), [top, half2]),
+            arc(BoundaryRef::Edge(215), [wall2, half2]),
+        ];
+        // Each pair in the order of its elements, as the arcs of a report have them. At V64
+        // only the reflex edge between the walls joins anything.
+        let local = |_: usize| -> Option<LocalGroups> {
+            Some(Box::new(move |e| match e {
+                Element::Face(39) | Element::Face(68) => 39,
+                Element::Face(f) => f,
+                _ => usize::MAX,
+            }))
+        };
+        let (mut uf, paired, unpaired) = pair_ends(&arcs, &BTreeSet::new(), 1e-9, &local);
+        assert!(unpaired.is_empty(), "{unpaired:?}");
+        assert!(paired.iter().all(|p| p[0]), "{paired:?}");
+        assert_eq!(uf.find(2), uf.find(4), "top and the walls: one sheet");
+        assert_eq!(uf.find(0), uf.find(6));
+        assert_ne!(uf.find(2), uf.find(0));
+        let (_, _, unpaired) = pair_ends(&arcs, &BTreeSet::new(), 1e-9, &|_| None);
+        assert_eq!(
+            unpaired,
+            [
+                "vertex V64: 1 arc end(s) of one sheet: seam 128 {F12,F39}",
+                "vertex V64: 1 arc end(s) of one sheet: seam 147 {F12,F68}",
+            ]
+        );
     }
 
     fn loop_sizes(s: &Sheets) -> Vec<usize> {
