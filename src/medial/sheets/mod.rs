@@ -17,7 +17,9 @@
 //!    by smooth or reflex edges (with those edges and the reflex vertices between them) form
 //!    one group, because a touch point moves across such an edge without the sheet ending
 //!    (a fillet, a split face, the inner corner of an L). Where a group pair is ambiguous at
-//!    a node (more than two arc ends), the exact segment pair decides;
+//!    a node (more than two arc ends), what is known there decides: at a vertex, the groups
+//!    joined across the edges that end there only; at a junction, the two of its contacts
+//!    an arc runs between; then the exact segment pair;
 //! 3. paired arcs form loops, and the loops with the same group pair form one sheet.
 //!
 //! Counting then gives the medial axis's Euler characteristic `V − E + Σ χ(sheet)`, with
@@ -113,7 +115,15 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
         let groups = SegmentGroups::at_vertex(model, class, v);
         Some(Box::new(move |e| groups.of(e)))
     };
-    let (mut uf, paired, unpaired) = pair_ends(&arcs, &twice, tol, &near);
+    let contacts: BTreeMap<Place, Vec<DVec3>> = mat
+        .junctions
+        .iter()
+        .map(|j| {
+            let touch = j.touch.iter().map(|t| DVec3::from_array(*t)).collect();
+            (Place::Node(Node::Junction(j.id)), touch)
+        })
+        .collect();
+    let (mut uf, paired, unpaired) = pair_ends(&arcs, &twice, tol, &near, &contacts);
     let feet = Feet {
         model,
         mat,
@@ -148,15 +158,17 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
     out
 }
 
-/// Pairs the arc ends at each node by group pair, then (where that is ambiguous) by segment
-/// pair, then (where one element is touched twice there, so that two sheets share a segment
-/// pair) by the touch points the arcs run between, equal to `tol`: the union of paired arcs,
-/// which ends are paired, and the ends that could not be.
+/// Pairs the arc ends at each node by group pair, then (where that is ambiguous) at a vertex
+/// by the groups there (`near`), at a junction by the two of its `contacts` the arcs' touch
+/// points are at (equal to `tol`), then by segment pair, then (where one element is touched
+/// twice there, so that two sheets share a segment pair) by the touch points the arcs run
+/// between: the union of paired arcs, which ends are paired, and the ends that could not be.
 fn pair_ends(
     arcs: &[Arc],
     twice: &BTreeSet<(Place, Element)>,
     tol: f64,
     near: &dyn Fn(usize) -> Option<LocalGroups>,
+    contacts: &BTreeMap<Place, Vec<DVec3>>,
 ) -> (UnionFind, Vec<[bool; 2]>, Vec<String>) {
     let mut at: BTreeMap<Place, Vec<(usize, usize)>> = BTreeMap::new();
     for (k, arc) in arcs.iter().enumerate() {
@@ -184,23 +196,41 @@ fn pair_ends(
         for &(k, end) in ends {
             by_group.entry(arcs[k].groups).or_default().push((k, end));
         }
+        // Ambiguous by groups: first by what tells sheets apart at this node. At a vertex,
+        // the groups as they are there (a touch point moves on across the smooth and reflex
+        // edges that end there only); at a junction, the two of its contacts an arc's touch
+        // points are at (one sheet lies between each two; an element named differently by
+        // two seams, a face and its edge where the ball touches the face at that edge, is
+        // one contact).
         let local = match node {
             Place::Node(Node::Vertex(v)) => near(*v),
             _ => None,
         };
+        let at_junction = match node {
+            Place::Node(Node::Junction(_)) => contacts.get(node),
+            _ => None,
+        };
+        let key = |k: usize, end: usize| -> Option<[usize; 2]> {
+            let mut key = if let Some(g) = &local {
+                arcs[k].ends[end].as_ref()?.1.map(g)
+            } else {
+                let contacts = at_junction?;
+                let slot = |t: DVec3| contacts.iter().position(|c| c.distance(t) <= tol);
+                let [a, b] = arcs[k].touch[end]?;
+                [slot(a)?, slot(b)?]
+            };
+            key.sort_unstable();
+            Some(key)
+        };
         for (_, list) in by_group {
-            // Ambiguous at a vertex: first by the groups as they are at the vertex (a touch
-            // point moves on across the smooth and reflex edges that end there only).
-            let lists = match &local {
-                Some(g) if list.len() > 2 => {
-                    let mut by_local: BTreeMap<[usize; 2], Vec<(usize, usize)>> = BTreeMap::new();
-                    for &(k, end) in &list {
-                        let pair = arcs[k].ends[end].as_ref().unwrap().1;
-                        let mut key = pair.map(g);
-                        key.sort_unstable();
-                        by_local.entry(key).or_default().push((k, end));
+            let keys: Option<Vec<[usize; 2]>> = list.iter().map(|&(k, end)| key(k, end)).collect();
+            let lists = match keys {
+                Some(keys) if list.len() > 2 => {
+                    let mut by_key: BTreeMap<[usize; 2], Vec<(usize, usize)>> = BTreeMap::new();
+                    for (e, key) in list.into_iter().zip(keys) {
+                        by_key.entry(key).or_default().push(e);
                     }
-                    by_local.into_values().collect()
+                    by_key.into_values().collect()
                 }
                 _ => vec![list],
             };
@@ -597,7 +627,8 @@ mod tests {
             arc(2, [bottom, a]),
             arc(3, [b, bottom]),
         ];
-        let (mut uf, paired, unpaired) = pair_ends(&arcs, &twice, 1e-9, &|_| None);
+        let (mut uf, paired, unpaired) =
+            pair_ends(&arcs, &twice, 1e-9, &|_| None, &BTreeMap::new());
         assert!(paired.iter().all(|p| p[0]), "{paired:?}");
         assert!(
             unpaired.iter().all(|u| !u.contains("junction")),
@@ -609,7 +640,7 @@ mod tests {
         // Arc 3 off by more than the tolerance: arcs 1 and 3 are not one sheet's.
         let mut wrong = arcs;
         wrong[3] = arc(3, [b + DVec3::X * 1e-6, bottom]);
-        let (_, paired, unpaired) = pair_ends(&wrong, &twice, 1e-9, &|_| None);
+        let (_, paired, unpaired) = pair_ends(&wrong, &twice, 1e-9, &|_| None, &BTreeMap::new());
         assert!(!paired[1][0] && !paired[3][0], "{paired:?}");
         assert_eq!(
             unpaired
@@ -620,7 +651,8 @@ mod tests {
             "{unpaired:?}"
         );
         // Without the face touched twice the four are one ambiguous set, as before.
-        let (_, _, unpaired) = pair_ends(&wrong, &BTreeSet::new(), 1e-9, &|_| None);
+        let (_, _, unpaired) =
+            pair_ends(&wrong, &BTreeSet::new(), 1e-9, &|_| None, &BTreeMap::new());
         assert!(
             unpaired
                 .iter()
@@ -658,7 +690,8 @@ mod tests {
         let mut edge = arc(BoundaryRef::Skeletal(0), [a, b], None);
         edge.ends = [Some((ball, [a, b])), Some((v, [a, b]))];
         arcs.push(edge);
-        let (mut uf, paired, unpaired) = pair_ends(&arcs, &BTreeSet::new(), 1e-9, &|_| None);
+        let (mut uf, paired, unpaired) =
+            pair_ends(&arcs, &BTreeSet::new(), 1e-9, &|_| None, &BTreeMap::new());
         assert!(
             paired[0][1] && paired[1][1] && paired[2][1] && paired[3][0],
             "{paired:?}"
@@ -716,13 +749,15 @@ mod tests {
                 _ => usize::MAX,
             }))
         };
-        let (mut uf, paired, unpaired) = pair_ends(&arcs, &BTreeSet::new(), 1e-9, &local);
+        let (mut uf, paired, unpaired) =
+            pair_ends(&arcs, &BTreeSet::new(), 1e-9, &local, &BTreeMap::new());
         assert!(unpaired.is_empty(), "{unpaired:?}");
         assert!(paired.iter().all(|p| p[0]), "{paired:?}");
         assert_eq!(uf.find(2), uf.find(4), "top and the walls: one sheet");
         assert_eq!(uf.find(0), uf.find(6));
         assert_ne!(uf.find(2), uf.find(0));
-        let (_, _, unpaired) = pair_ends(&arcs, &BTreeSet::new(), 1e-9, &|_| None);
+        let (_, _, unpaired) =
+            pair_ends(&arcs, &BTreeSet::new(), 1e-9, &|_| None, &BTreeMap::new());
         assert_eq!(
             unpaired,
             [
@@ -730,6 +765,64 @@ mod tests {
                 "vertex V64: 1 arc end(s) of one sheet: seam 147 {F12,F68}",
             ]
         );
+    }
+
+    /// `faceted_boss`'s junction 7: its ball (between the boss's top and the plate's bottom,
+    /// centred on the plate's top) touches a boss wall exactly at its foot edge. The junction
+    /// names that contact by the edge; one seam ending there names it by the wall. Walls,
+    /// foot edges and the plate's top are one group, so the four arc ends between that group
+    /// and the boss's top are ambiguous, and by segments two are left alone. The junction's
+    /// contacts tell them apart: the arcs between the same two contacts are one sheet's. An
+    /// arc whose touch point is at none of the contacts is not paired by them.
+    #[test]
+    fn arcs_at_a_junction_pair_by_the_contacts_they_run_between() {
+        let j = Place::Node(Node::Junction(7));
+        let (e11, e10, f10, top) = (
+            Element::Edge(11),
+            Element::Edge(10),
+            Element::Face(10),
+            Element::Face(12),
+        );
+        let contacts = [
+            DVec3::new(16.02, 19.98, 4.0),
+            DVec3::new(12.0, 15.98, 4.0),
+            DVec3::new(16.0, 15.98, 8.0),
+            DVec3::new(16.0, 15.98, 0.0),
+        ];
+        let arc = |seam: usize, pair: [Element; 2], slots: [usize; 2]| Arc {
+            element: BoundaryRef::Seam(seam),
+            solid: 0,
+            ends: [Some((j, pair)), None],
+            groups: [0, 1],
+            closed: false,
+            pair,
+            touch: [Some(slots.map(|s| contacts[s])), None],
+            pieces: vec![pair],
+            slots: None,
+        };
+        let arcs = vec![
+            arc(11, [e10, top], [1, 2]),
+            arc(11, [e11, top], [0, 2]),
+            arc(18, [e10, top], [1, 2]),
+            arc(22, [f10, top], [0, 2]),
+        ];
+        let at = BTreeMap::from([(j, contacts.to_vec())]);
+        let none = BTreeSet::new();
+        let (mut uf, paired, unpaired) = pair_ends(&arcs, &none, 1e-9, &|_| None, &at);
+        assert!(unpaired.is_empty(), "{unpaired:?}");
+        assert!(paired.iter().all(|p| p[0]), "{paired:?}");
+        assert_eq!(
+            uf.find(1),
+            uf.find(3),
+            "the wall and its foot edge: one contact"
+        );
+        assert_eq!(uf.find(0), uf.find(2));
+        let (_, _, unpaired) = pair_ends(&arcs, &none, 1e-9, &|_| None, &BTreeMap::new());
+        assert_eq!(unpaired.len(), 2, "{unpaired:?}");
+        let mut off = arcs;
+        off[3].touch[0] = Some([contacts[0] + DVec3::Z * 1e-6, contacts[2]]);
+        let (_, _, unpaired) = pair_ends(&off, &none, 1e-9, &|_| None, &at);
+        assert_eq!(unpaired.len(), 2, "{unpaired:?}");
     }
 
     fn loop_sizes(s: &Sheets) -> Vec<usize> {
