@@ -378,6 +378,7 @@ impl Tracer<'_> {
                 to,
             }));
         }
+        let from = m.triplet[i];
         m.triplet[i] = to;
         m.sys = MedialSystem::new(m.triplet.to_vec());
         m.points.push(self.seam_point(&m.sys, &xnew));
@@ -385,9 +386,15 @@ impl Tracer<'_> {
         d.rows_mut(0, 3).copy_from(&m.t.rows(0, 3));
         let Some(tc) = self.tangent(&m.sys, &xnew, &d) else {
             // Where the ball has shrunk to nothing the seam is at a convex vertex (a touch
-            // point crossed a smooth edge into it, onto the face another one is on).
+            // point crossed a smooth edge into it, onto the face another one is on). The seam
+            // ends on the elements it ran along: the ball there (r = 0, every touch point at
+            // the vertex) is on both, and the hand-over into the vertex is no part of it (it
+            // would name the face another touch point is on twice).
             if xnew[3] <= self.opts.accuracy {
                 if let Some(v) = self.vertex_reached(&m.sys.segments, v3(&xnew)) {
+                    m.handovers.pop();
+                    m.triplet[i] = from;
+                    m.sys = MedialSystem::new(m.triplet.to_vec());
                     return Flow::End(SeamEnd::Vertex(v));
                 }
             }
