@@ -173,18 +173,20 @@ pub(super) fn pairs_along(s: &Seam, i: usize, j: usize) -> Vec<[Element; 2]> {
     out
 }
 
-/// Adds the rims (convex edges between two faces) to `arcs`; returns the solids with mixed
-/// edges.
+/// Adds the rims (convex edges between two faces, and the smooth edges in `kinks`) to
+/// `arcs`; returns the solids with mixed edges.
 pub(super) fn add_rims(
     model: &Model,
     class: &Classification,
     groups: &SegmentGroups,
+    kinks: &BTreeSet<usize>,
     arcs: &mut Vec<Arc>,
 ) -> BTreeSet<usize> {
     let mut mixed = BTreeSet::new();
     for (e, edge) in model.edges.iter().enumerate() {
+        let rim = class.edges[e].kind == EdgeKind::Convex || kinks.contains(&e);
         match class.edges[e].kind {
-            EdgeKind::Convex if edge.faces.len() == 2 && edge.faces[0] != edge.faces[1] => {
+            _ if rim && edge.faces.len() == 2 && edge.faces[0] != edge.faces[1] => {
                 let pair = [Element::Face(edge.faces[0]), Element::Face(edge.faces[1])];
                 arcs.push(Arc::between(
                     BoundaryRef::Edge(e),
@@ -202,6 +204,36 @@ pub(super) fn add_rims(
     }
 
     mixed
+}
+
+/// The smooth edges that are a sheet's rim all the same: faces meeting at a convex angle
+/// below the angle tolerance (a wall written as two B-splines with a 0.4° kink between them)
+/// are one smooth surface to the classification, but exact tracing finds the sheet between
+/// them where a seam ends at the edge's vertex (`r = 0`) touching both. The edges at whose
+/// vertices that happens.
+pub(super) fn convex_kinks(
+    model: &Model,
+    class: &Classification,
+    mat: &MedialAxis,
+) -> BTreeSet<usize> {
+    let mut kinks = BTreeSet::new();
+    for s in &mat.seams {
+        for (end, how) in s.ends.iter().enumerate() {
+            let SeamEnd::Vertex(v) = how else { continue };
+            let (_, segs) = s.at_end(end);
+            for (e, edge) in model.edges.iter().enumerate() {
+                let kink = class.edges[e].kind == EdgeKind::Smooth
+                    && edge.vertices.contains(v)
+                    && edge.faces.len() == 2
+                    && edge.faces[0] != edge.faces[1]
+                    && edge.faces.iter().all(|&f| segs.contains(&Element::Face(f)));
+                if kink {
+                    kinks.insert(e);
+                }
+            }
+        }
+    }
+    kinks
 }
 
 /// Adds the skeletal edges to `arcs`: each runs from its ball to its vertex, on its pair.

@@ -37,7 +37,7 @@ use crate::medial::axis::{MedialAxis, Node, SeamEnd};
 use crate::medial::segments::{SegmentGroups, UnionFind};
 use crate::model::{Element, Model};
 pub use arcs::BoundaryRef;
-use arcs::{add_rims, add_skeletal, end_balls, seam_arcs, Arc, Place};
+use arcs::{add_rims, add_skeletal, convex_kinks, end_balls, seam_arcs, Arc, Place};
 use glam::DVec3;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
@@ -96,7 +96,8 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
     let groups = SegmentGroups::new(model, class);
     let balls = end_balls(mat);
     let mut arcs = seam_arcs(mat, &groups, &balls);
-    let mixed = add_rims(model, class, &groups, &mut arcs);
+    let kinks = convex_kinks(model, class, mat);
+    let mixed = add_rims(model, class, &groups, &kinks, &mut arcs);
     add_skeletal(mat, &groups, &mut arcs);
     add_witnesses(model, class, mat, &balls, &mut arcs);
     // Elements a junction touches in two places.
@@ -823,6 +824,68 @@ mod tests {
         off[3].touch[0] = Some([contacts[0] + DVec3::Z * 1e-6, contacts[2]]);
         let (_, _, unpaired) = pair_ends(&off, &none, 1e-9, &|_| None, &at);
         assert_eq!(unpaired.len(), 2, "{unpaired:?}");
+    }
+
+    /// `kinked_walls`: a long wall written as two planes meeting at a 0.5° convex kink,
+    /// classified smooth. A seam that ends at the kink's top vertex (`r = 0`) touching both
+    /// planes (as the Voron Dragon mount's 0.36° kink between two B-spline faces has) makes
+    /// that smooth edge the rim of the sheet between them; a seam ending there touching one
+    /// of them only, or ending elsewhere, does not; nor does the traced part, which has none.
+    #[test]
+    fn a_smooth_edge_is_a_rim_where_a_seam_ends_at_its_vertex_touching_both_faces() {
+        use crate::medial::axis::{Seam, SeamEnd};
+        let (model, class, mut mat) = crate::testing::traced("trace/kinked_walls.step");
+        assert!(convex_kinks(&model, &class, &mat).is_empty());
+        let kink = (0..model.edges.len())
+            .find(|&e| {
+                class.edges[e].kind == crate::classify::EdgeKind::Smooth
+                    && model.edges[e]
+                        .vertices
+                        .iter()
+                        .all(|&v| model.vertices[v].point.y.abs() < 1e-9)
+            })
+            .unwrap();
+        let edge = &model.edges[kink];
+        let top = *edge
+            .vertices
+            .iter()
+            .find(|&&v| model.vertices[v].point.z > 2.0)
+            .unwrap();
+        let [a, b] = [edge.faces[0], edge.faces[1]].map(Element::Face);
+        let roof = (0..model.faces.len())
+            .find(|&f| {
+                let at_top = |v: usize| (model.vertices[v].point.z - 4.0).abs() < 1e-9;
+                model
+                    .edges
+                    .iter()
+                    .filter(|e| e.faces.contains(&f))
+                    .all(|e| e.vertices.iter().all(|&v| at_top(v)))
+            })
+            .map(Element::Face)
+            .unwrap();
+        let seam = |end_segments: Vec<Element>, end: SeamEnd| Seam {
+            id: 0,
+            solid: 0,
+            segments: end_segments.clone(),
+            ends: [SeamEnd::Junction(0), end],
+            end_segments,
+            points: vec![],
+            handovers: vec![],
+            unresolved: vec![],
+            trace_seconds: 0.0,
+        };
+        mat.seams.push(seam(vec![a, roof, a], SeamEnd::Vertex(top)));
+        assert!(
+            convex_kinks(&model, &class, &mat).is_empty(),
+            "one face only"
+        );
+        mat.seams.push(seam(vec![a, roof, b], SeamEnd::Junction(1)));
+        assert!(
+            convex_kinks(&model, &class, &mat).is_empty(),
+            "not at the vertex"
+        );
+        mat.seams.push(seam(vec![a, roof, b], SeamEnd::Vertex(top)));
+        assert_eq!(convex_kinks(&model, &class, &mat), BTreeSet::from([kink]));
     }
 
     fn loop_sizes(s: &Sheets) -> Vec<usize> {
