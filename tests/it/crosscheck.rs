@@ -47,14 +47,6 @@ const PINCHED: &str = "no seams end open: the seams under its holes, each inscri
     junction of three reflex edges and a vertex, and where a skeletal edge starts \
     (`sheets_closed`, issue 20)";
 
-/// No seam end open any more, but faceted walls above the angle tolerance.
-const SHALLOW_FACETS: &str = "no seam ends open; seams leaving a vertex between faces at a \
-    shallow angle (above the tolerance) have points whose touch points on those faces lie \
-    closer than √(8·r·accuracy), listed as unresolved and verified as such; two sheet \
-    boundaries stay open at the crease vertices of a faceted profile, where the seam along \
-    the shallow crease ends and the skeletal edge of its foot edges starts (`sheets_closed`, \
-    issue 20)";
-
 /// Shallow facets, but every sheet closes.
 const SHALLOW_FACETS_CLOSED: &str = "no seam ends open; seams leaving a vertex between faces \
     at a shallow angle (above the tolerance) have points whose touch points on those faces \
@@ -63,18 +55,23 @@ const SHALLOW_FACETS_CLOSED: &str = "no seam ends open; seams leaving a vertex b
     contacts, and every sheet boundary closes; two sheet-mesh vertices next to a sheet's \
     boundary lie past it, where the ball has one contact (`occt:mesh_contacts`)";
 
-/// As [`SHALLOW_FACETS`], and a fillet's axis ending open.
-const SHALLOW_FACETS_AND_A_FILLET: &str = "as the other parts with shallow facets (seams \
-    leaving a vertex between faces at a shallow angle have unresolved points; sheet boundaries \
-    stay open at non-generic junctions and at mixed vertices: `sheets_closed`, issue 20); one \
-    degenerate curve ends open where a touch point leaves its fillet and no face beside it \
-    carries the continuum on (`degenerate_ends`)";
+/// Shallow facets, and a fillet's axis ending open.
+const SHALLOW_FACETS_AND_A_FILLET: &str = "seams leaving a vertex between faces at a shallow \
+    angle have unresolved points; one degenerate curve, a fillet's axis, ends open where a \
+    touch point leaves the fillet across its oblique end edge and no face beside it carries \
+    the continuum on (`degenerate_ends`); the one sheet boundary left open is at that end, a \
+    cusp vertex where the fillet's tangent line meets the reflex end edge, whose rim's sheet \
+    closes along the line from the vertex to the axis's ball there (`sheets_closed`, issue \
+    20)";
 
 /// Seams that end at curvature limits on curved reflex edges, and degenerate pieces.
 const SLOT_CORNERS: &str = "no seam ends open: the seams under its slots' rounded corners \
     end where the ball touches a whole corner arc (a curvature limit on the curved reflex \
     edge); every face is touched (counted by smooth surface and by the balls' reach), and \
-    four sheet boundaries stay open (skeletal edges of curved faces, issue 20)";
+    four sheet boundaries stay open at cusp vertices, where a rib's flat side cuts the conical \
+    flare at the foot of its rounded end tangentially: the rim's sheet there closes along the \
+    line from the vertex to the end ball of the rounded end's axis, a degenerate curve not yet \
+    part of the graph (issue 20)";
 
 /// The sheet mesh's vertices next to a sheet's boundary can lie past it, where the ball has
 /// one contact only.
@@ -94,13 +91,6 @@ const SCREW: &str = "no seams end open (the seam whose touch points on two refle
     traced once); the degenerate curves along the thread's root, a helical strip, are \
     traced with their touch points spread again as the arc of contact turns, in overlapping \
     pieces that end meeting the next turn of the root";
-
-/// No seam end open any more: two touch points arriving at one vertex end at a pinch there.
-const PINCHED_AT_VERTEX: &str = "no seams end open: a seam whose touch points come down a \
-    ridge's two walls to a ledge ends at the pinch where they meet at the ridge's foot \
-    (docs/design.md, Pinches); its eleven non-generic seams bound the sheets of neighbouring \
-    contacts; four sheet-boundary ends stay open at crease vertices (a convex edge running \
-    on into a reflex one), where a rim meets no seam (`sheets_closed`, issue 20)";
 
 const MOTOR_PLATE: &str = "22 faces whose edges lie off their surfaces by up to 3.9e-3 mm (the \
     accuracy is 7.4e-5 mm; the file declares 0.01 mm): both checkers hold the balls near them to \
@@ -130,12 +120,6 @@ const EULER_OFF: &str = "no seam ends open and every ball passes both checkers; 
     there touch floor, channel walls and the hole together: the seam round the hole is found \
     (by walking the hole's sheet), but the medial axis's Euler characteristic is 2 against \
     the solid's 0 (issue 20)";
-
-/// Walls meeting at 0.6° across a smooth edge.
-const FACETED: &str = "the boss's walls meet at 0.6 degrees across edges classified smooth \
-    (within the 1 degree tolerance), and its foot's reflex edges likewise: the seams pass \
-    from one wall or edge to the next, but where a seam leaves a foot edge onto a vertex and \
-    a wall the sheets there do not close";
 
 /// A cube's corner 0.02 mm inside a plate: balls next to the tiny triangle where they meet.
 const CORNER_IN_PLATE: &str = "no seam ends open and every ball is at its distance from the \
@@ -186,11 +170,6 @@ const EXPECTED_FAILURES: &[Expected] = &[
         GAPS_ACCEPTED,
     ),
     (
-        "prusa_extruder-idler.stp",
-        &[("verify:sheets_closed", 4)],
-        PINCHED_AT_VERTEX,
-    ),
-    (
         "prusa_extruder-motor-plate.stp",
         &[
             ("occt:degenerate_ends", 4),
@@ -200,7 +179,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("verify:degenerate_ends", 4),
             ("verify:seam_ends", 14),
             ("verify:separated", 1),
-            ("verify:sheets_closed", 18),
+            ("verify:sheets_closed", 13),
         ],
         MOTOR_PLATE,
     ),
@@ -209,7 +188,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
         &[
             ("occt:degenerate_ends", 1),
             ("verify:degenerate_ends", 1),
-            ("verify:sheets_closed", 3),
+            ("verify:sheets_closed", 1),
         ],
         SHALLOW_FACETS_AND_A_FILLET,
     ),
@@ -241,11 +220,6 @@ const EXPECTED_FAILURES: &[Expected] = &[
         SHALLOW_FACETS_CLOSED,
     ),
     (
-        "voron0_Hotend_Mount_Dragon.step",
-        &[("verify:sheets_closed", 2)],
-        SHALLOW_FACETS,
-    ),
-    (
         "voron0_Hotend_Mount_Revo_Voron.step",
         &[
             ("occt:junction_seams", 1),
@@ -263,7 +237,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("occt:separated", 2),
             ("verify:seam_ends", 4),
             ("verify:separated", 2),
-            ("verify:sheets_closed", 11),
+            ("verify:sheets_closed", 3),
         ],
         OPEN_AND_SHALLOW,
     ),
@@ -289,7 +263,6 @@ const EXPECTED_FAILURES: &[Expected] = &[
         &[("occt:mesh_contacts", 1)],
         MESH_AT_THE_ACCURACY,
     ),
-    ("faceted_boss.step", &[("verify:sheets_closed", 4)], FACETED),
     (
         "cube_corner_in_plate.step",
         &[("occt:separated", 3), ("verify:separated", 3)],
