@@ -20,30 +20,9 @@ pub struct SegmentGroups {
 
 impl SegmentGroups {
     pub fn new(model: &Model, class: &Classification) -> SegmentGroups {
-        Self::joined_by(model, class, |_| true)
-    }
-
-    /// The groups as they are near vertex `v`: joined only across the smooth and reflex edges
-    /// that end at `v`. Two elements of one group far apart may be in different groups here
-    /// (a floor and a fillet joined along one edge, with a wall's end face between them at
-    /// `v`); elements that do not reach `v` are each a group of their own.
-    pub fn at_vertex(model: &Model, class: &Classification, v: usize) -> SegmentGroups {
-        Self::joined_by(model, class, |e| model.edges[e].vertices.contains(&v))
-    }
-
-    /// Faces joined across the smooth and reflex edges `keep` admits, with those reflex
-    /// edges and their vertices.
-    fn joined_by(
-        model: &Model,
-        class: &Classification,
-        keep: impl Fn(usize) -> bool,
-    ) -> SegmentGroups {
         let (nf, ne) = (model.faces.len(), model.edges.len());
         let mut uf = UnionFind::new(nf + ne + model.vertices.len());
         for (e, edge) in model.edges.iter().enumerate() {
-            if !keep(e) {
-                continue;
-            }
             if matches!(class.edges[e].kind, EdgeKind::Smooth | EdgeKind::Reflex) {
                 for &f in &edge.faces {
                     uf.union(f, nf + e);

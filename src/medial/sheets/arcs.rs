@@ -216,18 +216,26 @@ pub(super) fn convex_kinks(
     class: &Classification,
     mat: &MedialAxis,
 ) -> BTreeSet<usize> {
+    // The smooth edges between two faces at each vertex.
+    let mut smooth_at: HashMap<usize, Vec<usize>> = HashMap::new();
+    for (e, edge) in model.edges.iter().enumerate() {
+        if class.edges[e].kind == EdgeKind::Smooth
+            && edge.faces.len() == 2
+            && edge.faces[0] != edge.faces[1]
+        {
+            for &v in &edge.vertices {
+                smooth_at.entry(v).or_default().push(e);
+            }
+        }
+    }
     let mut kinks = BTreeSet::new();
     for s in &mat.seams {
         for (end, how) in s.ends.iter().enumerate() {
             let SeamEnd::Vertex(v) = how else { continue };
             let (_, segs) = s.at_end(end);
-            for (e, edge) in model.edges.iter().enumerate() {
-                let kink = class.edges[e].kind == EdgeKind::Smooth
-                    && edge.vertices.contains(v)
-                    && edge.faces.len() == 2
-                    && edge.faces[0] != edge.faces[1]
-                    && edge.faces.iter().all(|&f| segs.contains(&Element::Face(f)));
-                if kink {
+            for &e in smooth_at.get(v).into_iter().flatten() {
+                let faces = &model.edges[e].faces;
+                if faces.iter().all(|&f| segs.contains(&Element::Face(f))) {
                     kinks.insert(e);
                 }
             }

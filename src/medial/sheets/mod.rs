@@ -112,10 +112,13 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
         })
         .collect();
     let tol = SAME_TOUCH_REL_DIAGONAL * model.diagonal();
-    let near = |v: usize| -> Option<LocalGroups> {
-        let groups = SegmentGroups::at_vertex(model, class, v);
-        Some(Box::new(move |e| groups.of(e)))
-    };
+    let mut edges_at = vec![vec![]; model.vertices.len()];
+    for (e, edge) in model.edges.iter().enumerate() {
+        for &v in &edge.vertices {
+            edges_at[v].push(e);
+        }
+    }
+    let near = |v: usize| Some(groups_at_vertex(model, class, v, &edges_at[v]));
     let contacts: BTreeMap<Place, Vec<DVec3>> = mat
         .junctions
         .iter()
@@ -203,8 +206,10 @@ fn pair_ends(
         // points are at (one sheet lies between each two; an element named differently by
         // two seams, a face and its edge where the ball touches the face at that edge, is
         // one contact).
+        // (The vertex's groups cost a pass over the model: only where they are needed.)
+        let ambiguous = by_group.values().any(|list| list.len() > 2);
         let local = match node {
-            Place::Node(Node::Vertex(v)) => near(*v),
+            Place::Node(Node::Vertex(v)) if ambiguous => near(*v),
             _ => None,
         };
         let at_junction = match node {
@@ -224,9 +229,13 @@ fn pair_ends(
             Some(key)
         };
         for (_, list) in by_group {
-            let keys: Option<Vec<[usize; 2]>> = list.iter().map(|&(k, end)| key(k, end)).collect();
+            let keys: Option<Vec<[usize; 2]>> = if list.len() > 2 {
+                list.iter().map(|&(k, end)| key(k, end)).collect()
+            } else {
+                None
+            };
             let lists = match keys {
-                Some(keys) if list.len() > 2 => {
+                Some(keys) => {
                     let mut by_key: BTreeMap<[usize; 2], Vec<(usize, usize)>> = BTreeMap::new();
                     for (e, key) in list.into_iter().zip(keys) {
                         by_key.entry(key).or_default().push(e);
@@ -244,9 +253,65 @@ fn pair_ends(
     (out.uf, out.paired, out.unpaired)
 }
 
-/// The group of each element as the groups are at one vertex (see
-/// [`SegmentGroups::at_vertex`]).
+/// The group of each element as the groups are at one vertex (see [`groups_at_vertex`]).
 type LocalGroups = Box<dyn Fn(Element) -> usize>;
+
+/// The segment groups as they are near vertex `v` (whose edges are `edges`): faces joined
+/// only across the smooth and reflex edges that end at `v`, with those reflex edges and `v`.
+/// Two elements of one group far apart may be in different groups here (the top face and a
+/// nut pocket's walls, joined elsewhere, meet at `v` only across the reflex edge between the
+/// walls); elements that do not reach `v` are each a group of their own.
+fn groups_at_vertex(
+    model: &Model,
+    class: &Classification,
+    v: usize,
+    edges: &[usize],
+) -> LocalGroups {
+    use crate::classify::EdgeKind;
+    let mut members: Vec<Element> = vec![];
+    let mut joins: Vec<(Element, Element)> = vec![];
+    for &e in edges {
+        let kind = class.edges[e].kind;
+        if !matches!(kind, EdgeKind::Smooth | EdgeKind::Reflex) {
+            continue;
+        }
+        for &f in &model.edges[e].faces {
+            joins.push((Element::Face(f), Element::Edge(e)));
+        }
+        if kind == EdgeKind::Reflex {
+            joins.push((Element::Edge(e), Element::Vertex(v)));
+        }
+    }
+    let index = |e: Element, members: &mut Vec<Element>| match members.iter().position(|m| *m == e)
+    {
+        Some(k) => k,
+        None => {
+            members.push(e);
+            members.len() - 1
+        }
+    };
+    let pairs: Vec<(usize, usize)> = joins
+        .iter()
+        .map(|&(a, b)| (index(a, &mut members), index(b, &mut members)))
+        .collect();
+    let mut uf = UnionFind::new(members.len());
+    for (a, b) in pairs {
+        uf.union(a, b);
+    }
+    let root: Vec<usize> = (0..members.len()).map(|k| uf.find(k)).collect();
+    // Elements not joined at the vertex: a key of their own, past the members' indices.
+    let n = members.len();
+    Box::new(move |e| match members.iter().position(|m| *m == e) {
+        Some(k) => root[k],
+        None => {
+            n + match e {
+                Element::Face(f) => 3 * f,
+                Element::Edge(g) => 3 * g + 1,
+                Element::Vertex(w) => 3 * w + 2,
+            }
+        }
+    })
+}
 
 /// Arc ends paired so far: the union of paired arcs, which ends are paired, and the ends
 /// that could not be (with why).
