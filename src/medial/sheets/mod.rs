@@ -206,7 +206,7 @@ fn pair_ends(
         // points are at (one sheet lies between each two; an element named differently by
         // two seams, a face and its edge where the ball touches the face at that edge, is
         // one contact).
-        // (The vertex's groups cost a pass over the model: only where they are needed.)
+        // (The vertex's groups are built only where some list is ambiguous.)
         let ambiguous = by_group.values().any(|list| list.len() > 2);
         let local = match node {
             Place::Node(Node::Vertex(v)) if ambiguous => near(*v),
