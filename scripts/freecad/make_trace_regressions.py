@@ -20,7 +20,8 @@ is thick (a closed seam whose touch point runs along the pocket's foot edges), a
 by a hemispherical end (a face too narrow for the seeds' first grid; faces touched only by a
 sheet's balls), a flat ring with a bead round each rim whose fillet axis's balls reach the
 bottom (a face touched at no listed touch point), a wall whose foot fillets end at its flat end
-faces (seams that end at pinches under the cusp vertices there).
+faces (seams that end at pinches under the cusp vertices there), a block's rounded edge cut
+obliquely by a wall (a degenerate curve whose arc of contact shrinks to a vertex).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -719,6 +720,31 @@ def filleted_wall_end():
             and min(abs(e.BoundBox.YMin - 13), abs(e.BoundBox.YMin - 17)) < 1e-9]
     assert len(foot) == 2, foot
     return body.makeFillet(2, foot)
+
+@part("round_cut_by_slanted_wall",
+      "Block 30x20x10 whose front top edge (along x) is rounded (r = 3), with a slanted wall "
+      "fused over it (x > z + 8, y from -5 to 20, up to z = 14): the wall's face crosses the "
+      "round along an ellipse from (15, 0, 7) on the round's lower tangent line to "
+      "(18, 3, 10) on its upper one.",
+      None,
+      "The round's axis (y = 3, z = 7) is a degenerate curve whose balls (r = 3) touch the "
+      "round along an arc. It starts where its ball touches the end face x = 0 (centre "
+      "x = 3); past x = 15 the wall cuts the arc down from below, and it shrinks to the "
+      "vertex (18, 3, 10) where the ellipse meets the upper tangent line: the curve ends "
+      "there freely, its last ball (centre (18, 3, 7), r = 3) osculating the round at that "
+      "vertex and touching nothing else.")
+def round_cut_by_slanted_wall():
+    block = Part.makeBox(30, 20, 10)
+    edge = [e for e in block.Edges
+            if abs(e.BoundBox.YMax) < 1e-9 and abs(e.BoundBox.ZMin - 10) < 1e-9
+            and abs(e.BoundBox.XLength - 30) < 1e-9]
+    assert len(edge) == 1, edge
+    block = block.makeFillet(3, edge)
+    profile = Part.makePolygon([V(8, -5, 0), V(30, -5, 0), V(30, -5, 14), V(22, -5, 14),
+                                V(8, -5, 0)])
+    wall = Part.Face(profile).extrude(V(0, 25, 0))
+    return block.fuse(wall).removeSplitter()
+
 
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))

@@ -22,8 +22,9 @@ freely; `skeletal_edges`: its last ball is a vertex of the part, r = 0):
                      and a surface tangent to it stay within tol of each other, so that one
                      smooth contact cannot pass for two. Seam points need 3 (2 at a seam end at
                      a curvature limit, where the ball osculates a face, or at a pinch, where
-                     two touch points meet at a vertex), junctions 4, degenerate balls 2,
-                     a skeletal edge's balls 1 (the vertex).
+                     two touch points meet at a vertex), junctions 4, degenerate balls 2
+                     (1 at an end where the arc of contact shrinks to a vertex), a skeletal
+                     edge's balls 1 (the vertex).
                      A seam point the report lists in its seam's `unresolved`, or a junction
                      marked `unresolved`, needs one place fewer, where every two touch points
                      closer than that lie on different faces that share a vertex (a shallow
@@ -50,8 +51,10 @@ The report must describe a medial axis, not merely hold no wrong point:
   junction_seams     every junction with 4 segments has 4 seam ends, and every junction a seam
                      ends at exists.
   degenerate_ends    every degenerate curve is traced to two located ends (its ball touching
-                     another element on the boundary at distance r, or r = 0 at a vertex of the
-                     part) or closes on itself; an open end fails.
+                     another element on the boundary at distance r, r = 0 at a vertex of the
+                     part, or, where its arc of contact shrinks to a vertex, the ball osculating
+                     a face at that vertex: centre q - r n, 1/r its larger principal
+                     curvature) or closes on itself; an open end fails.
   accuracy           the accuracy the report claims is positive and at most 1e-3 x the
                      bounding-box diagonal (without --tol).
 
@@ -108,6 +111,7 @@ CURVATURE_END_PLACES = 2
 PINCH_END_PLACES = 2
 JUNCTION_PLACES = 4
 DEGENERATE_PLACES = 2
+SHRUNK_END_PLACES = 1
 SKELETAL_PLACES = 1
 # Steps of the growth test, as fractions of r.
 GROWTH_STEPS = (0.5, 0.125, 0.03125)
@@ -612,12 +616,44 @@ def check_degenerate_ends(part, checks, touched, i, d, tol):
                 touched.update(part.faces_within(t, tol))
         elif kind == "vanishes":
             ok = abs(b[3]) <= tol and any(dist3(q, b[:3]) <= tol for q in part.vertex_points)
+        elif kind == "shrinks":
+            ok = osculates_at_vertex(part, b, tol)
         elif kind == "closed":
             step = max((dist3(p[:3], q[:3]) for p, q in zip(balls, balls[1:])), default=0.0)
             ok = len(balls) > 2 and dist3(b[:3], balls[0][:3]) <= 1.5 * step + tol
         else:
             ok = False
         checks.record("degenerate_ends", ok, lambda: f"{what} end {k} ({e}) is not located on the part")
+
+
+def osculates_at_vertex(part, b, tol):
+    """True when ball b (centre, r) osculates a face at one of the part's vertices: the vertex
+    q at distance r from the centre, and on a face at q, centre q - r n (n its outward normal)
+    and 1/r its larger principal curvature (OCCT's, sign by the face's orientation), to tol."""
+    c, r = b[:3], b[3]
+    for i, q in enumerate(part.vertex_points, start=1):
+        if abs(dist3(q, c) - r) > tol:
+            continue
+        for f in part.vertex_faces.FindFromIndex(i):
+            face = TopoDS.Face(f)
+            surface = BRep_Tool.Surface_s(face)
+            proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(*q), surface)
+            if proj.NbPoints() == 0:
+                continue
+            u, v = proj.LowerDistanceParameters()
+            props = GeomLProp_SLProps(surface, u, v, 2, 1e-9)
+            if not (props.IsNormalDefined() and props.IsCurvatureDefined()):
+                continue
+            sign = -1.0 if face.Orientation() == TopAbs_REVERSED else 1.0
+            n = props.Normal()
+            n = (sign * n.X(), sign * n.Y(), sign * n.Z())
+            # OCCT's curvatures are signed against its normal: a convex face (outward normal)
+            # curves away from it, negative; towards the material is -sign * k.
+            k = max(-sign * props.MaxCurvature(), -sign * props.MinCurvature())
+            centre = tuple(q[j] - r * n[j] for j in range(3))
+            if k > 0 and dist3(centre, c) <= tol and abs(1.0 / k - r) <= tol:
+                return True
+    return False
 
 
 def outward_normal(face, p):
@@ -762,9 +798,14 @@ def main():
                    JUNCTION_PLACES, (JUNCTION_PLACES - 1, False) if j.get("unresolved") else None)
     for i, d in enumerate(mat.get("degenerate", [])):
         touch = d.get("touch", [])
+        ends = d.get("ends", [])
+        # The ball where the arc of contact shrinks to a vertex touches it alone.
+        shrunk = {k for k, e in zip((0, len(d["balls"]) - 1), ends)
+                  if len(ends) == 2 and isinstance(e, dict) and e.get("kind") == "shrinks"}
         for k, b in enumerate(d["balls"]):
             t = touch[k] if k < len(touch) else []
-            check_ball(part, checks, touched, f"degenerate {i} ball {k}", b[:3], b[3], t, DEGENERATE_PLACES)
+            need = SHRUNK_END_PLACES if k in shrunk else DEGENERATE_PLACES
+            check_ball(part, checks, touched, f"degenerate {i} ball {k}", b[:3], b[3], t, need)
         check_degenerate_ends(part, checks, touched, i, d, tol)
     for k in mat.get("skeletal_edges", []):
         check_skeletal(part, checks, touched, k, tol)

@@ -388,6 +388,12 @@ pub enum DegenerateEnd {
     /// The ball shrinks to nothing at a vertex (a cone's apex): the last ball is the vertex,
     /// `r = 0`.
     Vanishes { vertex: usize },
+    /// The arc its balls touch their face along shrinks to a point at a vertex of that face
+    /// (a round cut off obliquely by a wall: the arc narrows to the corner where the cut
+    /// meets the round's other edge). The last ball osculates the face at `vertex` (centre
+    /// `V − n/κ1`, `r = 1/κ1`, `n` the outward normal and `κ1` the larger principal
+    /// curvature there) and touches it at the vertex only: a free end.
+    Shrinks { vertex: usize },
     /// The curve closes on itself (a torus's core circle).
     Closed,
     /// Not located: the continuation stopped for `reason` (its text), of kind `cause`.

@@ -47,6 +47,23 @@ pub fn curvature_allows(model: &Model, seg: Element, s: [f64; 2], r: f64) -> boo
     }
 }
 
+/// The ball that osculates face `f` at its point nearest `p` (`p` on the face: a vertex of
+/// it): centre `P − n/κ1`, radius `1/κ1`, with `n` the outward normal and `κ1` the larger
+/// principal curvature there, and the point's `(u, v)`. `None` where the face does not bend
+/// towards the material there (`κ1 ≤ 0`), or its normal is undefined.
+pub fn osculating_ball(
+    model: &Model,
+    f: usize,
+    p: glam::DVec3,
+) -> Option<(glam::DVec3, f64, [f64; 2])> {
+    let face = &model.faces[f];
+    let (u, v) = crate::geom::project_point(&face.surface, p, None)?;
+    let d = crate::geom::eval_face(face, u, v);
+    let n = crate::geom::unit_normal(&d, face.sign)?;
+    let k = crate::geom::principal_curvatures(&d, face.sign)?;
+    (k.k1 > 0.0 && k.k1.is_finite()).then(|| (d.p - n / k.k1, 1.0 / k.k1, [u, v]))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -62,6 +79,41 @@ mod tests {
         assert!(!curvature_allows(&m, Element::Face(0), s, 16.0));
         let b = crate::testing::sample("box.step");
         assert!(curvature_allows(&b, Element::Face(0), [1.0, 1.0], 1e6));
+    }
+
+    /// The osculating ball at a vertex: on the sphere (radius 15) its centre and radius at
+    /// any point, on the cylinder sample (radius 10) the axis point level with a rim vertex
+    /// and r = 10; a plane bends nowhere (none).
+    #[test]
+    fn osculating_balls_at_vertices() {
+        let m = crate::testing::sample("sphere.step");
+        let p = glam::DVec3::new(9.0, 12.0, 0.0);
+        let (c, r, _) = osculating_ball(&m, 0, p).unwrap();
+        assert!(c.length() < 1e-9 && (r - 15.0).abs() < 1e-9, "{c} {r}");
+        let m = crate::testing::sample("cylinder.step");
+        // The end caps are planes: only the lateral face has balls.
+        let balls: Vec<_> = (0..m.faces.len())
+            .flat_map(|f| {
+                Element::Face(f)
+                    .vertices(&m)
+                    .into_iter()
+                    .map(move |v| (f, v))
+            })
+            .filter_map(|(f, v)| {
+                let p = m.vertices[v].point;
+                osculating_ball(&m, f, p).map(|b| (p, b))
+            })
+            .collect();
+        assert!(!balls.is_empty());
+        for (p, (c, r, _)) in balls {
+            assert!((r - 10.0).abs() < 1e-9, "{r}");
+            assert!(
+                c.x.hypot(c.y) < 1e-9 && (c.z - p.z).abs() < 1e-9,
+                "{c} for {p}"
+            );
+        }
+        let b = crate::testing::sample("box.step");
+        assert!(osculating_ball(&b, 0, b.vertices[0].point).is_none());
     }
 
     /// The boss on the plate (radius 12): the boss's base circle is a reflex edge. A ball

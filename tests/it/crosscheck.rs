@@ -57,12 +57,11 @@ const SHALLOW_FACETS_CLOSED: &str = "no seam ends open; seams leaving a vertex b
 
 /// Shallow facets, and a fillet's axis ending open.
 const SHALLOW_FACETS_AND_A_FILLET: &str = "seams leaving a vertex between faces at a shallow \
-    angle have unresolved points; one degenerate curve, a fillet's axis, ends open where a \
-    touch point leaves the fillet across its oblique end edge and no face beside it carries \
-    the continuum on (`degenerate_ends`); the one sheet boundary left open is at that end, a \
-    cusp vertex where the fillet's tangent line meets the reflex end edge, whose rim's sheet \
-    closes along the line from the vertex to the axis's ball there (`sheets_closed`, issue \
-    20)";
+    angle have unresolved points, and every ball passes both checkers; a round's axis ends \
+    where its oblique end edge shrinks the arc of contact to the vertex on its lower tangent \
+    line; the one sheet boundary left open is at the round's other end of that edge, a cusp \
+    vertex where the upper tangent line meets it, whose rim's sheet closes along the line \
+    from the vertex to the axis's ball there (`sheets_closed`, issue 20)";
 
 /// Seams that end at curvature limits on curved reflex edges, and degenerate pieces.
 const SLOT_CORNERS: &str = "no seam ends open: the seams under its slots' rounded corners \
@@ -132,6 +131,11 @@ const CORNER_IN_PLATE: &str = "no seam ends open and every ball is at its distan
 
 /// Parts known not to pass: every failing check with its count, and why.
 type Expected = (&'static str, &'static [(&'static str, usize)], &'static str);
+const SHRUNK_ARC_UNJOINED: &str = "no seam ends open and every ball passes both checkers; the \
+    round's axis ends where the oblique wall shrinks its arc of contact to the vertex \
+    (18, 3, 10), and a skeletal edge comes up to that vertex, but the degenerate curve is not \
+    in the sheet graph (issue 20): the sheet bounded there stays open at the vertex.";
+
 const EXPECTED_FAILURES: &[Expected] = &[
     (
         "b3d_M6-1x12-countersunk-screw.step",
@@ -185,11 +189,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
     ),
     (
         "prusa_fs-lever.stp",
-        &[
-            ("occt:degenerate_ends", 1),
-            ("verify:degenerate_ends", 1),
-            ("verify:sheets_closed", 1),
-        ],
+        &[("verify:sheets_closed", 1)],
         SHALLOW_FACETS_AND_A_FILLET,
     ),
     (
@@ -262,6 +262,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "shallow_pockets.step",
         &[("occt:mesh_contacts", 1)],
         MESH_AT_THE_ACCURACY,
+    ),
+    (
+        "round_cut_by_slanted_wall.step",
+        &[("verify:sheets_closed", 1)],
+        SHRUNK_ARC_UNJOINED,
     ),
     (
         "cube_corner_in_plate.step",

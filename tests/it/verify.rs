@@ -657,3 +657,63 @@ fn faces_joined_across_smooth_edges_or_reached_by_a_ball_are_touched_and_no_othe
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+/// Where the round's axis ends because an oblique wall shrinks its arc of contact to a vertex
+/// (`samples/trace/round_cut_by_slanted_wall.step`), the genuine end ball osculates the round
+/// at that vertex and passes `degenerate_ends` and `separated` in both checkers (the sheets
+/// there do not close yet, issue 20, so `matrace verify` fails only `sheets_closed`). A
+/// smaller ball tangent at the same vertex (centre 0.5 mm nearer it, r 2.5: empty, touching
+/// the vertex alone) does not osculate: both checkers fail `degenerate_ends`. The end named
+/// at another vertex of the round fails it too (`matrace verify`; OCCT's checker does not
+/// read the vertex's index).
+#[test]
+fn a_degenerate_curves_end_ball_that_does_not_osculate_at_its_vertex_fails() {
+    let test = "verify::a_degenerate_curves_end_ball_that_does_not_osculate_at_its_vertex_fails";
+    let dir = tempfile::tempdir().unwrap();
+    let name = "trace/round_cut_by_slanted_wall.step";
+    let part = sample(name);
+    let genuine = genuine(name, dir.path());
+    let occt_present = require(&format!("{test} (OCCT half)"), &[Tool::Occt]);
+    let path = write(dir.path(), "genuine", &genuine);
+    assert_eq!(verify(&part, &path), (1, vec!["sheets_closed".to_string()]));
+    if occt_present {
+        assert_eq!(occt(&part, &path), (0, vec![]), "the genuine report, OCCT");
+    }
+    let d = &genuine["mat"]["degenerate"][0];
+    assert_eq!(d["ends"][1]["kind"], "shrinks", "{d}");
+    let last = d["balls"].as_array().unwrap().len() - 1;
+
+    let mut smaller = genuine.clone();
+    let b = &mut smaller["mat"]["degenerate"][0]["balls"][last];
+    b[2] = json!(b[2].as_f64().unwrap() + 0.5);
+    b[3] = json!(b[3].as_f64().unwrap() - 0.5);
+    let path = write(dir.path(), "smaller", &smaller);
+    let mut checkers = vec![("verify", verify(&part, &path))];
+    if occt_present {
+        checkers.push(("OCCT", occt(&part, &path)));
+    }
+    for (who, (code, failed)) in checkers {
+        assert_eq!(code, 1, "{who}: {failed:?}");
+        assert!(
+            failed.iter().any(|f| f == "degenerate_ends"),
+            "{who}: {failed:?}"
+        );
+    }
+
+    // The round's other vertex on its upper tangent line, (0, 3, 10).
+    let vertices = genuine["model"]["vertices"].as_array().unwrap();
+    let other = vertices
+        .iter()
+        .position(|v| {
+            let p = &v["point"];
+            let x = |c: usize| p[c].as_f64().unwrap();
+            x(0).abs() < 1e-9 && (x(1) - 3.0).abs() < 1e-9 && (x(2) - 10.0).abs() < 1e-9
+        })
+        .expect("the vertex (0, 3, 10)");
+    let mut elsewhere = genuine.clone();
+    elsewhere["mat"]["degenerate"][0]["ends"][1]["vertex"] = json!(other);
+    let path = write(dir.path(), "elsewhere", &elsewhere);
+    let (code, failed) = verify(&part, &path);
+    assert_eq!(code, 1, "{failed:?}");
+    assert!(failed.iter().any(|f| f == "degenerate_ends"), "{failed:?}");
+}

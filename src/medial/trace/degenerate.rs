@@ -32,7 +32,7 @@ use super::unknowns::{slot, sys_point, to_chord, v3};
 use crate::geom::eval::eval_curve;
 use crate::medial::axis::{Degenerate, DegenerateEnd, DegenerateKind, DegenerateOpen};
 use crate::medial::equations::{edge_angle, MedialSystem};
-use crate::medial::maximal::curvature_allows;
+use crate::medial::maximal::{curvature_allows, osculating_ball};
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
 use crate::model::{Element, Model};
 use glam::DVec3;
@@ -313,7 +313,8 @@ impl Tracer<'_> {
         let mut just_spread = false;
         while handovers <= MAX_DEGENERATE_HANDOVERS && respreads <= MAX_DEGENERATE_BALLS {
             let sys = MedialSystem::new(segs.to_vec());
-            let (balls, end, left) = self.march_degenerate(&sys, solid, &x, d);
+            let (balls, end, left_seg) = self.march_degenerate(&sys, solid, &x, d);
+            let left = left_seg.is_some();
             if balls.is_empty() && matches!(end, DegenerateEnd::Open { .. }) {
                 if let Some(met) = handed_past.take() {
                     // Not one step on the element handed to (a sphere the ball has become,
@@ -360,7 +361,14 @@ impl Tracer<'_> {
                 }
             }
             let next = carry_on
-                .then(|| self.degenerate_hand_over(solid, &last, d, (segs, &end), &visited))
+                .then(|| {
+                    // Two elements touched, one left: the continuum may run on on the other
+                    // alone (a plane tangent to a round, ending at a corner).
+                    let stayed = (segs[0] != segs[1])
+                        .then(|| segs.into_iter().find(|&s| Some(s) != left_seg))
+                        .flatten();
+                    self.degenerate_hand_over(solid, &last, d, (segs, &end), &visited, stayed)
+                })
                 .flatten();
             match next {
                 Some((pair, y, v)) => {
@@ -372,7 +380,17 @@ impl Tracer<'_> {
                     (x, d) = (y, v);
                 }
                 None => {
-                    out.end = end;
+                    // The arc of contact may instead shrink to a vertex of its face ahead.
+                    let shrunk = (left && matches!(end, DegenerateEnd::Open { .. }))
+                        .then(|| self.shrinks(solid, segs, &last, d))
+                        .flatten();
+                    out.end = match shrunk {
+                        Some((pair, y, vertex)) => {
+                            out.balls.push((pair, y));
+                            DegenerateEnd::Shrinks { vertex }
+                        }
+                        None => end,
+                    };
                     return out;
                 }
             }
@@ -385,7 +403,7 @@ impl Tracer<'_> {
     }
 
     /// Marches from `x0` along direction `dir` of the centre: the balls after `x0`, how the
-    /// curve ends, and whether it ends where a touch point left its element (where
+    /// curve ends, and the element a touch point left where it ends so (where
     /// [`Tracer::follow`] may hand it over).
     fn march_degenerate(
         &self,
@@ -393,7 +411,7 @@ impl Tracer<'_> {
         solid: usize,
         x0: &DVector<f64>,
         dir: DVec3,
-    ) -> (Vec<DVector<f64>>, DegenerateEnd, bool) {
+    ) -> (Vec<DVector<f64>>, DegenerateEnd, Option<Element>) {
         let diag = self.model.diagonal();
         let locate = LOCATE_REL_ACCURACY * self.opts.accuracy;
         // Steps shorter than the end's location would locate nothing more.
@@ -417,7 +435,7 @@ impl Tracer<'_> {
                         DegenerateOpen::BallBudget,
                         format!("{MAX_DEGENERATE_BALLS} balls and no end"),
                     ),
-                    false,
+                    None,
                 );
             }
             match self.degenerate_step(sys, solid, &x, d, h) {
@@ -425,7 +443,7 @@ impl Tracer<'_> {
                     h *= 0.5;
                     if h < h_min {
                         let why = "the curve turns at every step";
-                        return (out, open(DegenerateOpen::TurnsEveryStep, why.into()), false);
+                        return (out, open(DegenerateOpen::TurnsEveryStep, why.into()), None);
                     }
                     let _ = xn;
                 }
@@ -433,7 +451,7 @@ impl Tracer<'_> {
                     let (c, cn) = (v3(&x), v3(&xn));
                     travelled += c.distance(cn);
                     if travelled > 3.0 * h && to_chord(start, c, cn) <= 0.5 * h {
-                        return (out, DegenerateEnd::Closed, false);
+                        return (out, DegenerateEnd::Closed, None);
                     }
                     out.push(xn.clone());
                     (x, d) = (xn, dn);
@@ -453,7 +471,7 @@ impl Tracer<'_> {
                 Err(StepFail::Other(cause, why)) => {
                     h *= 0.5;
                     if h < h_min {
-                        return (out, open(cause, why), false);
+                        return (out, open(cause, why), None);
                     }
                 }
                 Err(fail) => {
@@ -462,7 +480,10 @@ impl Tracer<'_> {
                     if lo > 0.0 {
                         out.push(end.clone());
                     }
-                    let left = matches!(last, StepFail::Left { .. });
+                    let left = match last {
+                        StepFail::Left { seg, .. } => Some(seg),
+                        _ => None,
+                    };
                     let how = match last {
                         StepFail::NotEmpty { face, .. } => {
                             self.meets(sys, solid, &end, d, Some(face))
@@ -897,9 +918,10 @@ impl Tracer<'_> {
 
     /// Where a curve touching `segs` whose touch point left its element at ball `x` (centre
     /// moving along `d`) carries on: the element `end` names, or else a reflex edge of its
-    /// faces or a face across an edge from them within reach of the ball (none `visited`), on which the ball touches
-    /// along a continuum and its centre moves along a line; the pair touched, the ball with
-    /// touch points on it, and the direction.
+    /// faces or a face across an edge from them within reach of the ball (none `visited`),
+    /// or, first, the segment that `stayed` touched where the other was left, on which the
+    /// ball touches along a continuum and its centre moves along a line; the pair touched,
+    /// the ball with touch points on it, and the direction.
     fn degenerate_hand_over(
         &self,
         solid: usize,
@@ -907,6 +929,7 @@ impl Tracer<'_> {
         d: DVec3,
         (segs, end): ([Element; 2], &DegenerateEnd),
         visited: &[Element],
+        stayed: Option<Element>,
     ) -> Option<([Element; 2], DVector<f64>, DVec3)> {
         let named = match end {
             DegenerateEnd::Meets { element, .. } if !matches!(element, Element::Vertex(_)) => {
@@ -946,22 +969,25 @@ impl Tracer<'_> {
             .into_iter()
             .filter(|&g| self.face_solid[g] == solid && beside(g))
             .map(Element::Face);
-        named
+        let unvisited = named
             .into_iter()
             .chain(edges.into_iter().map(Element::Edge))
             .chain(near)
-            .filter(|e| !visited.contains(e))
-            .find_map(|e| {
-                let sys = MedialSystem::new(vec![e, e]);
-                let mut y = DVector::zeros(8);
-                y.rows_mut(0, 4).copy_from(&x.rows(0, 4));
-                let (pair, y) = self.recentred(&sys, &y, d, false)?;
-                let sys = MedialSystem::new(pair.to_vec());
-                match centre_motion(self.model, &sys, &y)? {
-                    CentreMotion::Along(v) => Some((pair, y, if v.dot(d) < 0.0 { -v } else { v })),
-                    CentreMotion::Still => None,
-                }
-            })
+            .filter(|e| !visited.contains(e));
+        stayed.into_iter().chain(unvisited).find_map(|e| {
+            let sys = MedialSystem::new(vec![e, e]);
+            let mut y = DVector::zeros(8);
+            y.rows_mut(0, 4).copy_from(&x.rows(0, 4));
+            let (pair, y) = self.recentred(&sys, &y, d, false)?;
+            if pair == segs {
+                return None;
+            }
+            let sys = MedialSystem::new(pair.to_vec());
+            match centre_motion(self.model, &sys, &y)? {
+                CentreMotion::Along(v) => Some((pair, y, if v.dot(d) < 0.0 { -v } else { v })),
+                CentreMotion::Still => None,
+            }
+        })
     }
 
     /// The parameters of point `p` on segment `seg` touched from centre `c`: a face's
@@ -1073,6 +1099,81 @@ impl Tracer<'_> {
                 "its ball stops being empty, but no other element touches it",
             ),
         }
+    }
+
+    /// Where a touch point left its face `x` on (centre moving along `dir`) and the curve goes
+    /// no further: the arc the ball touches the face along may be shrinking to a vertex of it
+    /// ahead (a round cut off obliquely). The end ball then osculates the face at that vertex
+    /// ([`osculating_ball`]); it is taken when it is ahead of `x`, within `x`'s radius of
+    /// it, its radius differs from `x`'s by no more than the centres are apart (the radius
+    /// along the medial axis is 1-Lipschitz), the circle of contact through the vertex
+    /// leaves the segments' faces on both sides of it ([`Tracer::arc_is_point`]), and the
+    /// ball is empty. The nearest such ball, as unknowns touching that face twice at the
+    /// vertex (the pair), and the vertex. (The other segment may be a plane tangent to the
+    /// face that does not reach the vertex.)
+    fn shrinks(
+        &self,
+        solid: usize,
+        segs: [Element; 2],
+        x: &DVector<f64>,
+        dir: DVec3,
+    ) -> Option<([Element; 2], DVector<f64>, usize)> {
+        let (c, r) = (v3(x), x[3]);
+        let a = self.opts.accuracy;
+        let mut faces: Vec<usize> = segs.iter().flat_map(|s| s.faces(self.model)).collect();
+        faces.sort_unstable();
+        faces.dedup();
+        let mut best: Option<(f64, DVector<f64>, Element, usize)> = None;
+        for &f in &faces {
+            for v in Element::Face(f).vertices(self.model) {
+                let p = self.model.vertices[v].point;
+                let Some((cv, rv, uv)) = osculating_ball(self.model, f, p) else {
+                    continue;
+                };
+                let apart = cv.distance(c);
+                let ahead = (cv - c).dot(dir) >= -a;
+                if !ahead || apart > r || (rv - r).abs() > apart + a {
+                    continue;
+                }
+                if best.as_ref().is_some_and(|b| b.0 <= apart) {
+                    continue;
+                }
+                let mut y = DVector::zeros(8);
+                y.rows_mut(0, 3).copy_from_slice(&cv.to_array());
+                y[3] = rv;
+                for i in 0..2 {
+                    y[4 + 2 * i] = uv[0];
+                    y[5 + 2 * i] = uv[1];
+                }
+                if self.arc_is_point(&faces, cv, rv, dir, p) && self.ball_is_empty(solid, &y) {
+                    best = Some((apart, y, Element::Face(f), v));
+                }
+            }
+        }
+        best.map(|(_, y, face, v)| ([face, face], y, v))
+    }
+
+    /// True when the ball of centre `c` and radius `r` (centre moving along `dir`) touches
+    /// `faces` at `p` only: the circle of contact through `p` across `dir` leaves them on
+    /// both sides of `p`, at one, two and four times the separation of places (the ball at
+    /// a vertex where the arc runs on from it is no end).
+    fn arc_is_point(&self, faces: &[usize], c: DVec3, r: f64, dir: DVec3, p: DVec3) -> bool {
+        let a = self.opts.accuracy;
+        let radial = p - c - dir * (p - c).dot(dir);
+        let Some(u) = radial.try_normalize() else {
+            return false;
+        };
+        let w = dir.normalize().cross(u);
+        let one_place = (8.0 * r * a).sqrt();
+        let mut near = vec![];
+        [1.0, 2.0, 4.0].iter().all(|&m| {
+            let phi = m * one_place / r;
+            [phi, -phi].iter().all(|&phi| {
+                let q = c + (u * phi.cos() + w * phi.sin()) * r;
+                self.boundary.within_into(self.model, q, a, &mut near);
+                !near.iter().any(|f| faces.contains(f))
+            })
+        })
     }
 
     /// How a curve whose ball shrinks to nothing past `x` ends: at the vertex of its

@@ -3,7 +3,7 @@
 
 use super::outcome::{nan_max, Verification};
 use crate::geom::Boundary;
-use crate::medial::axis::{Junction, MedialAxis, Seam, SeamEnd};
+use crate::medial::axis::{DegenerateEnd, Junction, MedialAxis, Seam, SeamEnd};
 use crate::model::{Element, Model};
 use glam::DVec3;
 
@@ -224,22 +224,37 @@ pub(super) fn check_balls(
         }
     }
     for (i, d) in axis.degenerate.iter().enumerate() {
+        // The ball at an end where the arc of contact shrinks to a vertex touches there only.
+        let shrinks = |end: usize| {
+            matches!(d.ends.get(end), Some(DegenerateEnd::Shrinks { .. })) && d.ends.len() == 2
+        };
+        let last = d.balls.len().saturating_sub(1);
         for (k, b) in d.balls.iter().enumerate() {
             let at = || format!("degenerate {i} ball {k}");
             let touch: &[[f64; 3]] = d.touch.get(k).map_or(&[], |t| &t[..]);
+            let at_shrunk_end = (k == 0 && shrinks(0)) || (k == last && shrinks(1));
             let ball = Ball {
                 at: &at,
                 solid: d.solid,
                 centre: [b[0], b[1], b[2]],
                 r: b[3],
                 touch,
-                places: DEGENERATE_PLACES,
+                places: if at_shrunk_end {
+                    SHRUNK_END_PLACES
+                } else {
+                    DEGENERATE_PLACES
+                },
                 unresolved: None,
             };
             checker.check(&ball, v);
         }
     }
 }
+
+/// Places the ball at a degenerate curve's end where its arc of contact shrinks to a vertex
+/// touches: that vertex alone (`degenerate_ends` holds it to the ball osculating the face
+/// there).
+pub const SHRUNK_END_PLACES: usize = 1;
 
 /// Places a skeletal edge's ball at a vertex touches: that vertex alone (it is the limit of
 /// the sheet's balls, whose two touch points meet there; `distance` holds it to the rest).

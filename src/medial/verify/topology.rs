@@ -5,6 +5,7 @@ use super::outcome::Verification;
 use crate::classify::{Classification, VertexKind};
 use crate::geom::Boundary;
 use crate::medial::axis::{DegenerateEnd, DegenerateKind, MedialAxis, Seam, SeamEnd};
+use crate::medial::maximal::osculating_ball;
 use crate::medial::sheets::{Sheets, SolidEuler};
 use crate::model::{Element, Model};
 use glam::DVec3;
@@ -172,7 +173,9 @@ pub(super) fn check_elements(model: &Model, axis: &MedialAxis, v: &mut Verificat
         for end in &d.ends {
             let ok = match end {
                 DegenerateEnd::Meets { element, .. } => exists(element),
-                DegenerateEnd::Vanishes { vertex } => *vertex < model.vertices.len(),
+                DegenerateEnd::Vanishes { vertex } | DegenerateEnd::Shrinks { vertex } => {
+                    *vertex < model.vertices.len()
+                }
                 _ => true,
             };
             check(v, ok, &|| {
@@ -393,6 +396,27 @@ fn check_degenerate_ends(
                     (
                         at.is_some_and(|p| c.distance(p) <= a) && r.abs() <= a,
                         format!("its ball (r {r:e}) is not V{vertex}"),
+                    )
+                }
+                DegenerateEnd::Shrinks { vertex } => {
+                    // The ball osculating one of the curve's faces at the vertex.
+                    let at = model.vertices.get(*vertex).map(|p| p.point);
+                    let osculates = at.is_some_and(|p| {
+                        d.segments
+                            .iter()
+                            .flat_map(|s| s.faces(model))
+                            .filter(|&f| Element::Face(f).vertices(model).contains(vertex))
+                            .any(|f| {
+                                osculating_ball(model, f, p).is_some_and(|(cv, rv, _)| {
+                                    c.distance(cv) <= a && (r - rv).abs() <= a
+                                })
+                            })
+                    });
+                    (
+                        osculates,
+                        format!(
+                            "its ball (centre {c}, r {r:e}) does not osculate its face at V{vertex}"
+                        ),
                     )
                 }
                 DegenerateEnd::Closed => {
