@@ -21,7 +21,8 @@ by a hemispherical end (a face too narrow for the seeds' first grid; faces touch
 sheet's balls), a flat ring with a bead round each rim whose fillet axis's balls reach the
 bottom (a face touched at no listed touch point), a wall whose foot fillets end at its flat end
 faces (seams that end at pinches under the cusp vertices there), a block's rounded edge cut
-obliquely by a wall (a degenerate curve whose arc of contact shrinks to a vertex).
+obliquely by a wall (a degenerate curve whose arc of contact shrinks to a vertex), and by a
+skew wall (the arc shrinks to a point inside the cut's edge).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -743,6 +744,34 @@ def round_cut_by_slanted_wall():
     profile = Part.makePolygon([V(8, -5, 0), V(30, -5, 0), V(30, -5, 14), V(22, -5, 14),
                                 V(8, -5, 0)])
     wall = Part.Face(profile).extrude(V(0, 25, 0))
+    return block.fuse(wall).removeSplitter()
+
+
+@part("round_cut_by_skew_wall",
+      "Block 30x20x10 whose front top edge (along x) is rounded (r = 3), with a wall fused over "
+      "it bounded by the plane x = 8 - y + z (the wall on its +x side, within x 0 to 30, y -5 "
+      "to 20, z 0 to 14): the plane crosses the round along an ellipse from (15, 0, 7) to "
+      "(15, 3, 10) that reaches x = 12 + 3 sqrt 2 = 16.2426 at the round's middle.",
+      None,
+      "The round's axis (y = 3, z = 7) is a degenerate curve of balls r = 3 touching the round "
+      "along an arc. It starts where its ball touches the end face x = 0 (centre x = 3); past "
+      "x = 15 the wall cuts the arc from both ends, and it shrinks to the point of the ellipse "
+      "farthest along the axis, (16.2426, 0.8787, 9.1213), at 45 degrees round the round: the "
+      "curve ends there freely, its last ball (centre (16.2426, 3, 7), r = 3) osculating the "
+      "round at that point of the edge and touching nothing else.")
+def round_cut_by_skew_wall():
+    block = Part.makeBox(30, 20, 10)
+    edge = [e for e in block.Edges
+            if abs(e.BoundBox.YMax) < 1e-9 and abs(e.BoundBox.ZMin - 10) < 1e-9
+            and abs(e.BoundBox.XLength - 30) < 1e-9]
+    assert len(edge) == 1, edge
+    block = block.makeFillet(3, edge)
+    # The half-space x - 8 + y - z >= 0: a large box whose face x = 0 is turned onto the
+    # plane's normal (1, 1, -1)/sqrt(3) and moved onto the point (8, 0, 0).
+    half = Part.makeBox(400, 400, 400, V(0, -200, -200))
+    half.rotate(V(0, 0, 0), V(0, 1, 1), math.degrees(math.acos(1 / math.sqrt(3))))
+    half.translate(V(8, 0, 0))
+    wall = Part.makeBox(30, 25, 14, V(0, -5, 0)).common(half)
     return block.fuse(wall).removeSplitter()
 
 

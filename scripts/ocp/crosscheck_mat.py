@@ -23,7 +23,7 @@ freely; `skeletal_edges`: its last ball is a vertex of the part, r = 0):
                      smooth contact cannot pass for two. Seam points need 3 (2 at a seam end at
                      a curvature limit, where the ball osculates a face, or at a pinch, where
                      two touch points meet at a vertex), junctions 4, degenerate balls 2
-                     (1 at an end where the arc of contact shrinks to a vertex), a skeletal
+                     (1 at an end where the arc of contact shrinks to a point), a skeletal
                      edge's balls 1 (the vertex).
                      A seam point the report lists in its seam's `unresolved`, or a junction
                      marked `unresolved`, needs one place fewer, where every two touch points
@@ -52,8 +52,8 @@ The report must describe a medial axis, not merely hold no wrong point:
                      ends at exists.
   degenerate_ends    every degenerate curve is traced to two located ends (its ball touching
                      another element on the boundary at distance r, r = 0 at a vertex of the
-                     part, or, where its arc of contact shrinks to a vertex, the ball osculating
-                     a face at that vertex: centre q - r n, 1/r its larger principal
+                     part, or, where its arc of contact shrinks to a point, the ball osculating
+                     a face at that point: centre t - r n, 1/r its larger principal
                      curvature) or closes on itself; an open end fails.
   accuracy           the accuracy the report claims is positive and at most 1e-3 x the
                      bounding-box diagonal (without --tol).
@@ -617,7 +617,9 @@ def check_degenerate_ends(part, checks, touched, i, d, tol):
         elif kind == "vanishes":
             ok = abs(b[3]) <= tol and any(dist3(q, b[:3]) <= tol for q in part.vertex_points)
         elif kind == "shrinks":
-            ok = osculates_at_vertex(part, b, tol)
+            ok = osculates_at(part, b, e.get("touch"), tol)
+            if ok:
+                touched.update(part.faces_within(e["touch"], tol))
         elif kind == "closed":
             step = max((dist3(p[:3], q[:3]) for p, q in zip(balls, balls[1:])), default=0.0)
             ok = len(balls) > 2 and dist3(b[:3], balls[0][:3]) <= 1.5 * step + tol
@@ -626,33 +628,33 @@ def check_degenerate_ends(part, checks, touched, i, d, tol):
         checks.record("degenerate_ends", ok, lambda: f"{what} end {k} ({e}) is not located on the part")
 
 
-def osculates_at_vertex(part, b, tol):
-    """True when ball b (centre, r) osculates a face at one of the part's vertices: the vertex
-    q at distance r from the centre, and on a face at q, centre q - r n (n its outward normal)
-    and 1/r its larger principal curvature (OCCT's, sign by the face's orientation), to tol."""
+def osculates_at(part, b, t, tol):
+    """True when ball b (centre, r) osculates a face of the part at point t on its boundary:
+    t at distance r from the centre, and on a face within tol of t, centre t - r n (n its
+    outward normal at t) and 1/r its larger principal curvature there (OCCT's, signed by the
+    face's orientation), to tol."""
     c, r = b[:3], b[3]
-    for i, q in enumerate(part.vertex_points, start=1):
-        if abs(dist3(q, c) - r) > tol:
+    if t is None or not finite(t) or abs(dist3(t, c) - r) > tol:
+        return False
+    for i in part.faces_within(t, tol):
+        face = TopoDS.Face(part.faces.FindKey(i))
+        surface = BRep_Tool.Surface_s(face)
+        proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(*t), surface)
+        if proj.NbPoints() == 0:
             continue
-        for f in part.vertex_faces.FindFromIndex(i):
-            face = TopoDS.Face(f)
-            surface = BRep_Tool.Surface_s(face)
-            proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(*q), surface)
-            if proj.NbPoints() == 0:
-                continue
-            u, v = proj.LowerDistanceParameters()
-            props = GeomLProp_SLProps(surface, u, v, 2, 1e-9)
-            if not (props.IsNormalDefined() and props.IsCurvatureDefined()):
-                continue
-            sign = -1.0 if face.Orientation() == TopAbs_REVERSED else 1.0
-            n = props.Normal()
-            n = (sign * n.X(), sign * n.Y(), sign * n.Z())
-            # OCCT's curvatures are signed against its normal: a convex face (outward normal)
-            # curves away from it, negative; towards the material is -sign * k.
-            k = max(-sign * props.MaxCurvature(), -sign * props.MinCurvature())
-            centre = tuple(q[j] - r * n[j] for j in range(3))
-            if k > 0 and dist3(centre, c) <= tol and abs(1.0 / k - r) <= tol:
-                return True
+        u, v = proj.LowerDistanceParameters()
+        props = GeomLProp_SLProps(surface, u, v, 2, 1e-9)
+        if not (props.IsNormalDefined() and props.IsCurvatureDefined()):
+            continue
+        sign = -1.0 if face.Orientation() == TopAbs_REVERSED else 1.0
+        n = props.Normal()
+        n = (sign * n.X(), sign * n.Y(), sign * n.Z())
+        # OCCT's curvatures are signed against its normal: a convex face (outward normal)
+        # curves away from it, negative; towards the material is -sign * k.
+        k = max(-sign * props.MaxCurvature(), -sign * props.MinCurvature())
+        centre = tuple(t[j] - r * n[j] for j in range(3))
+        if k > 0 and dist3(centre, c) <= tol and abs(1.0 / k - r) <= tol:
+            return True
     return False
 
 

@@ -388,12 +388,17 @@ pub enum DegenerateEnd {
     /// The ball shrinks to nothing at a vertex (a cone's apex): the last ball is the vertex,
     /// `r = 0`.
     Vanishes { vertex: usize },
-    /// The arc its balls touch their face along shrinks to a point at a vertex of that face
-    /// (a round cut off obliquely by a wall: the arc narrows to the corner where the cut
-    /// meets the round's other edge). The last ball osculates the face at `vertex` (centre
-    /// `V − n/κ1`, `r = 1/κ1`, `n` the outward normal and `κ1` the larger principal
-    /// curvature there) and touches it at the vertex only: a free end.
-    Shrinks { vertex: usize },
+    /// The arc its balls touch their face along shrinks to a point, at `touch` on `element`
+    /// (a round cut off obliquely by a wall: the arc narrows to the vertex where the cut
+    /// meets the round's tangent line, or to the point of the cut's edge, an ellipse, that
+    /// reaches farthest along the curve). The last ball osculates the face there (centre
+    /// `P − n/κ1`, `r = 1/κ1`, `n` the outward normal and `κ1` the larger principal
+    /// curvature) and touches it at that point only: a free end.
+    Shrinks {
+        element: Element,
+        #[serde(deserialize_with = "nullable::point")]
+        touch: [f64; 3],
+    },
     /// The curve closes on itself (a torus's core circle).
     Closed,
     /// Not located: the continuation stopped for `reason` (its text), of kind `cause`.

@@ -96,10 +96,9 @@ const MOTOR_PLATE: &str = "22 faces whose edges lie off their surfaces by up to 
     the gap (ten errors up to 5.7e-4 mm); OCCT puts one touch point on the top plane F6 0.83 mm \
     off the face, which is its distance to the face's one-edge circular hole: the point is inside \
     the outer loop and outside both holes (the loops sampled): OCCT takes that loop for an \
-    outer one; one centre outside; seams end open at hand-overs; one degenerate curve end \
-    open, where a round's axis runs past the station at which an oblique wall meets the \
-    round's tangent line onto a tangent plane, and no face carries the continuum on (three \
-    others end where the arc of contact shrinks to a vertex)";
+    outer one; one centre outside; seams end open at hand-overs (every degenerate curve ends \
+    located: four where the arc of contact shrinks to a point, three at vertices, one inside \
+    an oblique wall's elliptic edge)";
 
 const FTC06: &str = "two seams end open where the touch point passes, on a pocket's floor \
     outline, the vertex between a line and an arc that meet at 4.7 degrees (the line comes \
@@ -136,6 +135,13 @@ const SHRUNK_ARC_UNJOINED: &str = "no seam ends open and every ball passes both 
     round's axis ends where the oblique wall shrinks its arc of contact to the vertex \
     (18, 3, 10), and a skeletal edge comes up to that vertex, but the degenerate curve is not \
     in the sheet graph (issue 20): the sheet bounded there stays open at the vertex.";
+
+const MESH_ON_A_CUT_ROUND: &str = "every traced ball passes both checkers and `--verify` \
+    passes; one sheet-mesh vertex lies on the round's axis at x = 15.08 (1.1e-5 mm off it), \
+    where the skew wall has cut the round's tangent planes away: its ball touches the round \
+    along an arc, which OCCT's check takes as the one nearest point (at the arc's end on the \
+    cut's edge); its growth test steps to the arc's other end, 1.3e-3 mm past r from the \
+    vertex's slightly-off centre (the mesh's vertex, not a traced ball; issue 22)";
 
 const EXPECTED_FAILURES: &[Expected] = &[
     (
@@ -177,11 +183,9 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "prusa_extruder-motor-plate.stp",
         &[
-            ("occt:degenerate_ends", 1),
             ("occt:inside", 1),
             ("occt:mesh_contacts", 1),
             ("occt:seam_ends", 14),
-            ("verify:degenerate_ends", 1),
             ("verify:seam_ends", 14),
             ("verify:separated", 1),
             ("verify:sheets_closed", 13),
@@ -268,6 +272,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "round_cut_by_slanted_wall.step",
         &[("verify:sheets_closed", 1)],
         SHRUNK_ARC_UNJOINED,
+    ),
+    (
+        "round_cut_by_skew_wall.step",
+        &[("occt:mesh_contacts", 1)],
+        MESH_ON_A_CUT_ROUND,
     ),
     (
         "cube_corner_in_plate.step",

@@ -865,9 +865,17 @@ fn a_rounds_axis_ends_where_an_oblique_wall_shrinks_its_arc_of_contact_to_a_vert
         balls[0]
     );
     assert_eq!(ends[1]["kind"], "shrinks", "{ends:?}");
-    let v = ends[1]["vertex"].as_u64().unwrap() as usize;
+    let v: usize = ends[1]["element"].as_str().unwrap()[1..].parse().unwrap();
+    assert!(
+        ends[1]["element"].as_str().unwrap().starts_with('V'),
+        "{ends:?}"
+    );
     let at = &report["model"]["vertices"][v]["point"];
     assert!(distance(at, [18.0, 3.0, 10.0]) < 1e-9, "ends at {at}");
+    assert!(
+        distance(&ends[1]["touch"], [18.0, 3.0, 10.0]) < 1e-9,
+        "{ends:?}"
+    );
     let last = balls.last().unwrap();
     assert!(distance(last, [18.0, 3.0, 7.0]) < 1e-9, "{last:?}");
     assert!((last[3].as_f64().unwrap() - 3.0).abs() < 1e-9, "{last:?}");
@@ -876,4 +884,33 @@ fn a_rounds_axis_ends_where_an_oblique_wall_shrinks_its_arc_of_contact_to_a_vert
         let x = b[0].as_f64().unwrap();
         assert!(distance(b, [x, 3.0, 7.0]) < 1e-6 && (b[3].as_f64().unwrap() - 3.0).abs() < 1e-6);
     }
+}
+
+/// The same round cut by a skew wall (the plane x = 8 − y + z): the cut's ellipse runs from
+/// (15, 0, 7) to (15, 3, 10) and reaches farthest along the axis at the round's middle, so the
+/// arc of contact shrinks from both ends to that point of the edge, 45° round the round:
+/// y = 3 − 3/√2, z = 7 + 3/√2, x = 8 − y + z = 12 + 3√2 = 16.2426. The axis ends there, its
+/// last ball centred (16.2426, 3, 7) with r = 3, and the part passes `--verify` whole.
+#[test]
+fn a_rounds_axis_ends_where_a_skew_wall_shrinks_its_arc_of_contact_to_a_point_of_its_edge() {
+    let report = traced_and_verified("round_cut_by_skew_wall");
+    let curves = report["mat"]["degenerate"].as_array().unwrap();
+    assert_eq!(curves.len(), 1, "{curves:?}");
+    let d = &curves[0];
+    let ends = d["ends"].as_array().unwrap();
+    assert_eq!(ends[0]["kind"], "meets", "{ends:?}");
+    assert_eq!(ends[1]["kind"], "shrinks", "{ends:?}");
+    assert!(
+        ends[1]["element"].as_str().unwrap().starts_with('E'),
+        "{ends:?}"
+    );
+    let h = 3.0 / 2f64.sqrt();
+    let x = 8.0 - (3.0 - h) + (7.0 + h);
+    assert!(
+        distance(&ends[1]["touch"], [x, 3.0 - h, 7.0 + h]) < 1e-9,
+        "{ends:?}"
+    );
+    let last = d["balls"].as_array().unwrap().last().unwrap();
+    assert!(distance(last, [x, 3.0, 7.0]) < 1e-9, "{last:?}");
+    assert!((last[3].as_f64().unwrap() - 3.0).abs() < 1e-9, "{last:?}");
 }

@@ -664,8 +664,8 @@ fn faces_joined_across_smooth_edges_or_reached_by_a_ball_are_touched_and_no_othe
 /// there do not close yet, issue 20, so `matrace verify` fails only `sheets_closed`). A
 /// smaller ball tangent at the same vertex (centre 0.5 mm nearer it, r 2.5: empty, touching
 /// the vertex alone) does not osculate: both checkers fail `degenerate_ends`. The end named
-/// at another vertex of the round fails it too (`matrace verify`; OCCT's checker does not
-/// read the vertex's index).
+/// at another vertex of the round, its point kept, fails it too (`matrace verify`: the point
+/// is not on it; OCCT's checker reads the point only).
 #[test]
 fn a_degenerate_curves_end_ball_that_does_not_osculate_at_its_vertex_fails() {
     let test = "verify::a_degenerate_curves_end_ball_that_does_not_osculate_at_its_vertex_fails";
@@ -711,7 +711,7 @@ fn a_degenerate_curves_end_ball_that_does_not_osculate_at_its_vertex_fails() {
         })
         .expect("the vertex (0, 3, 10)");
     let mut elsewhere = genuine.clone();
-    elsewhere["mat"]["degenerate"][0]["ends"][1]["vertex"] = json!(other);
+    elsewhere["mat"]["degenerate"][0]["ends"][1]["element"] = json!(format!("V{other}"));
     let path = write(dir.path(), "elsewhere", &elsewhere);
     let (code, failed) = verify(&part, &path);
     assert_eq!(code, 1, "{failed:?}");

@@ -38,6 +38,10 @@ use crate::model::{Element, Model};
 use glam::DVec3;
 use nalgebra::{DMatrix, DVector};
 
+/// Samples of an edge's range searched for points where it runs across a degenerate curve
+/// ([`Tracer::across`]).
+const ACROSS_SAMPLES: usize = 32;
+
 /// Most balls of one traced degenerate curve.
 pub const MAX_DEGENERATE_BALLS: usize = 2_000;
 
@@ -385,9 +389,9 @@ impl Tracer<'_> {
                         .then(|| self.shrinks(solid, segs, &last, d))
                         .flatten();
                     out.end = match shrunk {
-                        Some((pair, y, vertex)) => {
+                        Some((pair, y, shrunk)) => {
                             out.balls.push((pair, y));
-                            DegenerateEnd::Shrinks { vertex }
+                            shrunk
                         }
                         None => end,
                     };
@@ -1102,31 +1106,36 @@ impl Tracer<'_> {
     }
 
     /// Where a touch point left its face `x` on (centre moving along `dir`) and the curve goes
-    /// no further: the arc the ball touches the face along may be shrinking to a vertex of it
-    /// ahead (a round cut off obliquely). The end ball then osculates the face at that vertex
-    /// ([`osculating_ball`]); it is taken when it is ahead of `x`, within `x`'s radius of
-    /// it, its radius differs from `x`'s by no more than the centres are apart (the radius
-    /// along the medial axis is 1-Lipschitz), the circle of contact through the vertex
-    /// leaves the segments' faces on both sides of it ([`Tracer::arc_is_point`]), and the
-    /// ball is empty. The nearest such ball, as unknowns touching that face twice at the
-    /// vertex (the pair), and the vertex. (The other segment may be a plane tangent to the
-    /// face that does not reach the vertex.)
+    /// no further: the arc the ball touches the face along may be shrinking to a point ahead
+    /// (a round cut off obliquely): a vertex of the face, or a point of one of its edges
+    /// where the edge runs across `dir` (the farthest reach of an oblique cut's ellipse along
+    /// the curve). The end ball then osculates the face there ([`osculating_ball`]); it is
+    /// taken when it is ahead of `x`, within `x`'s radius of it, its radius differs from
+    /// `x`'s by no more than the centres are apart (the radius along the medial axis is
+    /// 1-Lipschitz), the circle of contact through the point leaves the segments' faces on
+    /// both sides of it ([`Tracer::arc_is_point`]), and the ball is empty. The nearest such
+    /// ball, as unknowns touching that face twice at the point (the pair: the other segment
+    /// may be a plane tangent to the face that does not reach it), and the end.
     fn shrinks(
         &self,
         solid: usize,
         segs: [Element; 2],
         x: &DVector<f64>,
         dir: DVec3,
-    ) -> Option<([Element; 2], DVector<f64>, usize)> {
+    ) -> Option<([Element; 2], DVector<f64>, DegenerateEnd)> {
         let (c, r) = (v3(x), x[3]);
         let a = self.opts.accuracy;
         let mut faces: Vec<usize> = segs.iter().flat_map(|s| s.faces(self.model)).collect();
         faces.sort_unstable();
         faces.dedup();
-        let mut best: Option<(f64, DVector<f64>, Element, usize)> = None;
+        let mut best: Option<(f64, DVector<f64>, usize, Element, DVec3)> = None;
         for &f in &faces {
-            for v in Element::Face(f).vertices(self.model) {
-                let p = self.model.vertices[v].point;
+            let candidates = Element::Face(f)
+                .vertices(self.model)
+                .into_iter()
+                .map(|v| (Element::Vertex(v), self.model.vertices[v].point))
+                .chain(self.across(f, dir, c, r));
+            for (element, p) in candidates {
                 let Some((cv, rv, uv)) = osculating_ball(self.model, f, p) else {
                     continue;
                 };
@@ -1146,11 +1155,65 @@ impl Tracer<'_> {
                     y[5 + 2 * i] = uv[1];
                 }
                 if self.arc_is_point(&faces, cv, rv, dir, p) && self.ball_is_empty(solid, &y) {
-                    best = Some((apart, y, Element::Face(f), v));
+                    best = Some((apart, y, f, element, p));
                 }
             }
         }
-        best.map(|(_, y, face, v)| ([face, face], y, v))
+        best.map(|(_, y, f, element, p)| {
+            let end = DegenerateEnd::Shrinks {
+                element,
+                touch: p.to_array(),
+            };
+            ([Element::Face(f); 2], y, end)
+        })
+    }
+
+    /// The points of face `f`'s edges within `2r` of `c` where the edge runs across `dir`
+    /// (its tangent perpendicular to it): where [`ACROSS_SAMPLES`] samples of the edge's
+    /// range change sign in `C'·dir`, refined by bisection to the parameter's rounding.
+    fn across(&self, f: usize, dir: DVec3, c: DVec3, r: f64) -> Vec<(Element, DVec3)> {
+        let mut out = vec![];
+        let mut edges: Vec<usize> = self.model.faces[f]
+            .loops
+            .iter()
+            .flat_map(|l| l.edges.iter().map(|oe| oe.edge))
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        for e in edges {
+            let edge = &self.model.edges[e];
+            if crate::geom::nearest_on_edge(self.model, e, c, None).2 > 2.0 * r {
+                continue;
+            }
+            let (t0, t1) = edge.range;
+            let g = |t: f64| eval_curve(&edge.curve, t).d1.dot(dir);
+            let at = |k: usize| t0 + (t1 - t0) * k as f64 / ACROSS_SAMPLES as f64;
+            for k in 0..ACROSS_SAMPLES {
+                let (mut lo, mut hi) = (at(k), at(k + 1));
+                let (mut glo, ghi) = (g(lo), g(hi));
+                if !(glo.is_finite() && ghi.is_finite()) || glo * ghi > 0.0 || glo == 0.0 {
+                    continue;
+                }
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    if mid <= lo || mid >= hi {
+                        break;
+                    }
+                    let gm = g(mid);
+                    if gm * glo > 0.0 {
+                        (lo, glo) = (mid, gm);
+                    } else {
+                        hi = mid;
+                    }
+                }
+                let t = 0.5 * (lo + hi);
+                // Not at its ends: those are the vertices.
+                if t > t0.min(t1) && t < t0.max(t1) {
+                    out.push((Element::Edge(e), eval_curve(&edge.curve, t).p));
+                }
+            }
+        }
+        out
     }
 
     /// True when the ball of centre `c` and radius `r` (centre moving along `dir`) touches

@@ -173,9 +173,8 @@ pub(super) fn check_elements(model: &Model, axis: &MedialAxis, v: &mut Verificat
         for end in &d.ends {
             let ok = match end {
                 DegenerateEnd::Meets { element, .. } => exists(element),
-                DegenerateEnd::Vanishes { vertex } | DegenerateEnd::Shrinks { vertex } => {
-                    *vertex < model.vertices.len()
-                }
+                DegenerateEnd::Vanishes { vertex } => *vertex < model.vertices.len(),
+                DegenerateEnd::Shrinks { element, .. } => exists(element),
                 _ => true,
             };
             check(v, ok, &|| {
@@ -398,24 +397,31 @@ fn check_degenerate_ends(
                         format!("its ball (r {r:e}) is not V{vertex}"),
                     )
                 }
-                DegenerateEnd::Shrinks { vertex } => {
-                    // The ball osculating one of the curve's faces at the vertex.
-                    let at = model.vertices.get(*vertex).map(|p| p.point);
-                    let osculates = at.is_some_and(|p| {
-                        d.segments
+                DegenerateEnd::Shrinks { element, touch } => {
+                    // The ball osculating one of the curve's faces at the point, which is on
+                    // the element named (a vertex or an edge of that face).
+                    let t = DVec3::from_array(*touch);
+                    let on = match *element {
+                        Element::Vertex(v) => model.vertices[v].point.distance(t) <= a,
+                        Element::Edge(e) => crate::geom::nearest_on_edge(model, e, t, None).2 <= a,
+                        Element::Face(_) => false,
+                    };
+                    let faces = element.faces(model);
+                    let osculates = on
+                        && d.segments
                             .iter()
                             .flat_map(|s| s.faces(model))
-                            .filter(|&f| Element::Face(f).vertices(model).contains(vertex))
+                            .filter(|f| faces.contains(f))
                             .any(|f| {
-                                osculating_ball(model, f, p).is_some_and(|(cv, rv, _)| {
+                                osculating_ball(model, f, t).is_some_and(|(cv, rv, _)| {
                                     c.distance(cv) <= a && (r - rv).abs() <= a
                                 })
-                            })
-                    });
+                            });
                     (
                         osculates,
                         format!(
-                            "its ball (centre {c}, r {r:e}) does not osculate its face at V{vertex}"
+                            "its ball (centre {c}, r {r:e}) does not osculate its face at {t} \
+                             on {element}"
                         ),
                     )
                 }
@@ -467,7 +473,9 @@ fn check_faces_touched(
         )
         .chain(axis.degenerate.iter().flat_map(|d| {
             d.ends.iter().filter_map(|e| match e {
-                DegenerateEnd::Meets { touch, .. } => Some(touch),
+                DegenerateEnd::Meets { touch, .. } | DegenerateEnd::Shrinks { touch, .. } => {
+                    Some(touch)
+                }
                 _ => None,
             })
         }));
