@@ -57,6 +57,7 @@ pub mod options;
 mod pinch;
 mod queue;
 mod seeds;
+mod shrink;
 mod skeletal;
 mod starts;
 #[cfg(test)]
