@@ -15,6 +15,8 @@
 //!   sheet of balls touching that element and the continuum (a cylinder's cap) or, where the
 //!   ball touches that element along a continuum too (a capsule's cap), freely;
 //! - `r` shrinks to nothing at a vertex (a cone's apex: [`DegenerateEnd::Vanishes`]);
+//! - the arc its balls touch their face along shrinks to a point (a round cut off
+//!   obliquely: [`DegenerateEnd::Shrinks`], located in `shrink.rs`);
 //! - it comes back to its first ball ([`DegenerateEnd::Closed`]);
 //! - (not an end) a touch point leaves its element where the continuum runs on onto another
 //!   (a boss's side onto its foot circle, a fillet split in two): the curve is handed over
@@ -380,7 +382,8 @@ impl Tracer<'_> {
                     (x, d) = (y, v);
                 }
                 None => {
-                    // The arc of contact may instead shrink to a vertex of its face ahead.
+                    // The arc of contact may instead shrink to a point of its face ahead (a
+                    // vertex, or a point of an edge): `shrink.rs`.
                     let shrunk = (left && matches!(end, DegenerateEnd::Open { .. }))
                         .then(|| self.shrinks(solid, segs, &last, d))
                         .flatten();
