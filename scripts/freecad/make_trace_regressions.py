@@ -21,8 +21,10 @@ by a hemispherical end (a face too narrow for the seeds' first grid; faces touch
 sheet's balls), a flat ring with a bead round each rim whose fillet axis's balls reach the
 bottom (a face touched at no listed touch point), a wall whose foot fillets end at its flat end
 faces (seams that end at pinches under the cusp vertices there), a block's rounded edge cut
-obliquely by a wall (a degenerate curve whose arc of contact shrinks to a vertex), and by a
-skew wall (the arc shrinks to a point inside the cut's edge).
+obliquely by a wall (a degenerate curve whose arc of contact shrinks to a vertex), by a
+skew wall (the arc shrinks to a point inside the cut's edge), and a rib under a wide block
+whose round end's foot arc a large ball's touch point runs round faster than its centre
+turns (a step must not land on the arc's far side).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -773,6 +775,31 @@ def round_cut_by_skew_wall():
     half.translate(V(8, 0, 0))
     wall = Part.makeBox(30, 25, 14, V(0, -5, 0)).common(half)
     return block.fuse(wall).removeSplitter()
+
+
+@part("rib_end_under_a_wide_ball",
+      "Block 40x34x40 (x -20 to 20, y 0 to 34, z 0 to 40) with a rib under its bottom face: "
+      "2.8 wide (y 15.8 to 18.6), 3 deep, from the end x = -20 to x = -3.6, where it ends in "
+      "a half-round (radius 1.4 about the vertical line x = -3.6, y = 17.2).",
+      40 * 34 * 40 + 2.8 * 3 * 16.4 + 3 * PI * 1.4 ** 2 / 2,
+      "Balls of r = 17 fill the block between the walls y = 0 and y = 34 from x = -3 to 3 "
+      "(17 from the end faces). A junction at x = -3: the ball centred (-3, 17, 16.9827) "
+      "touches both walls, the end face x = -20 and the foot arc of the rib's round end "
+      "(0.6325 from the arc's axis in plan, so 0.7675 from the arc). From it the seam of the "
+      "two walls runs along x with its third touch point on the arc until, past "
+      "x = -3.6 + sqrt(1.4^2 - 0.2^2) = -2.2143, the ball touches the bottom face directly "
+      "below its centre; it ends at the junction x = 3. The seam of the wall y = 34, the "
+      "bottom and the end face x = -20 (centres x + 20 = 34 - y = r) is handed from the "
+      "bottom to the rib's foot edge y = 18.6 and round the arc to the junction, its touch "
+      "point turning round the arc about 2.6 rad per mm of the centre's travel. A step whose "
+      "linear predictor overshoots that turn lands the corrector on the arc's far side; it "
+      "is refused (the tracer once ended that seam open, oscillating between the arc's two "
+      "edges).")
+def rib_end_under_a_wide_ball():
+    block = Part.makeBox(40, 34, 40, V(-20, 0, 0))
+    rib = Part.makeBox(16.4, 2.8, 3, V(-20, 15.8, -3))
+    end = Part.makeCylinder(1.4, 3, V(-3.6, 17.2, -3), V(0, 0, 1))
+    return block.fuse(rib.fuse(end)).removeSplitter()
 
 
 def main():

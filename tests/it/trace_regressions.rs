@@ -914,3 +914,91 @@ fn a_rounds_axis_ends_where_a_skew_wall_shrinks_its_arc_of_contact_to_a_point_of
     assert!(distance(last, [x, 3.0, 7.0]) < 1e-9, "{last:?}");
     assert!((last[3].as_f64().unwrap() - 3.0).abs() < 1e-9, "{last:?}");
 }
+
+/// A rib under a block 34 wide, ending in a half-round of radius 1.4 about the vertical line
+/// x = −3.6, y = 17.2: balls of r = 17 between the block's walls y = 0 and y = 34 touch the
+/// round's foot arc, and a ball's touch point runs round that arc faster than its centre
+/// turns. A step whose linear predictor overshoots the turn lands the corrector on the arc's
+/// far side (another seam); the tracer once took such steps as hand-overs and ended a seam
+/// open there. Every seam now ends at a junction or a vertex, the junction at x = −3 touches
+/// the arc 0.7675 from its axis in plan, the seam of the two walls leaves the arc for the
+/// bottom at x = −3.6 + √(1.4² − 0.2²), and no step turns a touch point round the arc by
+/// more than half a radian.
+#[test]
+fn a_touch_point_running_round_a_small_arc_is_followed_step_by_step() {
+    let report = traced_and_verified("rib_end_under_a_wide_ball");
+    let (ax, ay, rho) = (-3.6, 17.2, 1.4);
+    let plan_gap = rho - (0.6f64.powi(2) + 0.2f64.powi(2)).sqrt();
+    let junctions = report["mat"]["junctions"].as_array().unwrap();
+    let zj = (17.0f64.powi(2) - plan_gap.powi(2)).sqrt();
+    assert!(
+        junctions
+            .iter()
+            .any(|j| distance(&j["point"], [-3.0, 17.0, zj]) < 1e-6
+                && (j["radius"].as_f64().unwrap() - 17.0).abs() < 1e-6),
+        "no junction at (-3, 17, {zj}): {junctions:?}"
+    );
+    // The seam of the two walls: y = 17, r = 17; its third touch point on the arc, then
+    // directly below the centre on the bottom.
+    let leave = ax + (rho * rho - 0.04f64).sqrt();
+    let walls = seams(&report)
+        .iter()
+        .find(|s| {
+            s["points"].as_array().unwrap().iter().all(|p| {
+                let b = &p["point"];
+                (b[1].as_f64().unwrap() - 17.0).abs() < 1e-6
+                    && (b[3].as_f64().unwrap() - 17.0).abs() < 1e-6
+            })
+        })
+        .expect("a seam between the walls y = 0 and y = 34 near the bottom");
+    let arc_angle = |t: &Value| {
+        let (x, y, z) = (
+            t[0].as_f64().unwrap(),
+            t[1].as_f64().unwrap(),
+            t[2].as_f64().unwrap(),
+        );
+        let on_arc = z.abs() < 1e-6 && ((x - ax).hypot(y - ay) - rho).abs() < 1e-6;
+        on_arc.then(|| (y - ay).atan2(x - ax))
+    };
+    let mut on_arc = 0;
+    for p in walls["points"].as_array().unwrap() {
+        let x = p["point"][0].as_f64().unwrap();
+        let third = p["touch"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|t| t[2].as_f64().unwrap().abs() < 1e-6)
+            .expect("a touch point at the bottom's height");
+        if x < leave - 1e-6 {
+            assert!(arc_angle(third).is_some(), "x = {x}: {third}");
+            on_arc += 1;
+        } else if x > leave + 1e-6 {
+            assert!(distance(third, [x, 17.0, 0.0]) < 1e-6, "x = {x}: {third}");
+        }
+    }
+    assert!(on_arc >= 2, "{on_arc} points on the arc");
+    // On every seam, consecutive touch points on the arc are at most the step control's
+    // turn apart round it (the far side would be more than a radian away).
+    for s in seams(&report) {
+        let points = s["points"].as_array().unwrap();
+        for w in points.windows(2) {
+            let a: Vec<f64> = w[0]["touch"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .filter_map(arc_angle)
+                .collect();
+            let b: Vec<f64> = w[1]["touch"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .filter_map(arc_angle)
+                .collect();
+            if let ([a], [b]) = (&a[..], &b[..]) {
+                let turn = (b - a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                    - std::f64::consts::PI;
+                assert!(turn.abs() <= 0.5 + 1e-6, "seam {}: turn {turn}", s["id"]);
+            }
+        }
+    }
+}

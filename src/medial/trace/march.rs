@@ -5,7 +5,7 @@ use super::handover::HandOverError;
 use super::junctions::Meeting;
 use super::options::{
     FAST_CONVERGENCE_ITER, FIRST_STEP_REL_DIAGONAL, MAX_CENTRE_STEP_ITER, MAX_HANDOVERS_IN_PLACE,
-    MAX_POINTS, MAX_STEP_REL_DIAGONAL, MAX_TURN_RAD, MERGED_TOUCH_REL_RADIUS,
+    MAX_POINTS, MAX_STEP_REL_DIAGONAL, MAX_TOUCH_TURN_RAD, MAX_TURN_RAD, MERGED_TOUCH_REL_RADIUS,
     MIN_STEP_REL_DIAGONAL, REACH_REL_ACCURACY, SAME_PLACE_REL_ACCURACY, STEP_GROWTH, STEP_SHRINK,
 };
 use super::tracer::Tracer;
@@ -559,7 +559,9 @@ impl Tracer<'_> {
     /// One predictor–corrector step of length `h` from `x` along the unit tangent `t`: the new
     /// point, its tangent (oriented along `t`) and the corrector's iterations. `None` when the
     /// corrector fails, the radius goes negative from a point that already had r ≤ 0, or the
-    /// seam turns by more than [`MAX_TURN_RAD`] (step control by seam curvature).
+    /// seam turns by more than [`MAX_TURN_RAD`] (step control by seam curvature), or a touch
+    /// point on an edge runs round it by more than [`MAX_TOUCH_TURN_RAD`] (the corrector
+    /// jumped to another foot of the ball on that edge).
     pub(super) fn step(
         &mut self,
         sys: &MedialSystem,
@@ -591,9 +593,31 @@ impl Tracer<'_> {
         if sol.status != SolveStatus::Converged || mirror {
             return None;
         }
+        if self.touch_runs_round_an_edge(sys, x, &sol.x) {
+            return None;
+        }
         let tn = self.tangent(sys, &sol.x, t)?;
         let turn = v3(t).angle_between(v3(&tn));
         (turn <= MAX_TURN_RAD).then_some((sol.x, tn, sol.iterations))
+    }
+
+    /// True when, from seam point `x` to `y`, a touch point on an edge moved along it so far
+    /// that the edge's tangent turned by more than [`MAX_TOUCH_TURN_RAD`].
+    fn touch_runs_round_an_edge(
+        &self,
+        sys: &MedialSystem,
+        x: &DVector<f64>,
+        y: &DVector<f64>,
+    ) -> bool {
+        sys.segments.iter().enumerate().any(|(k, seg)| {
+            let Element::Edge(e) = *seg else {
+                return false;
+            };
+            let curve = &self.model.edges[e].curve;
+            let a = crate::geom::eval_curve(curve, slot(x, k)[0]).d1;
+            let b = crate::geom::eval_curve(curve, slot(y, k)[0]).d1;
+            a.length() > 0.0 && b.length() > 0.0 && a.angle_between(b) > MAX_TOUCH_TURN_RAD
+        })
     }
 
     /// The seam point whose centre lies in the plane `t_B·(B − B(x)) = h` (normal to the

@@ -13,6 +13,13 @@ pub const FIRST_STEP_REL_DIAGONAL: f64 = 1e-3;
 /// never more than this apart in direction and the chord between them stays within
 /// `h·MAX_TURN_RAD/8` of the curve.
 pub const MAX_TURN_RAD: f64 = 0.15;
+/// Largest turn of a touch point's edge over one step (radians): the curve's tangent at the
+/// touch point may turn this much. Where a small arc is touched by a large ball, the touch
+/// point runs round it much faster than the centre turns, and a step whose linear predictor
+/// overshoots lands the corrector on another foot of the ball on that arc (the far side of a
+/// rib's rounded end) — a different seam, not the next point. Looser than [`MAX_TURN_RAD`]:
+/// it bites only where the touch point outruns the centre.
+pub const MAX_TOUCH_TURN_RAD: f64 = 0.5;
 /// Budget of points per seam.
 pub const MAX_POINTS: usize = 20_000;
 /// Hand-overs in a row, with no ordinary step between, after which a march ends as
