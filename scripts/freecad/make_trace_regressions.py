@@ -24,7 +24,9 @@ faces (seams that end at pinches under the cusp vertices there), a block's round
 obliquely by a wall (a degenerate curve whose arc of contact shrinks to a vertex), by a
 skew wall (the arc shrinks to a point inside the cut's edge), and a rib under a wide block
 whose round end's foot arc a large ball's touch point runs round faster than its centre
-turns (a step must not land on the arc's far side).
+turns (a step must not land on the arc's far side), and a round bar with a drilled end (the
+drill point's apex, reached by the cone's seam edge, is the nearest boundary point of the
+axis's balls).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -800,6 +802,24 @@ def rib_end_under_a_wide_ball():
     rib = Part.makeBox(16.4, 2.8, 3, V(-20, 15.8, -3))
     end = Part.makeCylinder(1.4, 3, V(-3.6, 17.2, -3), V(0, 0, 1))
     return block.fuse(rib.fuse(end)).removeSplitter()
+
+
+@part("bar_with_a_drilled_end",
+      "Round bar r = 8, 40 long (axis x = y = 0, z 0 to 40), with a coaxial blind hole r = 3 "
+      "drilled into its end z = 40, 12 mm deep to the shoulder (z = 28), ending in a 118 "
+      "degree drill point whose apex is 3/tan 59 deg = 1.80 mm further (z = 26.197).",
+      PI * 64 * 40 - PI * 9 * 12 - PI * 9 * (3 / math.tan(math.radians(59))) / 3,
+      "Round the hole, the sheet between its wall and the bar's wall (r = 2.5 along the "
+      "cylinders) is closed at the mouth by a circular seam (the end face, the hole's wall, "
+      "the bar's wall) and runs on past the shoulder's rim, over the drill point's cone and "
+      "its apex, to the bar's axis: the axis is a degenerate curve (r = 8) from the ball "
+      "touching the bottom face (centre z = 8) to the one touching the apex (z = 18.197). "
+      "No seam or junction ball touches the cone: it is reached through that sheet alone.")
+def bar_with_a_drilled_end():
+    tip = 3 / math.tan(math.radians(59))
+    drill = Part.makeCylinder(3, 12, V(0, 0, 28), V(0, 0, 1)).fuse(
+        Part.makeCone(0, 3, tip, V(0, 0, 28 - tip), V(0, 0, 1)))
+    return Part.makeCylinder(8, 40).cut(drill).removeSplitter()
 
 
 def main():

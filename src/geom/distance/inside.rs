@@ -137,6 +137,16 @@ mod tests {
                 ],
             );
         }
+        // Round bar r = 8 (z 0 to 40) with a blind hole r = 3 drilled into its top, ending
+        // in a drill point whose apex (0, 0, 26.197) is reached by the cone's seam edge, up
+        // and straight back down: the points on the axis below the apex have it as their
+        // nearest point (it read as outside while its pseudo-normal summed to zero); those
+        // above it are in the hole.
+        assert_inside(
+            "trace/bar_with_a_drilled_end.step",
+            &[[0.0, 0.0, 18.2], [0.0, 0.0, 22.0], [0.0, 0.0, 26.0]],
+            &[[0.0, 0.0, 26.4], [0.0, 0.0, 30.0], [0.0, 0.0, 41.0]],
+        );
         // Box [0,60]×[0,40]×[0,30] with a spherical void r = 8 at (30, 20, 15).
         assert_inside(
             "box_with_void.step",

@@ -89,20 +89,7 @@ pub(super) fn vertex_normals(
             if let (Some(v), Some(&pole)) = (l.vertex, l.uv.first()) {
                 // A pole or apex: the face surrounds it (a full turn); its normals around
                 // it average to the axis (a sphere's pole normal, a cone's axis).
-                let (uc, vc) = covered_domain(face);
-                let centre = DVec2::new(0.5 * (uc.0 + uc.1), 0.5 * (vc.0 + vc.1));
-                let mut sum = DVec3::ZERO;
-                for k in 0..POLE_NORMAL_SAMPLES {
-                    let a = k as f64 / POLE_NORMAL_SAMPLES as f64;
-                    let mut q = pole + (centre - pole) * 1e-6;
-                    match (face.domain.u_period, face.domain.v_period) {
-                        (Some(p), _) => q.x = uc.0 + a * p,
-                        (None, Some(p)) => q.y = vc.0 + a * p,
-                        (None, None) => {}
-                    }
-                    sum += face_normal(face, (q.x, q.y)).unwrap_or(DVec3::ZERO);
-                }
-                normals[v] += sum.normalize_or_zero() * std::f64::consts::TAU;
+                normals[v] += around_pole(face, pole) * std::f64::consts::TAU;
             }
             let n = l.edges.len();
             for k in 0..n {
@@ -116,8 +103,19 @@ pub(super) fn vertex_normals(
                     ea.vertices[0]
                 };
                 let x = model.vertices[v].point;
-                let Some(normal) = normal_at(face, fi, x, nearest_loop_point(&loop_points[fi], x))
-                else {
+                let hint = nearest_loop_point(&loop_points[fi], x);
+                // The loop runs up a seam edge to the vertex and straight back down it: the
+                // vertex is a pole or apex the face surrounds (a drill point's tip written
+                // with its seam edge), a full turn like a vertex loop's. Its corner angle as
+                // two edges would be zero, and the normal there is undefined.
+                if a.edge == b.edge && a.forward != b.forward {
+                    if let Some(pole) = hint {
+                        normals[v] +=
+                            around_pole(face, DVec2::new(pole.0, pole.1)) * std::f64::consts::TAU;
+                    }
+                    continue;
+                }
+                let Some(normal) = normal_at(face, fi, x, hint) else {
                     continue;
                 };
                 // Loops turn counter-clockwise about this normal.
@@ -137,6 +135,26 @@ pub(super) fn vertex_normals(
         }
     }
     normals
+}
+
+/// The unit mean of face `face`'s normals on a small circle about its pole or apex at `pole`
+/// (parameters): the normal of the point the face surrounds (a sphere's pole, a cone's
+/// axis direction).
+fn around_pole(face: &Face, pole: DVec2) -> DVec3 {
+    let (uc, vc) = covered_domain(face);
+    let centre = DVec2::new(0.5 * (uc.0 + uc.1), 0.5 * (vc.0 + vc.1));
+    let mut sum = DVec3::ZERO;
+    for k in 0..POLE_NORMAL_SAMPLES {
+        let a = k as f64 / POLE_NORMAL_SAMPLES as f64;
+        let mut q = pole + (centre - pole) * 1e-6;
+        match (face.domain.u_period, face.domain.v_period) {
+            (Some(p), _) => q.x = uc.0 + a * p,
+            (None, Some(p)) => q.y = vc.0 + a * p,
+            (None, None) => {}
+        }
+        sum += face_normal(face, (q.x, q.y)).unwrap_or(DVec3::ZERO);
+    }
+    sum.normalize_or_zero()
 }
 
 /// Tangent of an oriented edge at its end (`at_end`) or start, in the direction of travel.
