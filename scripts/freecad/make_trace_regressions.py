@@ -26,7 +26,8 @@ skew wall (the arc shrinks to a point inside the cut's edge), and a rib under a 
 whose round end's foot arc a large ball's touch point runs round faster than its centre
 turns (a step must not land on the arc's far side), and a round bar with a drilled end (the
 drill point's apex, reached by the cone's seam edge, is the nearest boundary point of the
-axis's balls).
+axis's balls), and a tapered pin with a drilled end (the pin's axis runs from its cylinder
+onto its cone, a degenerate curve handed over at a convex circle).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -820,6 +821,30 @@ def bar_with_a_drilled_end():
     drill = Part.makeCylinder(3, 12, V(0, 0, 28), V(0, 0, 1)).fuse(
         Part.makeCone(0, 3, tip, V(0, 0, 28 - tip), V(0, 0, 1)))
     return Part.makeCylinder(8, 40).cut(drill).removeSplitter()
+
+
+@part("tapered_pin_with_a_drilled_end",
+      "A pin: a cylinder r = 8 from z = 0 to 20, then a cone narrowing to r = 5 at z = 40 "
+      "(half-angle atan(3/20) = 8.53 deg), with a blind hole r = 2 drilled into its top "
+      "4.8 mm deep to the shoulder (z = 35.2), ending in a 118 degree drill point (apex at "
+      "z = 35.2 - 2/tan 59 deg = 33.998).",
+      PI * 64 * 20 + PI * 20 * (64 + 40 + 25) / 3 - PI * 4 * 4.8
+      - PI * 4 * (2 / math.tan(math.radians(59))) / 3,
+      "The pin's axis is one degenerate curve: from the ball touching the bottom face "
+      "(centre z = 8, r = 8) up the cylinder's axis (r = 8), past the convex circle at z = 20 "
+      "onto the cone's axis, whose balls touch the cone along a circle above their centre "
+      "(r shrinking: the ball centred at z0 touches the cone where its normal, 8.53 deg off "
+      "horizontal, meets the axis), to the ball that touches the drill point's apex (centre "
+      "z = 27.1470, r = 6.8513). The hand-over is at the ball centred z = 19.4033 (r = 8), "
+      "touching the cylinder along the circle z = 19.4033 and the cone along z = 20.5901; "
+      "the rim sheet of the convex circle between them ends there, a disc joined to the axis "
+      "at that one point. The medial axis's Euler characteristic is 1.")
+def tapered_pin_with_a_drilled_end():
+    tip = 2 / math.tan(math.radians(59))
+    pin = Part.makeCylinder(8, 20).fuse(Part.makeCone(8, 5, 20, V(0, 0, 20)))
+    drill = Part.makeCylinder(2, 4.8, V(0, 0, 35.2), V(0, 0, 1)).fuse(
+        Part.makeCone(0, 2, tip, V(0, 0, 35.2 - tip), V(0, 0, 1)))
+    return pin.removeSplitter().cut(drill).removeSplitter()
 
 
 def main():

@@ -1002,3 +1002,52 @@ fn a_touch_point_running_round_a_small_arc_is_followed_step_by_step() {
         }
     }
 }
+
+/// A pin whose cylinder (r = 8, z 0 to 20) narrows into a cone (to r = 5 at z = 40), with a
+/// blind hole drilled into its top (drill point's apex at z = 35.2 − 2/tan 59°): the pin's axis
+/// is one degenerate curve, from the ball touching the bottom (z = 8, r = 8) up the cylinder's
+/// axis, handed over where its ball also touches the cone along a circle (centre z = 19.4033,
+/// the cone's circle at z = 20.5901), and up the cone's axis with r shrinking to the ball that
+/// touches the apex (z = 27.1470, r = 6.8513). The rim sheet of the convex circle between the
+/// cylinder and the cone ends at the hand-over: the Euler characteristic, counted, is 1.
+#[test]
+fn a_pins_axis_runs_from_its_cylinder_onto_its_cone_to_a_drill_points_apex() {
+    let report = traced_and_verified("tapered_pin_with_a_drilled_end");
+    let curves = report["mat"]["degenerate"].as_array().unwrap();
+    assert_eq!(curves.len(), 1, "{curves:?}");
+    let d = &curves[0];
+    let segments: Vec<&str> = d["segments"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s.as_str().unwrap())
+        .collect();
+    assert_eq!(segments.len(), 4, "{segments:?}");
+    let balls = d["balls"].as_array().unwrap();
+    let (first, last) = (&balls[0], balls.last().unwrap());
+    let (top, bottom) = if first[2].as_f64().unwrap() > last[2].as_f64().unwrap() {
+        (first, last)
+    } else {
+        (last, first)
+    };
+    // The ends are located to the accuracy (4.6e-5 mm here).
+    assert!(distance(bottom, [0.0, 0.0, 8.0]) < 1e-4, "{bottom}");
+    assert!((bottom[3].as_f64().unwrap() - 8.0).abs() < 1e-6, "{bottom}");
+    assert!(distance(top, [0.0, 0.0, 27.146973]) < 1e-4, "{top}");
+    assert!((top[3].as_f64().unwrap() - 6.851306).abs() < 1e-4, "{top}");
+    // Every ball on the axis, r = 8 below the hand-over and shrinking above it.
+    for b in balls {
+        let (z, r) = (b[2].as_f64().unwrap(), b[3].as_f64().unwrap());
+        assert!(distance(b, [0.0, 0.0, z]) < 1e-6, "{b}");
+        if z <= 19.4033 {
+            assert!((r - 8.0).abs() < 1e-6, "{b}");
+        } else {
+            let zc = (z + 1.65) / 1.0225;
+            let want = (8.0 - 0.15 * (zc - 20.0)) * 1.0225f64.sqrt();
+            assert!((r - want).abs() < 1e-4, "{b}: r should be {want}");
+        }
+    }
+    let euler = &report["mat"]["topology"]["euler"][0];
+    assert_eq!(euler["mat_euler"], 1, "{euler}");
+    assert_eq!(euler["solid_euler"], 1, "{euler}");
+}

@@ -476,7 +476,7 @@ fn solid_and_axis_euler(
         .degenerate
         .iter()
         .filter(|d| d.solid == solid)
-        .map(degenerate_euler)
+        .map(|d| degenerate_euler(d) - sheets_ending_inside(d, &sheets))
         .sum();
     SolidEuler {
         solid,
@@ -553,6 +553,27 @@ fn degenerate_euler(d: &crate::medial::Degenerate) -> i64 {
             1 - meets as i64
         }
     }
+}
+
+/// How many sheets end at a point inside degenerate curve `d`, where it was handed over from
+/// one continuum to the next across a convex edge (a cylinder's axis onto a coaxial cone's):
+/// the rim sheet of balls touching both faces grows from that edge to the ball of the
+/// hand-over and ends there, a disc joined to the curve at one point (each takes 1 away, like
+/// an end that meets the rest at one point). A hand-over between faces no sheet joins (a
+/// boss's side onto its foot circle, one group) takes nothing away.
+fn sheets_ending_inside(d: &crate::medial::Degenerate, sheets: &[&Sheet]) -> i64 {
+    let stretches: Vec<&[Element]> = d.segments.chunks(2).collect();
+    stretches
+        .windows(2)
+        .filter(|w| {
+            sheets.iter().any(|s| {
+                let [a, b] = s.segments;
+                a != b
+                    && ((w[0].contains(&a) && w[1].contains(&b))
+                        || (w[0].contains(&b) && w[1].contains(&a)))
+            })
+        })
+        .count() as i64
 }
 
 /// Why the degenerate pieces of `solid` keep its medial axis's Euler characteristic from

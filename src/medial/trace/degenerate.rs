@@ -199,6 +199,7 @@ impl Tracer<'_> {
             }
             self.degenerate.extend(traced);
         }
+        self.drop_covered_curves(tol);
     }
 
     /// The degenerate curve of `d`'s segments through its sampled ball `x0`.
@@ -226,7 +227,7 @@ impl Tracer<'_> {
         piece.around = self.touches_around(&d.segments, x0, dir);
         // Sampling may have put a touch point at the border of an arc (a fillet's edge),
         // where the first correction slips it off the face: start from the arc's inside.
-        let recentred = self.recentred(&sys, x0, dir, true);
+        let recentred = self.recentred(&sys, x0, dir, true, 0.0);
         // Where recentring moved both touch points onto one face, the sampled ball stays
         // too (same centre), with its touch point on the other (a plane tangent to a fillet:
         // that face is touched there).
@@ -332,13 +333,25 @@ impl Tracer<'_> {
             // Where a touch point left its element and nothing else stops the ball there, the
             // continuum may run on: onto the element the ball osculates there, or a face
             // beside it across a smooth edge (a fillet split in two).
-            let carry_on = left
+            // So may it where the ball, still on its elements, meets a face it osculates: the
+            // face it touches along a continuum there too runs on from it (a cylinder's axis
+            // onto a coaxial cone's past the convex circle between them; a capsule's cap,
+            // whose centre cannot move, stops it there).
+            let carry_on = (left
                 && matches!(
                     end,
                     DegenerateEnd::Meets {
                         osculates: true,
                         ..
                     } | DegenerateEnd::Open { .. }
+                ))
+                || matches!(
+                    end,
+                    DegenerateEnd::Meets {
+                        element: Element::Face(_),
+                        osculates: true,
+                        ..
+                    }
                 );
             // A touch point that left its segment off the end of the arc the ball touches it
             // along, where the arc runs on on the same segments (a thread's root, a helical
@@ -639,19 +652,16 @@ impl Tracer<'_> {
 
     /// One step of length `h` from `x` along `d`: the corrected ball and the centre's
     /// direction there (oriented with `d`).
-    fn degenerate_step(
+    /// The corrector of a degenerate curve: the ball near `start` that solves `sys` with its
+    /// centre in the plane through `pred` across `d` (seven equations in eight unknowns: the
+    /// minimum-norm Newton step leaves the touch points' turn free).
+    pub(super) fn correct_across(
         &self,
         sys: &MedialSystem,
-        solid: usize,
-        x: &DVector<f64>,
+        start: DVector<f64>,
+        pred: DVec3,
         d: DVec3,
-        h: f64,
-    ) -> Result<(DVector<f64>, DVec3), StepFail> {
-        let pred = v3(x) + d * h;
-        let mut x1 = x.clone();
-        x1[0] = pred.x;
-        x1[1] = pred.y;
-        x1[2] = pred.z;
+    ) -> crate::medial::solver::Solution {
         let m = sys.equations();
         let eval = |y: &DVector<f64>| {
             let (f, j) = sys.eval(self.model, y)?;
@@ -665,14 +675,30 @@ impl Tracer<'_> {
             }
             Some((fa, ja))
         };
-        let sol = solve(
+        solve(
             eval,
-            x1,
+            start,
             &SolveOptions {
                 tol: self.opts.solver_tol,
                 max_iter: MAX_CORRECTOR_ITER,
             },
-        );
+        )
+    }
+
+    fn degenerate_step(
+        &self,
+        sys: &MedialSystem,
+        solid: usize,
+        x: &DVector<f64>,
+        d: DVec3,
+        h: f64,
+    ) -> Result<(DVector<f64>, DVec3), StepFail> {
+        let pred = v3(x) + d * h;
+        let mut x1 = x.clone();
+        x1[0] = pred.x;
+        x1[1] = pred.y;
+        x1[2] = pred.z;
+        let sol = self.correct_across(sys, x1, pred, d);
         if sol.status != SolveStatus::Converged {
             return Err(StepFail::Other(
                 DegenerateOpen::CorrectorFailed,
@@ -738,7 +764,8 @@ impl Tracer<'_> {
         Ok((xn, dn))
     }
 
-    /// Ball `x` (centre moving along `dir`) with its touch points moved round its circle to
+    /// Ball `x` (centre moving along `dir`) with its touch points moved round its circle of
+    /// contact (the one `axial` along `dir` from its centre: 0 on a cylinder's axis) to
     /// the inside of the arcs it touches its faces along: a quarter and three quarters
     /// along the arc where both segments are one face, the middle of each face's arc where
     /// they are two (the halves of a split cylinder), on the arc of one where the other holds
@@ -749,20 +776,25 @@ impl Tracer<'_> {
     /// element's border), touch points on an edge need only lie within its range (their
     /// normals may be a rounding outside its arc), and are left for the next step to
     /// correct.
-    fn recentred(
+    pub(super) fn recentred(
         &self,
         sys: &MedialSystem,
         x: &DVector<f64>,
         dir: DVec3,
         strict: bool,
+        axial: f64,
     ) -> Option<([Element; 2], DVector<f64>)> {
         const N: usize = 2 * AROUND_SAMPLES;
         let (c, r) = (v3(x), x[3]);
         let (u, v) = dir.any_orthonormal_pair();
         let tol = AROUND_REL_ACCURACY * self.opts.accuracy;
+        let (hub, rho) = (
+            c + dir.normalize() * axial,
+            (r * r - axial * axial).max(0.0).sqrt(),
+        );
         let at = |k: usize| {
             let phi = std::f64::consts::TAU * k as f64 / N as f64;
-            c + (u * phi.cos() + v * phi.sin()) * r
+            hub + (u * phi.cos() + v * phi.sin()) * rho
         };
         // Per segment: the parameters of each circle point on its face, where it is.
         let mut on = vec![];
@@ -867,7 +899,7 @@ impl Tracer<'_> {
         match sys.segments[..] {
             [Element::Edge(e), Element::Edge(f)] if e == f => self.spread_on_edge(e, x),
             _ => self
-                .recentred(sys, x, d, true)
+                .recentred(sys, x, d, true, 0.0)
                 .filter(|(pair, _)| pair[..] == sys.segments[..])
                 .map(|(_, y)| y),
         }
@@ -917,80 +949,6 @@ impl Tracer<'_> {
         let one_place = (8.0 * r * self.opts.accuracy).sqrt();
         let [ta, tb] = [0, 1].map(|i| sys_point(self.model, Element::Edge(e), slot(&y, i)));
         (ta?.distance(tb?) > SEPARATED_MARGIN * one_place).then_some(y)
-    }
-
-    /// Where a curve touching `segs` whose touch point left its element at ball `x` (centre
-    /// moving along `d`) carries on: the element `end` names, or else a reflex edge of its
-    /// faces or a face across an edge from them within reach of the ball (none `visited`),
-    /// or, first, the segment that `stayed` touched where the other was left, on which the
-    /// ball touches along a continuum and its centre moves along a line; the pair touched,
-    /// the ball with touch points on it, and the direction.
-    fn degenerate_hand_over(
-        &self,
-        solid: usize,
-        x: &DVector<f64>,
-        d: DVec3,
-        (segs, end): ([Element; 2], &DegenerateEnd),
-        visited: &[Element],
-        stayed: Option<Element>,
-    ) -> Option<([Element; 2], DVector<f64>, DVec3)> {
-        let named = match end {
-            DegenerateEnd::Meets { element, .. } if !matches!(element, Element::Vertex(_)) => {
-                Some(*element)
-            }
-            _ => None,
-        };
-        let (c, reach) = (v3(x), x[3] + self.opts.accuracy);
-        let mut edges: Vec<usize> = segs
-            .iter()
-            .flat_map(|s| s.faces(self.model))
-            .flat_map(|f| &self.model.faces[f].loops)
-            .flat_map(|l| l.edges.iter().map(|oe| oe.edge))
-            .filter(|&e| {
-                self.is_reflex(e) && crate::geom::nearest_on_edge(self.model, e, c, None).2 <= reach
-            })
-            .collect();
-        edges.sort_unstable();
-        edges.dedup();
-        // Faces across an edge from the segments' faces, within reach.
-        let own: Vec<usize> = segs.iter().flat_map(|s| s.faces(self.model)).collect();
-        let beside = |g: usize| {
-            self.model.faces[g]
-                .loops
-                .iter()
-                .flat_map(|l| &l.edges)
-                .any(|oe| {
-                    self.model.edges[oe.edge]
-                        .faces
-                        .iter()
-                        .any(|f| own.contains(f))
-                })
-        };
-        let near = self
-            .boundary
-            .within(self.model, c, reach)
-            .into_iter()
-            .filter(|&g| self.face_solid[g] == solid && beside(g))
-            .map(Element::Face);
-        let unvisited = named
-            .into_iter()
-            .chain(edges.into_iter().map(Element::Edge))
-            .chain(near)
-            .filter(|e| !visited.contains(e));
-        stayed.into_iter().chain(unvisited).find_map(|e| {
-            let sys = MedialSystem::new(vec![e, e]);
-            let mut y = DVector::zeros(8);
-            y.rows_mut(0, 4).copy_from(&x.rows(0, 4));
-            let (pair, y) = self.recentred(&sys, &y, d, false)?;
-            if pair == segs {
-                return None;
-            }
-            let sys = MedialSystem::new(pair.to_vec());
-            match centre_motion(self.model, &sys, &y)? {
-                CentreMotion::Along(v) => Some((pair, y, if v.dot(d) < 0.0 { -v } else { v })),
-                CentreMotion::Still => None,
-            }
-        })
     }
 
     /// The parameters of point `p` on segment `seg` touched from centre `c`: a face's

@@ -48,6 +48,7 @@ mod apex;
 mod arcs;
 mod contacts;
 mod degenerate;
+mod degenerate_join;
 mod entry;
 mod handover;
 mod junctions;
