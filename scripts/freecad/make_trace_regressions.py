@@ -27,7 +27,8 @@ whose round end's foot arc a large ball's touch point runs round faster than its
 turns (a step must not land on the arc's far side), and a round bar with a drilled end (the
 drill point's apex, reached by the cone's seam edge, is the nearest boundary point of the
 axis's balls), and a tapered pin with a drilled end (the pin's axis runs from its cylinder
-onto its cone, a degenerate curve handed over at a convex circle).
+onto its cone, a degenerate curve handed over at a convex circle), and a frustum (a cone's
+axis, whose balls touch it all round along a circle off their centre's plane).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -845,6 +846,18 @@ def tapered_pin_with_a_drilled_end():
     drill = Part.makeCylinder(2, 4.8, V(0, 0, 35.2), V(0, 0, 1)).fuse(
         Part.makeCone(0, 2, tip, V(0, 0, 35.2 - tip), V(0, 0, 1)))
     return pin.removeSplitter().cut(drill).removeSplitter()
+
+
+@part("frustum",
+      "A truncated cone: r = 10 at z = 0 narrowing to r = 6 at z = 30 (half-angle "
+      "atan(4/30) = 7.59 deg).",
+      PI * 30 * (100 + 60 + 36) / 3,
+      "Its axis is one degenerate curve whose balls touch the cone all round, along a circle "
+      "above their centre (the cone's normal meets the axis below the point it leaves), from "
+      "the ball touching the bottom face to the one touching the top face; two rims' sheets "
+      "end at those balls. The medial axis's Euler characteristic is 1, counted.")
+def frustum():
+    return Part.makeCone(10, 6, 30)
 
 
 def main():

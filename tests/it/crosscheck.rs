@@ -143,7 +143,17 @@ const MESH_ON_A_CUT_ROUND: &str = "every traced ball passes both checkers and `-
     cut's edge); its growth test steps to the arc's other end, 1.3e-3 mm past r from the \
     vertex's slightly-off centre (the mesh's vertex, not a traced ball; issue 22)";
 
+const MESH_ON_AN_AXIS: &str = "every traced ball passes both checkers and `--verify` passes; \
+    two sheet-mesh vertices lie on the cone's axis, whose balls touch the cone all round: \
+    OCCT's check takes one nearest point per face and finds no second contact (the mesh's \
+    vertices, not traced balls; issue 22)";
+
 const EXPECTED_FAILURES: &[Expected] = &[
+    (
+        "frustum.step",
+        &[("occt:mesh_contacts", 2)],
+        MESH_ON_AN_AXIS,
+    ),
     (
         "b3d_M6-1x12-countersunk-screw.step",
         &[("occt:mesh_contacts", 2)],

@@ -1051,3 +1051,18 @@ fn a_pins_axis_runs_from_its_cylinder_onto_its_cone_to_a_drill_points_apex() {
     assert_eq!(euler["mat_euler"], 1, "{euler}");
     assert_eq!(euler["solid_euler"], 1, "{euler}");
 }
+
+/// A frustum (r = 10 at z = 0 to r = 6 at z = 30): its axis's balls touch the cone all round,
+/// along a circle above their centre, not in the centre's plane. The curve is marked as
+/// touching all round (it read as an arc, like a fillet's axis, when the circle was looked
+/// for in the centre's plane), and the medial axis's Euler characteristic is counted: 1.
+#[test]
+fn a_cones_axis_touches_it_all_round_off_the_centres_plane() {
+    let report = traced_and_verified("frustum");
+    let curves = report["mat"]["degenerate"].as_array().unwrap();
+    assert_eq!(curves.len(), 1, "{curves:?}");
+    assert_eq!(curves[0]["around"], true, "{}", curves[0]["segments"]);
+    let euler = &report["mat"]["topology"]["euler"][0];
+    assert_eq!(euler["mat_euler"], 1, "{euler}");
+    assert_eq!(euler["solid_euler"], 1, "{euler}");
+}

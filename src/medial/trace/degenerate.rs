@@ -981,18 +981,26 @@ impl Tracer<'_> {
         }
     }
 
-    /// True when ball `x`, whose centre moves along `dir`, touches `segments` all round: the
-    /// circle of radius `r` about the centre across `dir` lies on their faces at
-    /// [`AROUND_SAMPLES`] points (to [`AROUND_REL_ACCURACY`] × the accuracy).
+    /// True when ball `x`, whose centre moves along `dir`, touches `segments` all round: its
+    /// circle of contact across `dir` through its first touch point (in the centre's plane on
+    /// a cylinder, off it on a cone) lies on their faces at [`AROUND_SAMPLES`] points (to
+    /// [`AROUND_REL_ACCURACY`] × the accuracy).
     fn touches_around(&self, segments: &[Element], x: &DVector<f64>, dir: DVec3) -> bool {
         let faces: Vec<usize> = segments.iter().flat_map(|&s| s.faces(self.model)).collect();
         let (c, r) = (v3(x), x[3]);
         let (u, v) = dir.any_orthonormal_pair();
         let tol = AROUND_REL_ACCURACY * self.opts.accuracy;
+        // The circle of contact through the first touch point: off the centre's plane on a
+        // cone (its balls touch it along a circle ahead of or behind their centre).
+        let d = dir.normalize();
+        let axial = sys_point(self.model, segments[0], slot(x, 0))
+            .map_or(0.0, |p| (p - c).dot(d))
+            .clamp(-r, r);
+        let (hub, rho) = (c + d * axial, (r * r - axial * axial).sqrt());
         let mut near = vec![];
         (0..AROUND_SAMPLES).all(|k| {
             let phi = std::f64::consts::TAU * k as f64 / AROUND_SAMPLES as f64;
-            let p = c + (u * phi.cos() + v * phi.sin()) * r;
+            let p = hub + (u * phi.cos() + v * phi.sin()) * rho;
             self.boundary.within_into(self.model, p, tol, &mut near);
             near.iter().any(|f| faces.contains(f))
         })
