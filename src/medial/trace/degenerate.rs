@@ -650,8 +650,6 @@ impl Tracer<'_> {
         }
     }
 
-    /// One step of length `h` from `x` along `d`: the corrected ball and the centre's
-    /// direction there (oriented with `d`).
     /// The corrector of a degenerate curve: the ball near `start` that solves `sys` with its
     /// centre in the plane through `pred` across `d` (seven equations in eight unknowns: the
     /// minimum-norm Newton step leaves the touch points' turn free).
@@ -685,6 +683,8 @@ impl Tracer<'_> {
         )
     }
 
+    /// One step of length `h` from `x` along `d`: the corrected ball and the centre's
+    /// direction there (oriented with `d`).
     fn degenerate_step(
         &self,
         sys: &MedialSystem,

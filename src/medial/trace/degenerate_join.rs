@@ -55,8 +55,9 @@ impl Tracer<'_> {
         });
     }
 
-    /// Where a curve touching `segs` whose touch point left its element at ball `x` (centre
-    /// moving along `d`) carries on: the element `end` names, or else a reflex edge of its
+    /// Where a curve touching `segs` that stopped at ball `x` (centre moving along `d`) —
+    /// a touch point left its element, or the ball met a face it osculates — carries on:
+    /// the element `end` names, or else a reflex edge of its
     /// faces or a face across an edge from them within reach of the ball (none `visited`),
     /// or, first, the segment that `stayed` touched where the other was left, on which the
     /// ball touches along a continuum and its centre moves along a line; the pair touched,
