@@ -806,6 +806,14 @@ def rib_end_under_a_wide_ball():
     return block.fuse(rib.fuse(end)).removeSplitter()
 
 
+def drill_along_z(radius, shoulder, length):
+    """A drill's shape along +z: the hole r = `radius` from the shoulder z = `shoulder` up
+    `length`, with a 118 degree drill point below the shoulder."""
+    tip = radius / math.tan(math.radians(59))
+    return Part.makeCylinder(radius, length, V(0, 0, shoulder), V(0, 0, 1)).fuse(
+        Part.makeCone(0, radius, tip, V(0, 0, shoulder - tip), V(0, 0, 1)))
+
+
 @part("bar_with_a_drilled_end",
       "Round bar r = 8, 40 long (axis x = y = 0, z 0 to 40), with a coaxial blind hole r = 3 "
       "drilled into its end z = 40, 12 mm deep to the shoulder (z = 28), ending in a 118 "
@@ -816,12 +824,9 @@ def rib_end_under_a_wide_ball():
       "the bar's wall) and runs on past the shoulder's rim, over the drill point's cone and "
       "its apex, to the bar's axis: the axis is a degenerate curve (r = 8) from the ball "
       "touching the bottom face (centre z = 8) to the one touching the apex (z = 18.197). "
-      "No seam or junction ball touches the cone: it is reached through that sheet alone.")
+      "No seam or junction ball touches the cone; the axis's last ball touches its apex.")
 def bar_with_a_drilled_end():
-    tip = 3 / math.tan(math.radians(59))
-    drill = Part.makeCylinder(3, 12, V(0, 0, 28), V(0, 0, 1)).fuse(
-        Part.makeCone(0, 3, tip, V(0, 0, 28 - tip), V(0, 0, 1)))
-    return Part.makeCylinder(8, 40).cut(drill).removeSplitter()
+    return Part.makeCylinder(8, 40).cut(drill_along_z(3, 28, 12)).removeSplitter()
 
 
 @part("tapered_pin_with_a_drilled_end",
@@ -841,11 +846,8 @@ def bar_with_a_drilled_end():
       "the rim sheet of the convex circle between them ends there, a disc joined to the axis "
       "at that one point. The medial axis's Euler characteristic is 1.")
 def tapered_pin_with_a_drilled_end():
-    tip = 2 / math.tan(math.radians(59))
     pin = Part.makeCylinder(8, 20).fuse(Part.makeCone(8, 5, 20, V(0, 0, 20)))
-    drill = Part.makeCylinder(2, 4.8, V(0, 0, 35.2), V(0, 0, 1)).fuse(
-        Part.makeCone(0, 2, tip, V(0, 0, 35.2 - tip), V(0, 0, 1)))
-    return pin.removeSplitter().cut(drill).removeSplitter()
+    return pin.removeSplitter().cut(drill_along_z(2, 35.2, 4.8)).removeSplitter()
 
 
 @part("frustum",
