@@ -954,7 +954,7 @@ impl Tracer<'_> {
     /// The parameters of point `p` on segment `seg` touched from centre `c`: a face's
     /// `(u, v)` (searched from `hint`, or from the face's nearest point), a reflex edge's
     /// `(t, θ)`; `None` on a vertex.
-    fn params_on(
+    pub(super) fn params_on(
         &self,
         seg: Element,
         p: DVec3,

@@ -4,6 +4,7 @@
 //! such a run covers, traced again from their own sampled balls, dropped.
 
 use super::degenerate::{centre_motion, CentreMotion};
+use super::options::OSCULATING_REL_RADIUS;
 use super::tracer::Tracer;
 use super::unknowns::{to_chord, v3};
 use crate::medial::axis::{DegenerateEnd, DegenerateKind};
@@ -123,7 +124,21 @@ impl Tracer<'_> {
             // ahead of or behind their centre).
             let axial = match end {
                 DegenerateEnd::Meets { touch, .. } if Some(e) == named => {
-                    (DVec3::from_array(*touch) - v3(x)).dot(d.normalize())
+                    // A face the ball touches all over there (a corner's sphere of radius
+                    // r, where three fillets' axes end) holds its centre still: there is
+                    // nothing to run on.
+                    let p = DVec3::from_array(*touch);
+                    if let (Element::Face(f), Some(s)) = (e, self.params_on(e, p, v3(x), None)) {
+                        let face = &self.model.faces[f];
+                        let k = crate::geom::principal_curvatures(
+                            &crate::geom::eval_face(face, s[0], s[1]),
+                            face.sign,
+                        );
+                        if k.is_some_and(|k| x[3] * k.k2 >= 1.0 - OSCULATING_REL_RADIUS) {
+                            return None;
+                        }
+                    }
+                    (p - v3(x)).dot(d.normalize())
                 }
                 _ => 0.0,
             };
