@@ -128,6 +128,25 @@ pub(super) fn centre_motion(
     })
 }
 
+/// The `k`-th of `n` points spaced evenly round the circle of contact of a ball centred `c`
+/// with radius `r` whose centre moves along `dir`: the circle across `dir` that lies `axial`
+/// along it from the centre (0 on a cylinder's axis, off the centre's plane on a cone's).
+fn circle_of_contact(
+    c: DVec3,
+    r: f64,
+    dir: DVec3,
+    axial: f64,
+    n: usize,
+) -> impl Fn(usize) -> DVec3 {
+    let (u, v) = dir.any_orthonormal_pair();
+    let hub = c + dir.normalize() * axial;
+    let rho = (r * r - axial * axial).max(0.0).sqrt();
+    move |k| {
+        let phi = std::f64::consts::TAU * k as f64 / n as f64;
+        hub + (u * phi.cos() + v * phi.sin()) * rho
+    }
+}
+
 /// Most hand-overs of one degenerate curve from one element to the next, each way.
 pub const MAX_DEGENERATE_HANDOVERS: usize = 8;
 
@@ -786,16 +805,8 @@ impl Tracer<'_> {
     ) -> Option<([Element; 2], DVector<f64>)> {
         const N: usize = 2 * AROUND_SAMPLES;
         let (c, r) = (v3(x), x[3]);
-        let (u, v) = dir.any_orthonormal_pair();
         let tol = AROUND_REL_ACCURACY * self.opts.accuracy;
-        let (hub, rho) = (
-            c + dir.normalize() * axial,
-            (r * r - axial * axial).max(0.0).sqrt(),
-        );
-        let at = |k: usize| {
-            let phi = std::f64::consts::TAU * k as f64 / N as f64;
-            hub + (u * phi.cos() + v * phi.sin()) * rho
-        };
+        let at = circle_of_contact(c, r, dir, axial, N);
         // Per segment: the parameters of each circle point on its face, where it is.
         let mut on = vec![];
         for (i, &seg) in sys.segments.iter().enumerate() {
@@ -988,19 +999,16 @@ impl Tracer<'_> {
     fn touches_around(&self, segments: &[Element], x: &DVector<f64>, dir: DVec3) -> bool {
         let faces: Vec<usize> = segments.iter().flat_map(|&s| s.faces(self.model)).collect();
         let (c, r) = (v3(x), x[3]);
-        let (u, v) = dir.any_orthonormal_pair();
         let tol = AROUND_REL_ACCURACY * self.opts.accuracy;
         // The circle of contact through the first touch point: off the centre's plane on a
         // cone (its balls touch it along a circle ahead of or behind their centre).
-        let d = dir.normalize();
         let axial = sys_point(self.model, segments[0], slot(x, 0))
-            .map_or(0.0, |p| (p - c).dot(d))
+            .map_or(0.0, |p| (p - c).dot(dir.normalize()))
             .clamp(-r, r);
-        let (hub, rho) = (c + d * axial, (r * r - axial * axial).sqrt());
+        let at = circle_of_contact(c, r, dir, axial, AROUND_SAMPLES);
         let mut near = vec![];
         (0..AROUND_SAMPLES).all(|k| {
-            let phi = std::f64::consts::TAU * k as f64 / AROUND_SAMPLES as f64;
-            let p = hub + (u * phi.cos() + v * phi.sin()) * rho;
+            let p = at(k);
             self.boundary.within_into(self.model, p, tol, &mut near);
             near.iter().any(|f| faces.contains(f))
         })
