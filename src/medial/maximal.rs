@@ -22,28 +22,27 @@ pub const CURVATURE_ROUNDING_REL: f64 = 1e-9;
 /// of the edge in the direction of the centre, `−C''·N/|C'|²` (`N` ⊥ `C'`). A vertex is a
 /// point: the criterion cannot fail there.
 pub fn curvature_allows(model: &Model, seg: Element, s: [f64; 2], r: f64) -> bool {
+    bending(model, seg, s).is_none_or(|k| r * k <= 1.0 + CURVATURE_ROUNDING_REL)
+}
+
+/// How strongly the segment bends towards a ball touching it at `s` (1/mm): the larger
+/// principal curvature of a face, the normal curvature `−C''·N/|C'|²` of a reflex edge in
+/// the direction of the centre, 0 at a vertex (see [`curvature_allows`]). Negative where it
+/// bends away; `None` where it is undefined (a pole, a vanishing tangent).
+pub fn bending(model: &Model, seg: Element, s: [f64; 2]) -> Option<f64> {
     match seg {
         Element::Face(f) => {
             let face = &model.faces[f];
             let d = crate::geom::eval_face(face, s[0], s[1]);
-            match crate::geom::principal_curvatures(&d, face.sign) {
-                Some(k) => r * k.k1 <= 1.0 + CURVATURE_ROUNDING_REL,
-                None => true,
-            }
+            crate::geom::principal_curvatures(&d, face.sign).map(|k| k.k1)
         }
         Element::Edge(e) => {
-            let Some(ev) = seg.eval(model, s) else {
-                return true;
-            };
+            let ev = seg.eval(model, s)?;
             let d = crate::geom::eval_curve(&model.edges[e].curve, s[0]);
             let speed2 = d.d1.length_squared();
-            // A vanishing tangent (a degenerate parametrisation): no curvature to compare.
-            if speed2 <= 0.0 || !speed2.is_finite() {
-                return true;
-            }
-            r * (-d.d2.dot(ev.n) / speed2) <= 1.0 + CURVATURE_ROUNDING_REL
+            (speed2 > 0.0 && speed2.is_finite()).then(|| -d.d2.dot(ev.n) / speed2)
         }
-        Element::Vertex(_) => true,
+        Element::Vertex(_) => Some(0.0),
     }
 }
 
@@ -79,6 +78,27 @@ mod tests {
         assert!(!curvature_allows(&m, Element::Face(0), s, 16.0));
         let b = crate::testing::sample("box.step");
         assert!(curvature_allows(&b, Element::Face(0), [1.0, 1.0], 1e6));
+    }
+
+    /// How a segment bends towards its ball: the sphere (radius 15) by 1/15 anywhere, the
+    /// cylinder sample's lateral face (radius 10) by 1/10, a plane and a vertex not at all.
+    #[test]
+    fn bending_towards_the_ball() {
+        let m = crate::testing::sample("sphere.step");
+        let k = bending(&m, Element::Face(0), [1.0, 0.3]).unwrap();
+        assert!((k - 1.0 / 15.0).abs() < 1e-9, "{k}");
+        assert_eq!(bending(&m, Element::Vertex(0), [0.0, 0.0]), Some(0.0));
+        let c = crate::testing::sample("cylinder.step");
+        let ks: Vec<f64> = (0..c.faces.len())
+            .filter_map(|f| bending(&c, Element::Face(f), [0.4, 0.4]))
+            .collect();
+        assert!(ks.iter().any(|k| (k - 0.1).abs() < 1e-9), "{ks:?}");
+        assert!(
+            ks.iter().all(|k| k.abs() < 1e-9 || (k - 0.1).abs() < 1e-9),
+            "{ks:?}"
+        );
+        let b = crate::testing::sample("box.step");
+        assert!(bending(&b, Element::Face(0), [1.0, 1.0]).unwrap().abs() < 1e-12);
     }
 
     /// The osculating ball at a vertex: on the sphere (radius 15) its centre and radius at

@@ -596,7 +596,17 @@ impl Tracer<'_> {
         } else {
             0.0
         };
-        let (slide, sink) = (xc[3] * kink.sin(), xc[3] * (1.0 - kink.cos()));
+        // To first order; where the new segment bends towards the ball (curvature κ) its
+        // foot point runs 1/(1 − r·κ) times as far (the foot of a fixed centre on a curve
+        // through p: (c − γ(s))·γ'(s) = 0 gives s = r·sin δ / (1 − r·κ)), κ the most it
+        // bends between the two touch points (a spline blend's curvature may rise from 0).
+        let bend = [params, slot(&sol.x, i)]
+            .into_iter()
+            .filter_map(|s| crate::medial::maximal::bending(self.model, to, s))
+            .filter(|k| k.is_finite())
+            .fold(0.0_f64, f64::max);
+        let bend = 1.0 / (1.0 - xc[3] * bend).max(0.1);
+        let (slide, sink) = (xc[3] * kink.sin() * bend, xc[3] * (1.0 - kink.cos()));
         // Where the file's edge between the two follows one surface and not the other, the
         // ball moves by up to that gap as it passes from one to the other.
         let file_gap = self.element_gap(seg).max(self.element_gap(to));
