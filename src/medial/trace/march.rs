@@ -419,6 +419,16 @@ impl Tracer<'_> {
                 return Flow::End(end);
             }
         }
+        // Handed onto the part of the boundary another touch point is on, where the two are
+        // already one place by `verify`'s separation: they meet there, the ball osculating
+        // that part of the boundary (the new system is singular, its solve fails) — the
+        // seam's curvature limit, as `merged_end` finds where the solve still converges.
+        if let HandOverError::Stop(OpenReason::NoSeamPointAfterHandover { from, to, .. }) = e {
+            if self.merges_at_crossing(&m.triplet, from, to, xc) && self.is_medial(&m.triplet, xc) {
+                m.points.push(self.seam_point(&m.sys, xc));
+                return Flow::End(SeamEnd::CurvatureLimit { segment: to });
+            }
+        }
         // A crossing where the ball has shrunk to nothing: back at a convex vertex whose
         // faces meet there at a small angle (r has its minimum, about 0, at the vertex, and the
         // step passed it).
@@ -435,6 +445,27 @@ impl Tracer<'_> {
         Flow::End(match e {
             HandOverError::Osculates(seg) => SeamEnd::CurvatureLimit { segment: seg },
             HandOverError::Stop(why) => SeamEnd::Open(why),
+        })
+    }
+
+    /// True when, at the crossing `xc`, a touch point on `from` (the one being handed on) and
+    /// another on `to` or on its part of the boundary are one place by `verify`'s separation.
+    fn merges_at_crossing(
+        &self,
+        triplet: &[Element; 3],
+        from: Element,
+        to: Element,
+        xc: &DVector<f64>,
+    ) -> bool {
+        let at = self.touches(triplet, xc);
+        let sep = crate::medial::verify::separation(xc[3], self.opts.accuracy);
+        (0..3).any(|i| {
+            triplet[i] == from
+                && (0..3).any(|k| {
+                    k != i
+                        && self.groups.of(triplet[k]) == self.groups.of(to)
+                        && matches!((at[i], at[k]), (Some(a), Some(b)) if a.distance(b) <= sep)
+                })
         })
     }
 
