@@ -806,6 +806,79 @@ def rib_end_under_a_wide_ball():
     return block.fuse(rib.fuse(end)).removeSplitter()
 
 
+def soft_corner(start, t0, end, t1, a, b):
+    """A cubic B-spline in the plane z = 0 from `start` (leaving along `t0`) to `end`
+    (arriving along `t1`) whose curvature is 0 at both ends: its first three poles lie on the
+    start tangent, its last three on the end tangent (the G2 blend some exporters write for
+    a rounded corner)."""
+    s, e = V(*start, 0), V(*end, 0)
+    d0, d1 = V(*t0, 0), V(*t1, 0)
+    poles = [s, s + d0 * a, s + d0 * (2 * a), e - d1 * (2 * b), e - d1 * b, e]
+    c = Part.BSplineCurve()
+    c.buildFromPoles(poles, False, 3)
+    return c.toShape()
+
+
+SOFT_KINK = 0.0038
+
+
+@part("tab_with_soft_corners",
+      "Plate 14x13.5x3.3 (x -6 to 8, y -6 to 7.5, z -3.3 to 0) with a tab 0.4 high on it: "
+      "x 0 to 1.62, y 0 to 1.49, its end x = 0 a line from y = 0.49 to 1.04 joined to the "
+      "sides y = 0 and y = 1.49 by soft corners (cubic B-splines with zero curvature at both "
+      "ends, reaching 0.83 and 0.78 along x), each leaving the end line 0.0038 rad (0.22 "
+      "deg) off its direction, bent outwards: the end wall and each corner's wall meet at a "
+      "convex kink within the 1 degree tangent tolerance (a smooth edge), as a Voron part's "
+      "tab is written.",
+      None,
+      "By the tolerance the end wall and the corners' walls are one tangent wall, so the "
+      "kinks' sheets are not part of the medial axis: no seam runs down a kink from its top "
+      "vertex (a ball there touches the two walls 0.0015 mm apart at r = 0.4, one place by "
+      "the separation sqrt(8 r a)). Under the tab, balls touch the tab's reflex foot edges "
+      "and its top (r up to 0.89) or the plate's bottom (r 1.65 to 1.73); on the seams of "
+      "the end line's foot and an upper corner's foot, the touch point on the end line "
+      "passes across the kink onto that corner's foot (the same ball touches it r sin 0.0038 "
+      "further on), and the seam ends at the corner's curvature limit. (The tracer once seeded a seam of the "
+      "kink's two walls and the tab's top, which met the foot edges at a junction with two "
+      "touch points 0.0017 mm apart: a junction with 3 seam ends, sheets not closed.)")
+def tab_with_soft_corners():
+    plate = Part.makeBox(14, 13.5, 3.3, V(-6, -6, -3.3))
+    return plate.fuse(soft_cornered_tab()).removeSplitter()
+
+
+def soft_cornered_tab():
+    """The tab of `tab_with_soft_corners`: 0.4 high on z = 0."""
+    k = SOFT_KINK
+    outline = [
+        Part.makeLine(V(1.62, 0, 0), V(1.62, 1.49, 0)),
+        Part.makeLine(V(1.62, 1.49, 0), V(0.78, 1.49, 0)),
+        soft_corner((0.78, 1.49), (-1, 0), (0, 1.04), (-math.sin(k), -math.cos(k)),
+                    0.25, 0.15),
+        Part.makeLine(V(0, 1.04, 0), V(0, 0.49, 0)),
+        soft_corner((0, 0.49), (-math.sin(k), -math.cos(k)), (0.83, 0), (1, 0), 0.15, 0.25),
+        Part.makeLine(V(0.83, 0, 0), V(1.62, 0, 0)),
+    ]
+    return Part.Face(Part.Wire(Part.__sortEdges__(outline))).extrude(V(0, 0, 0.4))
+
+
+@part("pocket_with_soft_corners",
+      "Block 14x13.5x3.7 (x -6 to 8, y -6 to 7.5, z -3.3 to 0.4) with a pocket 0.4 deep "
+      "cut from its top, shaped as the tab of tab_with_soft_corners: its end wall x = 0 meets "
+      "its soft corners' walls at kinks of 0.0038 rad (0.22 deg), reflex seen from the "
+      "material, within the 1 degree tangent tolerance (smooth edges).",
+      None,
+      "The block's mid-height sheet (z = -1.45; balls r = 1.85 touching its top and bottom) "
+      "has the seams from its corners and a closed seam round the pocket, where those balls "
+      "also touch the reflex edges at the foot of the pocket's walls (1.15 outside them in "
+      "plan): its touch point passes each kink from edge to edge, or through the kink's "
+      "vertex. No seam runs along a kink (by the tolerance the walls there are one tangent "
+      "wall). Euler characteristic 1. (The tracer once seeded a seam on a kink here, ran it "
+      "out of points and ended it open.)")
+def pocket_with_soft_corners():
+    block = Part.makeBox(14, 13.5, 3.7, V(-6, -6, -3.3))
+    return block.cut(soft_cornered_tab()).removeSplitter()
+
+
 def drill_along_z(radius, shoulder, length):
     """A drill's shape along +z: the hole r = `radius` from the shoulder z = `shoulder` up
     `length`, with a 118 degree drill point below the shoulder."""

@@ -1066,3 +1066,59 @@ fn a_cones_axis_touches_it_all_round_off_the_centres_plane() {
     assert_eq!(euler["mat_euler"], 1, "{euler}");
     assert_eq!(euler["solid_euler"], 1, "{euler}");
 }
+
+/// The tab whose end wall meets its soft corners' walls at convex kinks of 0.22 degrees
+/// (smooth edges by the 1 degree tolerance): verified, and no seam point touches both walls
+/// of a kink within the separation `√(8·r·a)` (the kink's sheet is not part of the medial
+/// axis; a seam seeded on it once met the foot edges at a junction with 3 seam ends). The
+/// seams of the end line's foot and the upper corner's foot hand the end line's touch point
+/// across the kink at (0, 1.04, 0) straight onto the corner's foot.
+#[test]
+fn no_seam_runs_down_a_kink_within_the_tangent_tolerance() {
+    let report = traced_and_verified("tab_with_soft_corners");
+    let a = report["stats"]["accuracy"].as_f64().unwrap();
+    let kink = [0.0, 1.04, 0.0];
+    let top_kink = [0.0, 1.04, 0.4];
+    for s in seams(&report) {
+        for p in s["points"].as_array().unwrap() {
+            let r = p["point"][3].as_f64().unwrap();
+            let sep = (8.0 * r * a).sqrt();
+            let touch = p["touch"].as_array().unwrap();
+            let near_kink = touch
+                .iter()
+                .filter(|t| distance(t, kink) < 0.01 || distance(t, top_kink) < 0.01)
+                .count();
+            let close_pairs = (0..touch.len())
+                .flat_map(|i| (i + 1..touch.len()).map(move |k| (i, k)))
+                .filter(|&(i, k)| {
+                    let q: Vec<f64> = (0..3).map(|c| touch[k][c].as_f64().unwrap()).collect();
+                    distance(&touch[i], [q[0], q[1], q[2]]) <= sep
+                })
+                .count();
+            assert!(
+                !(near_kink >= 2 && close_pairs > 0),
+                "seam {} touches both walls of a kink at one place: {p}",
+                s["id"]
+            );
+        }
+    }
+    // The crossing: some seam hands a touch point from the end line's foot (an edge along
+    // x = 0) to the upper corner's foot at the kink, with no vertex between.
+    let crossed = seams(&report).iter().any(|s| {
+        s["handovers"].as_array().unwrap().iter().any(|h| {
+            let k = h["point"].as_u64().unwrap() as usize;
+            let p = &s["points"][k];
+            h["from"].as_str().unwrap().starts_with('E')
+                && h["to"].as_str().unwrap().starts_with('E')
+                && p["touch"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .any(|t| distance(t, kink) < 0.01)
+        })
+    });
+    assert!(
+        crossed,
+        "no seam hands a touch point across the kink at (0, 1.04, 0)"
+    );
+}

@@ -176,11 +176,31 @@ impl Tracer<'_> {
 
     /// True when edges `e` and `g` meet at a vertex where one runs on from the other within
     /// the angle tolerance.
-    fn edges_run_on(&self, e: usize, g: usize) -> bool {
+    pub(super) fn edges_run_on(&self, e: usize, g: usize) -> bool {
         let ends = |k: usize| self.model.edges[k].vertices;
         ends(e).iter().filter(|v| ends(g).contains(v)).any(|&v| {
             self.turn_at(v, e, g)
                 .is_some_and(|a| a <= self.opts.tangent_angle_rad)
+        })
+    }
+
+    /// True when two touch points of the ball `x` are one place by `verify`'s separation on
+    /// two elements that are one tangent surface or curve by the angle tolerance (faces
+    /// joined by a smooth edge, reflex edges running on from each other): a ball of the kink
+    /// between them, whose sheet and seams are not part of the medial axis.
+    pub(super) fn across_a_tangent_joint(&self, triplet: &[Element; 3], x: &DVector<f64>) -> bool {
+        let at = self.touches(triplet, x);
+        let sep = crate::medial::verify::separation(x[3], self.opts.accuracy);
+        [(0, 1), (0, 2), (1, 2)].into_iter().any(|(i, k)| {
+            let close = matches!((at[i], at[k]), (Some(a), Some(b)) if a.distance(b) <= sep);
+            close
+                && match (triplet[i], triplet[k]) {
+                    (Element::Face(f), Element::Face(g)) => {
+                        f != g && self.smooth_edge_between(f, g).is_some()
+                    }
+                    (Element::Edge(e), Element::Edge(g)) => e != g && self.edges_run_on(e, g),
+                    _ => false,
+                }
         })
     }
 

@@ -453,6 +453,7 @@ impl Tracer<'_> {
                 DISTINCT_TOUCH_REL_RADIUS * r,
                 Pairs::All,
             )
+            && !self.across_a_tangent_joint(&seed.triplet, &x)
             && !self.on_traced_seam(&seed.triplet, &x)
             && !self.touches_along(&seed.triplet, &x);
         let dir = valid.then(|| self.null_direction(&sys, &x)).flatten();
