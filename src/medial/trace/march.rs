@@ -136,6 +136,16 @@ impl Tracer<'_> {
             self.stats.corrector_failures += 1;
             m.h *= 0.5;
             if m.h < MIN_STEP_REL_DIAGONAL * diag {
+                // The step keeps failing where the ball osculates a touched face or curved
+                // edge to the accuracy (its radius of curvature towards the ball within the
+                // accuracy of r: a hole's rim whose osculating circle lies on the ball's
+                // sphere): the system is singular there, and that is the seam's curvature
+                // limit, as `curvature_end` finds where a step passes it.
+                if let Some(i) = (0..3).find(|&i| self.osculates(&m.triplet, i, &m.x)) {
+                    return Flow::End(SeamEnd::CurvatureLimit {
+                        segment: m.triplet[i],
+                    });
+                }
                 return Flow::End(SeamEnd::Open(OpenReason::StepSizeUnderflow));
             }
             return Flow::Next;
@@ -172,6 +182,14 @@ impl Tracer<'_> {
             m.h * STEP_SHRINK
         };
         Flow::Next
+    }
+
+    /// True when the ball of seam point `x` osculates its `i`-th segment to the accuracy:
+    /// the segment's radius of curvature towards the ball at the touch point (see
+    /// [`crate::medial::maximal::bending`]) is at most `r` plus the accuracy.
+    fn osculates(&self, triplet: &[Element; 3], i: usize, x: &DVector<f64>) -> bool {
+        crate::medial::maximal::bending(self.model, triplet[i], slot(x, i))
+            .is_some_and(|k| k > 0.0 && k.is_finite() && 1.0 / k <= x[3] + self.opts.accuracy)
     }
 
     /// Back to a convex vertex: `r` returns to zero at `xn`. (Away from a vertex with a touch
