@@ -189,19 +189,14 @@ impl Tracer<'_> {
     /// joined by a smooth edge, reflex edges running on from each other): a ball of the kink
     /// between them, whose sheet and seams are not part of the medial axis.
     pub(super) fn across_a_tangent_joint(&self, triplet: &[Element; 3], x: &DVector<f64>) -> bool {
-        let at = self.touches(triplet, x);
-        let sep = crate::medial::verify::separation(x[3], self.opts.accuracy);
-        [(0, 1), (0, 2), (1, 2)].into_iter().any(|(i, k)| {
-            let close = matches!((at[i], at[k]), (Some(a), Some(b)) if a.distance(b) <= sep);
-            close
-                && match (triplet[i], triplet[k]) {
-                    (Element::Face(f), Element::Face(g)) => {
-                        f != g && self.smooth_edge_between(f, g).is_some()
-                    }
-                    (Element::Edge(e), Element::Edge(g)) => e != g && self.edges_run_on(e, g),
-                    _ => false,
+        self.one_place_pairs(triplet, x)
+            .any(|(i, k)| match (triplet[i], triplet[k]) {
+                (Element::Face(f), Element::Face(g)) => {
+                    f != g && self.smooth_edge_between(f, g).is_some()
                 }
-        })
+                (Element::Edge(e), Element::Edge(g)) => e != g && self.edges_run_on(e, g),
+                _ => false,
+            })
     }
 
     /// The nearest boundary point of the solid to the seam point `y` when it is closer than

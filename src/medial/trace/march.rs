@@ -475,16 +475,8 @@ impl Tracer<'_> {
         to: Element,
         xc: &DVector<f64>,
     ) -> bool {
-        let at = self.touches(triplet, xc);
-        let sep = crate::medial::verify::separation(xc[3], self.opts.accuracy);
-        (0..3).any(|i| {
-            triplet[i] == from
-                && (0..3).any(|k| {
-                    k != i
-                        && self.groups.of(triplet[k]) == self.groups.of(to)
-                        && matches!((at[i], at[k]), (Some(a), Some(b)) if a.distance(b) <= sep)
-                })
-        })
+        self.one_place_pairs(triplet, xc)
+            .any(|(i, k)| triplet[i] == from && self.groups.of(triplet[k]) == self.groups.of(to))
     }
 
     /// The junction between `m.x` and `to`, if another part of the boundary comes closer than
@@ -560,6 +552,22 @@ impl Tracer<'_> {
     /// The touch points of `y` on `triplet`.
     pub(super) fn touches(&self, triplet: &[Element; 3], y: &DVector<f64>) -> [Option<DVec3>; 3] {
         std::array::from_fn(|i| sys_point(self.model, triplet[i], slot(y, i)))
+    }
+
+    /// The ordered pairs of slots `(i, k)`, `i ≠ k`, whose touch points of `y` on `triplet`
+    /// are one place by `verify`'s separation `√(8·r·a)` (both defined).
+    pub(super) fn one_place_pairs(
+        &self,
+        triplet: &[Element; 3],
+        y: &DVector<f64>,
+    ) -> impl Iterator<Item = (usize, usize)> {
+        let at = self.touches(triplet, y);
+        let sep = crate::medial::verify::separation(y[3], self.opts.accuracy);
+        (0..3)
+            .flat_map(|i| (0..3).map(move |k| (i, k)))
+            .filter(move |&(i, k)| {
+                i != k && matches!((at[i], at[k]), (Some(a), Some(b)) if a.distance(b) <= sep)
+            })
     }
 
     /// The first touch point of `y` where the ball pokes through its face, or where two
