@@ -10,6 +10,8 @@ than the junction with its wall, a plate written as NURBS whose hole's seam circ
 wall's parameter seam, a hole inscribed in a square pocket (seams that end at pinches), a
 block with a shallow roof (seam points whose touch points the accuracy cannot separate), the
 same block with one roof plane moved off its edges (an exporter's gap beyond the accuracy), a
+box split into two blocks whose one top plane is moved off its edges (a ball that reaches into
+the moved plane by the gap, with no junction there), a
 rib whose chamfered end meets its foot fillets tangentially at convex vertices, a blind hole
 with a drill point (its apex written two ways), a cube whose corner dips 0.02 mm into a plate,
 a thin tube grazing a cube's corner (analytic and as NURBS), a boss whose foot circle grazes the
@@ -391,6 +393,58 @@ def shift_roof_plane(text):
       edit=shift_roof_plane)
 def roof_off_its_ridge():
     return shallow_roof()
+
+
+SPLIT_TOP_GAP = 3e-3
+
+
+def sink_wide_top_plane(text):
+    """Moves the plane of the top face over y = 10.1..40 down by SPLIT_TOP_GAP (into the
+    material), leaving its edges where they are (on the other top face and the walls), and
+    declares an uncertainty of 1e-2 mm, as exporters whose edges follow one face and not the
+    other do."""
+    import re
+    ents = dict(re.findall(r"^(#\d+) = (.*);$", text, re.M))
+
+    def coords(ref, kind):
+        m = re.match(kind + r"\('',\(([^)]*)\)\)", ents[ref])
+        return [float(x) for x in m.group(1).split(",")] if m else None
+
+    moved = 0
+    for pl in [ref for ref, e in ents.items() if e.startswith("PLANE(")]:
+        ax = re.match(r"PLANE\('',(#\d+)\)", ents[pl]).group(1)
+        loc, axis, _ = re.match(r"AXIS2_PLACEMENT_3D\('',(#\d+),(#\d+),(#\d+)\)",
+                                ents[ax]).groups()
+        d, p = coords(axis, "DIRECTION"), coords(loc, "CARTESIAN_POINT")
+        if d is None or abs(abs(d[2]) - 1) > 1e-12 or abs(p[2] - 20) > 1e-9 or p[1] >= 10.1 - 1e-9:
+            continue
+        q = f"{p[0]:.12f},{p[1]:.12f},{p[2] + SPLIT_TOP_GAP:.12f}"
+        text = re.sub(rf"^{loc} = CARTESIAN_POINT\('',\([^)]*\)\);$",
+                      f"{loc} = CARTESIAN_POINT('',({q}));", text, count=1, flags=re.M)
+        moved += 1
+    if moved != 1:
+        raise SystemExit(f"split_top_off_its_edge: {moved} top planes found to move, not 1")
+    return re.sub(r"UNCERTAINTY_MEASURE_WITH_UNIT\(LENGTH_MEASURE\([^)]*\)",
+                  "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-02)", text)
+
+
+@part("split_top_off_its_edge",
+      "Box 60x40x20 written as two blocks 60x10.1x20 and 60x29.9x20 side by side (top, "
+      "bottom and ends each split at y = 10.1 into two faces), with the plane of the wide "
+      "top face (y = 10.1..40) moved 3e-3 mm down into the material, its edges left where "
+      "they were: an exporter's gap between a face and its edges (40 times the default "
+      "accuracy), within the declared uncertainty (1e-2 mm). The volume is the unmoved box's.",
+      60 * 40 * 20,
+      "The box's medial axis, to the gap. The seam of the balls touching top, bottom and "
+      "front (centred y = 10, z = 10, r = 10, from x = 10 to 50) touches the narrow top face "
+      "0.1 mm from the split: all along it the ball reaches into the moved plane by "
+      "3e-3 - 0.1^2/20 = 2.5e-3 mm, within the gap, with no junction there (the two top "
+      "planes are parallel). The seam runs on to its junction, and both checkers hold its "
+      "balls to the accuracy plus the gap.",
+      volume_rel=1e-4,
+      edit=sink_wide_top_plane)
+def split_top_off_its_edge():
+    return Part.makeBox(60, 10.1, 20).fuse(Part.makeBox(60, 29.9, 20, V(0, 10.1, 0)))
 
 
 @part("chamfered_rib_end",

@@ -106,8 +106,10 @@ const FTC06: &str = "`--verify` passes; three sheet-mesh vertices on the bosses'
 
 const GAPS_ACCEPTED: &str = "a vertex 8.7e-3 mm off its curve, accepted within the file's \
     uncertainty (0.01 mm), and 12 faces whose edges lie off their surfaces by up to 2.2e-3 mm \
-    (the accuracy is 2e-5 mm): both checkers hold the balls near them to the gap; OCCT puts one \
-    touch point off the boundary; seams end open at hand-overs (issue 19)";
+    (the accuracy is 2e-5 mm): both checkers hold the balls near them to the gap; OCCT puts two \
+    touch points off the boundary (0.029 mm; and 6.8e-4 mm, by OCCT's measure of the gaps more \
+    than the nearby faces' own, on the last point of a seam that ends open where its touch point \
+    oscillates between two faces); seams end open at hand-overs (issue 19)";
 
 const DM1: &str = "seven I-DEAS solids: three solids' Euler characteristics differ (−2 for \
     0; issue 20)";
@@ -182,9 +184,9 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "prusa_adapter-printer.stp",
         &[
             ("occt:mesh_contacts", 3),
-            ("occt:seam_ends", 8),
-            ("occt:touch_on_boundary", 1),
-            ("verify:seam_ends", 8),
+            ("occt:seam_ends", 3),
+            ("occt:touch_on_boundary", 2),
+            ("verify:seam_ends", 3),
             ("verify:sheets_closed", 4),
         ],
         GAPS_ACCEPTED,
@@ -194,9 +196,9 @@ const EXPECTED_FAILURES: &[Expected] = &[
         &[
             ("occt:inside", 1),
             ("occt:mesh_contacts", 1),
-            ("occt:seam_ends", 13),
-            ("verify:seam_ends", 13),
-            ("verify:sheets_closed", 13),
+            ("occt:seam_ends", 10),
+            ("verify:seam_ends", 10),
+            ("verify:sheets_closed", 16),
         ],
         MOTOR_PLATE,
     ),

@@ -573,6 +573,36 @@ fn a_faces_gap_beyond_the_accuracy_is_reported_and_traced_across() {
     }
 }
 
+/// `samples/trace/split_top_off_its_edge.step`: a 60x40x20 box written as two blocks, the plane
+/// of the narrow top face (y < 10.1) 3e-3 mm above its edges. The balls touching that face,
+/// the front and the bottom lie 3e-3 mm into the face's own edge at y = 10.1 (and its
+/// neighbour's), and the junctions at the ends of their seam (touching the raised face and an
+/// end, r = 10.0015) 2.5e-3 mm: within the file's gap, as `verify` holds them. Those are the
+/// box's junctions, to the gap; the tracer once refused them as not empty and ended the six
+/// seams that meet them open ("comes closer than r, but no junction").
+#[test]
+fn a_junction_within_the_files_gap_of_a_face_is_located() {
+    let report = traced_and_verified("split_top_off_its_edge");
+    assert_eq!(report["stats"]["open_ends"], 0);
+    assert_eq!(seams(&report).len(), 12);
+    let junctions = report["mat"]["junctions"].as_array().unwrap();
+    assert_eq!(junctions.len(), 4, "{junctions:?}");
+    for (x, y, z, r) in [
+        (10.0015, 10.0015, 10.0015, 10.0015),
+        (49.9985, 10.0015, 10.0015, 10.0015),
+        (10.0, 30.0, 10.0, 10.0),
+        (50.0, 30.0, 10.0, 10.0),
+    ] {
+        assert!(
+            junctions
+                .iter()
+                .any(|j| distance(&j["point"], [x, y, z]) < 1e-6
+                    && (j["radius"].as_f64().unwrap() - r).abs() < 1e-6),
+            "no junction at ({x}, {y}, {z}) r {r}: {junctions:?}"
+        );
+    }
+}
+
 /// The plate with two pockets 0.4 deep: round each pocket one seam closes on itself (no
 /// convex vertex leads to it; found from the floor rim's sheet, `arcs.rs`), every ball on it
 /// touching the plate's top and bottom (centre at z = 2, r = 2) and the floor's rim at z = 3.6,

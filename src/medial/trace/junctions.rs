@@ -130,6 +130,13 @@ impl Tracer<'_> {
             if osculating {
                 return None;
             }
+            // Where the file has a gap about the face met (edges written off the surfaces),
+            // the boundary there is defined only to that gap: a ball reaching into it by no
+            // more, with no junction on the segments, has met the file's gap, not a part of
+            // the boundary, and goes on (a part truly met comes closer still further on).
+            if self.within_gap(solid, xn) {
+                return None;
+            }
             let why = OpenReason::NoJunction { element: fourth };
             return Some(Meeting::End(SeamEnd::Open(why), None));
         };
@@ -151,26 +158,38 @@ impl Tracer<'_> {
     /// Which touched segment of `triplet` the fourth segment of the junction point `jx` is
     /// the smooth continuation of: a face joined to a touched face by a smooth edge, or a
     /// reflex edge running on from a touched one at a vertex within the angle tolerance,
-    /// its normal at its touch point within twice that tolerance of the touched one's. By
-    /// the tolerance the two are one tangent surface or curve, whose kink sheet is not part
-    /// of the medial axis.
+    /// its normal at its touch point within twice that tolerance of the touched one's, or
+    /// the two touch points one place by `verify`'s separation at the accuracy plus the
+    /// file's gap there (an exporter's edge off its faces' surfaces puts a kink of that size
+    /// between them). By the tolerance the two are one tangent surface or curve, whose kink
+    /// sheet is not part of the medial axis.
     fn tangent_across(
         &self,
         triplet: &[Element; 3],
         fourth: Element,
         jx: &DVector<f64>,
     ) -> Option<usize> {
-        let n4 = fourth.eval(self.model, slot(jx, 3))?.n;
+        let ev4 = fourth.eval(self.model, slot(jx, 3))?;
+        let n4 = ev4.n;
+        let p4 = sys_point(self.model, fourth, slot(jx, 3));
         (0..3).find(|&i| {
             let joined = match (triplet[i], fourth) {
                 (Element::Face(f), Element::Face(g)) => self.smooth_edge_between(f, g).is_some(),
                 (Element::Edge(e), Element::Edge(g)) => e != g && self.edges_run_on(e, g),
                 _ => false,
             };
+            let gap = self.element_gap(triplet[i]).max(self.element_gap(fourth));
+            let one_place = gap > 0.0
+                && p4
+                    .zip(sys_point(self.model, triplet[i], slot(jx, i)))
+                    .is_some_and(|(a, b)| {
+                        a.distance(b) <= separation(jx[3], self.opts.accuracy + gap)
+                    });
             joined
-                && triplet[i]
-                    .eval(self.model, slot(jx, i))
-                    .is_some_and(|ev| ev.n.angle_between(n4) <= 2.0 * self.opts.tangent_angle_rad)
+                && (one_place
+                    || triplet[i].eval(self.model, slot(jx, i)).is_some_and(|ev| {
+                        ev.n.angle_between(n4) <= 2.0 * self.opts.tangent_angle_rad
+                    }))
         })
     }
 
@@ -219,6 +238,16 @@ impl Tracer<'_> {
                     .is_none_or(|p| p.distance(hit.point) > 0.05 * r)
         });
         far.then_some((f, hit))
+    }
+
+    /// True when the nearest boundary point of solid `solid` to the seam point `y` is
+    /// closer than `r` by no more than the accuracy plus the file's gap about its face
+    /// ([`Self::gap_about`]; `verify` holds balls there to the same).
+    fn within_gap(&self, solid: usize, y: &DVector<f64>) -> bool {
+        self.nearest_in(solid, v3(y)).is_some_and(|(f, hit)| {
+            let gap = self.gap_about(f);
+            gap > 0.0 && hit.distance >= y[3] - self.opts.accuracy - gap
+        })
     }
 
     /// Solves the 4-segment system from the seam point `x` (before the crossing), starting

@@ -200,10 +200,11 @@ impl<'a> Tracer<'a> {
     }
 
     /// True when nothing of solid `solid`'s boundary is nearer the centre of ball `x`
-    /// (unknowns `[B, r, …]`) than `r`, to the accuracy `verify` holds every ball to.
+    /// (unknowns `[B, r, …]`) than `r`, to the accuracy `verify` holds every ball to: plus
+    /// the file's gap about the face found nearest (see [`Self::gap_about`]), as there.
     pub(super) fn ball_is_empty(&self, solid: usize, x: &DVector<f64>) -> bool {
         self.nearest_in(solid, v3(x))
-            .is_some_and(|(_, h)| h.distance >= x[3] - self.opts.accuracy)
+            .is_some_and(|(f, h)| h.distance >= x[3] - self.opts.accuracy - self.gap_about(f))
     }
 
     pub(super) fn is_reflex(&self, e: usize) -> bool {
@@ -404,6 +405,23 @@ impl<'a> Tracer<'a> {
                 .flat_map(|l| &l.edges)
                 .any(|oe| self.model.edges[oe.edge].faces.contains(&g));
         gap > 0.0 && next_to && hit.distance <= self.opts.accuracy + gap
+    }
+
+    /// The file's gap about face `f`: the largest of its own and its neighbours' (faces
+    /// sharing an edge with it). Where an exporter wrote one face's edges along its
+    /// neighbour's surface, the two surfaces cross near the edge by up to that gap, and a
+    /// ball touching one of them may reach into the other by as much.
+    pub(super) fn gap_about(&self, f: usize) -> f64 {
+        if !self.any_gap {
+            return 0.0;
+        }
+        self.model.faces[f]
+            .loops
+            .iter()
+            .flat_map(|l| &l.edges)
+            .flat_map(|oe| &self.model.edges[oe.edge].faces)
+            .map(|&g| self.face_gap[g])
+            .fold(self.face_gap[f], f64::max)
     }
 
     /// The file's gap at element `e` (see [`Self::face_gap`]): a face's, or the largest of
