@@ -11,7 +11,8 @@ wall's parameter seam, a hole inscribed in a square pocket (seams that end at pi
 block with a shallow roof (seam points whose touch points the accuracy cannot separate), the
 same block with one roof plane moved off its edges (an exporter's gap beyond the accuracy), a
 box split into two blocks whose one top plane is moved off its edges (a ball that reaches into
-the moved plane by the gap, with no junction there), a
+the moved plane by the gap, with no junction there), an L-bracket whose reflex edge is a
+B-spline bowed off one face (the faces' normals tilted off its normal plane), a
 rib whose chamfered end meets its foot fillets tangentially at convex vertices, a blind hole
 with a drill point (its apex written two ways), a cube whose corner dips 0.02 mm into a plate,
 a thin tube grazing a cube's corner (analytic and as NURBS), a boss whose foot circle grazes the
@@ -445,6 +446,70 @@ def sink_wide_top_plane(text):
       edit=sink_wide_top_plane)
 def split_top_off_its_edge():
     return Part.makeBox(60, 10.1, 20).fuse(Part.makeBox(60, 29.9, 20, V(0, 10.1, 0)))
+
+
+BOW = 3e-3
+
+
+def bow_the_reflex_edge(text):
+    """Writes the L-bracket's reflex edge (x = 10, z = 10, y = 0..30) as a quadratic B-spline
+    whose middle control point is BOW off the line towards +x, in the plane z = 10: the curve
+    lies on the flange's top face and up to BOW/2 off the leg's face x = 10, its tangent
+    turned by up to 2*BOW/30 = 2e-4 rad from the faces' line, as an exporter's spline fit of an
+    intersection curve is. Declares an uncertainty of 1e-2 mm."""
+    import re
+    ents = dict(re.findall(r"^(#\d+) = (.*?);$", text, re.M | re.S))
+
+    def vertex(ref):
+        p = re.match(r"VERTEX_POINT\('[^']*',(#\d+)\)", ents[ref]).group(1)
+        m = re.match(r"CARTESIAN_POINT\('[^']*',\(([^)]*)\)\)", ents[p])
+        return tuple(round(float(x), 9) for x in m.group(1).split(","))
+
+    found = []
+    for ref, e in ents.items():
+        m = re.match(r"EDGE_CURVE\('[^']*',(#\d+),(#\d+),(#\d+),", e)
+        if m and {vertex(m.group(1)), vertex(m.group(2))} == {(10, 0, 10), (10, 30, 10)}:
+            found.append((ref, m.group(3)))
+    if len(found) != 1:
+        raise SystemExit(f"l_bracket_with_a_bowed_reflex_edge: {len(found)} reflex edges found")
+    geometry = found[0][1]
+    new = max(int(k[1:]) for k in ents) + 1
+    points = [(10.0, 0.0, 10.0), (10.0 + BOW, 15.0, 10.0), (10.0, 30.0, 10.0)]
+    lines = [f"#{new + k} = CARTESIAN_POINT('',({x!r},{y!r},{z!r}));"
+             for k, (x, y, z) in enumerate(points)]
+    lines.append(f"#{new + 3} = B_SPLINE_CURVE_WITH_KNOTS('',2,(#{new},#{new + 1},#{new + 2}),"
+                 ".UNSPECIFIED.,.F.,.F.,(3,3),(0.,30.),.UNSPECIFIED.);")
+    if ents[geometry].startswith("SURFACE_CURVE("):
+        text, n = re.subn(rf"^({geometry} = SURFACE_CURVE\('[^']*',)#\d+,",
+                          rf"\g<1>#{new + 3},", text, count=1, flags=re.M)
+    else:
+        text, n = re.subn(rf"^(#\d+ = EDGE_CURVE\('[^']*',#\d+,#\d+,){geometry},",
+                          rf"\g<1>#{new + 3},", text, count=1, flags=re.M)
+    if n != 1:
+        raise SystemExit("l_bracket_with_a_bowed_reflex_edge: the edge's curve not replaced")
+    i = text.rindex("ENDSEC;")
+    text = text[:i] + "\n".join(lines) + "\n" + text[i:]
+    return re.sub(r"UNCERTAINTY_MEASURE_WITH_UNIT\(LENGTH_MEASURE\([^)]*\)",
+                  "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-02)", text)
+
+
+@part("l_bracket_with_a_bowed_reflex_edge",
+      "The L-bracket (profile 60 wide, 40 high, 10 thick, extruded 30 along y) with its reflex "
+      "edge (x = 10, z = 10) written as a quadratic B-spline bowed 1.5e-3 mm towards +x in the "
+      "plane z = 10: on the flange's top face, up to 1.5e-3 mm off the leg's face (a gap, "
+      "19 times the default accuracy), its tangent up to 2e-4 rad off the faces' line.",
+      (60 * 10 + 10 * 30) * 30,
+      "The L-bracket's medial axis, to the gap: 17 seams, 6 junctions. The faces' normals at "
+      "the edge are perpendicular to its tangent only to 2e-4 rad; the arc of normals the "
+      "edge owns is taken in its normal plane (`Tracer::edge_fan`). Between the unprojected "
+      "normals, the test that a touch point's normal is inside the arc failed mid-arc by the "
+      "square of that tilt, and six seams of the edge's balls ended open.",
+      volume_rel=1e-4,
+      edit=bow_the_reflex_edge)
+def l_bracket_with_a_bowed_reflex_edge():
+    profile = [(0, 0), (60, 0), (60, 10), (10, 10), (10, 40), (0, 40)]
+    face = Part.Face(Part.makePolygon([V(x, 0, z) for (x, z) in profile + profile[:1]]))
+    return face.extrude(V(0, 30, 0))
 
 
 @part("chamfered_rib_end",

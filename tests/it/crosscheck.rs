@@ -36,8 +36,20 @@ const OPEN_AND_SHALLOW: &str = "seams end open where a touch point is handed to 
     junctions two seams leave along one triplet, the two ways (`junction_seams`); sheet \
     boundaries stay open where seams end open, at non-generic \
     junctions (five elements touched) and at mixed vertices where a convex edge's rim meets \
-    no seam or skeletal edge (on the LCD knob 12, at its 0.03 mm edges: `sheets_closed`, \
-    issue 20)";
+    no seam or skeletal edge (`sheets_closed`, issue 20)";
+
+/// No seam end open since a reflex edge's arc of normals lies in its normal plane; what is
+/// left is issue 20's.
+const LCD_KNOB: &str = "no seam ends open and every ball passes both checkers; the medial \
+    axis counts Euler characteristic 3 for the solid's 1 (the seams round its three 0.034 mm \
+    sliver edges end in pinches at the slivers' mixed vertices; the sheets' graph there is \
+    issue 20's)";
+
+/// The axis of a circular reflex edge traced as seams.
+const CIRCLE_AXES: &str = "no seam ends open; three junctions touch one circular reflex edge \
+    three times (a ball centred on the edge's axis touches the whole arc: a degenerate piece, \
+    traced as seams touching the edge two or three times), each with three seam ends, and the \
+    sheets there do not close (issue 20)";
 
 /// No seam end open any more: the seams under holes tangent to a pocket's walls end at pinches.
 const PINCHED: &str = "no seams end open: the seams under its holes, each inscribed in a \
@@ -171,22 +183,14 @@ const EXPECTED_FAILURES: &[Expected] = &[
         &[("occt:mesh_contacts", 9)],
         MESH_PAST_BOUNDARY,
     ),
-    (
-        "prusa_LCD-knob.stp",
-        &[
-            ("occt:seam_ends", 6),
-            ("verify:seam_ends", 6),
-            ("verify:sheets_closed", 12),
-        ],
-        OPEN_AND_SHALLOW,
-    ),
+    ("prusa_LCD-knob.stp", &[("verify:euler", 1)], LCD_KNOB),
     (
         "prusa_adapter-printer.stp",
         &[
             ("occt:mesh_contacts", 3),
-            ("occt:seam_ends", 3),
+            ("occt:seam_ends", 5),
             ("occt:touch_on_boundary", 2),
-            ("verify:seam_ends", 3),
+            ("verify:seam_ends", 5),
             ("verify:sheets_closed", 4),
         ],
         GAPS_ACCEPTED,
@@ -196,8 +200,8 @@ const EXPECTED_FAILURES: &[Expected] = &[
         &[
             ("occt:inside", 1),
             ("occt:mesh_contacts", 1),
-            ("occt:seam_ends", 10),
-            ("verify:seam_ends", 10),
+            ("occt:seam_ends", 6),
+            ("verify:seam_ends", 6),
             ("verify:sheets_closed", 16),
         ],
         MOTOR_PLATE,
@@ -231,13 +235,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "voron0_Hotend_Mount_Revo_Voron.step",
         &[
-            ("occt:junction_seams", 1),
-            ("occt:seam_ends", 2),
-            ("verify:junction_seams", 1),
-            ("verify:seam_ends", 2),
-            ("verify:sheets_closed", 4),
+            ("occt:junction_seams", 3),
+            ("verify:junction_seams", 3),
+            ("verify:sheets_closed", 9),
         ],
-        OPEN_AND_SHALLOW,
+        CIRCLE_AXES,
     ),
     (
         "voron0_Manta_M4P_Din_Mount_2pc.step",

@@ -573,6 +573,57 @@ fn a_faces_gap_beyond_the_accuracy_is_reported_and_traced_across() {
     }
 }
 
+/// `samples/trace/l_bracket_with_a_bowed_reflex_edge.step`: the L-bracket with its reflex edge
+/// written as a quadratic B-spline bowed 1.5e-3 mm off the leg's face, its tangent up to
+/// 2e-4 rad off the faces' line, so the faces' normals at the edge are perpendicular to it only
+/// to that angle. The arc of normals the edge owns is taken in its normal plane: the part
+/// traces as the L-bracket does (17 seams, 6 junctions, each within 0.01 mm of the clean
+/// part's), with no end open. Between the unprojected normals the test that a touch point's
+/// normal is inside the arc failed mid-arc (by the square of the tilt, above its 1e-9
+/// rounding), and six seams of the edge's balls ended open.
+#[test]
+fn a_reflex_edges_arc_of_normals_lies_in_its_normal_plane() {
+    let report = traced_and_verified("l_bracket_with_a_bowed_reflex_edge");
+    assert_eq!(report["stats"]["open_ends"], 0);
+    let dir = tempfile::tempdir().unwrap();
+    let clean = root().join("samples/l_bracket.step");
+    let out = matrace(
+        &[
+            "trace",
+            clean.to_str().unwrap(),
+            "-o",
+            dir.path().to_str().unwrap(),
+            "--no-svg",
+            "--no-mesh",
+        ],
+        &root(),
+    );
+    assert_eq!(out.status.code(), Some(0));
+    let text = std::fs::read_to_string(dir.path().join("l_bracket.mat.json")).unwrap();
+    let clean: Value = serde_json::from_str(&text).unwrap();
+    for k in ["seams", "junctions"] {
+        assert_eq!(
+            report["mat"][k].as_array().unwrap().len(),
+            clean["mat"][k].as_array().unwrap().len(),
+            "{k}"
+        );
+    }
+    assert_eq!(seams(&report).len(), 17);
+    for j in clean["mat"]["junctions"].as_array().unwrap() {
+        let p: Vec<f64> = (0..3).map(|c| j["point"][c].as_f64().unwrap()).collect();
+        let r = j["radius"].as_f64().unwrap();
+        let near = report["mat"]["junctions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|k| {
+                distance(&k["point"], [p[0], p[1], p[2]]) < 0.01
+                    && (k["radius"].as_f64().unwrap() - r).abs() < 0.01
+            });
+        assert!(near, "no junction near {p:?} r {r}");
+    }
+}
+
 /// `samples/trace/split_top_off_its_edge.step`: a 60x40x20 box written as two blocks, the plane
 /// of the narrow top face (y < 10.1) 3e-3 mm above its edges. The balls touching that face,
 /// the front and the bottom lie 3e-3 mm into the face's own edge at y = 10.1 (and its

@@ -211,12 +211,22 @@ impl<'a> Tracer<'a> {
         self.class.edges[e].kind == EdgeKind::Reflex
     }
 
-    /// The outward normals of edge `e`'s two faces at curve parameter `t`: the ends of the
-    /// arc of normals the edge owns as a boundary segment.
+    /// The outward normals of edge `e`'s two faces at curve parameter `t`, in the plane
+    /// normal to the edge there: the ends of the arc of normals the edge owns as a boundary
+    /// segment. (A touch point's normal on the edge lies in that plane; a face's normal at
+    /// the edge is perpendicular to it only to the file's precision: the arc test between
+    /// the unprojected normals failed in the middle of the arc by the square of that tilt,
+    /// 8e-4 rad on the Prusa adapter's spline edges, and handed touch points off it there.)
     pub(super) fn edge_fan(&self, e: usize, t: f64) -> Option<[DVec3; 2]> {
         let edge = &self.model.edges[e];
         let p = crate::geom::eval_curve(&edge.curve, t).p;
-        let normal = |f: usize| self.edge_face_normal(e, f, t, p).map(|(_, n)| n);
+        let frame = crate::medial::equations::edge_frame(self.model, e, t);
+        let normal = |f: usize| {
+            let n = self.edge_face_normal(e, f, t, p).map(|(_, n)| n)?;
+            let Some(fr) = &frame else { return Some(n) };
+            let m = n.dot(fr.a) * fr.a + n.dot(fr.b) * fr.b;
+            Some(if m.length() > 0.5 { m.normalize() } else { n })
+        };
         Some([normal(edge.faces[0])?, normal(edge.faces[1])?])
     }
 
