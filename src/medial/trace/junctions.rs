@@ -169,8 +169,7 @@ impl Tracer<'_> {
         fourth: Element,
         jx: &DVector<f64>,
     ) -> Option<usize> {
-        let ev4 = fourth.eval(self.model, slot(jx, 3))?;
-        let n4 = ev4.n;
+        let n4 = fourth.eval(self.model, slot(jx, 3))?.n;
         let p4 = sys_point(self.model, fourth, slot(jx, 3));
         (0..3).find(|&i| {
             let joined = match (triplet[i], fourth) {

@@ -216,7 +216,8 @@ impl<'a> Tracer<'a> {
     /// segment. (A touch point's normal on the edge lies in that plane; a face's normal at
     /// the edge is perpendicular to it only to the file's precision: the arc test between
     /// the unprojected normals failed in the middle of the arc by the square of that tilt,
-    /// 8e-4 rad on the Prusa adapter's spline edges, and handed touch points off it there.)
+    /// on the spline edges of the Prusa LCD knob and adapter, and handed touch points off
+    /// the edge there.)
     pub(super) fn edge_fan(&self, e: usize, t: f64) -> Option<[DVec3; 2]> {
         let edge = &self.model.edges[e];
         let p = crate::geom::eval_curve(&edge.curve, t).p;
