@@ -117,8 +117,17 @@ fn passed(name: &str, verify: bool) -> Value {
 /// The run and the report of `trace` (with `verify`, `trace --verify`) on regression
 /// part `name` (`samples/trace/<name>.step`).
 fn trace_part(name: &str, verify: bool) -> (std::process::Output, Value) {
+    trace_file(
+        &root().join("samples/trace").join(format!("{name}.step")),
+        verify,
+    )
+}
+
+/// The run and the report of `trace` (with `verify`, `trace --verify`) on the STEP file
+/// `path`.
+fn trace_file(path: &std::path::Path, verify: bool) -> (std::process::Output, Value) {
+    let name = path.file_stem().unwrap().to_str().unwrap();
     let dir = tempfile::tempdir().unwrap();
-    let path = root().join("samples/trace").join(format!("{name}.step"));
     let mut args = vec![
         "trace",
         path.to_str().unwrap(),
@@ -585,22 +594,8 @@ fn a_faces_gap_beyond_the_accuracy_is_reported_and_traced_across() {
 fn a_reflex_edges_arc_of_normals_lies_in_its_normal_plane() {
     let report = traced_and_verified("l_bracket_with_a_bowed_reflex_edge");
     assert_eq!(report["stats"]["open_ends"], 0);
-    let dir = tempfile::tempdir().unwrap();
-    let clean = root().join("samples/l_bracket.step");
-    let out = matrace(
-        &[
-            "trace",
-            clean.to_str().unwrap(),
-            "-o",
-            dir.path().to_str().unwrap(),
-            "--no-svg",
-            "--no-mesh",
-        ],
-        &root(),
-    );
+    let (out, clean) = trace_file(&root().join("samples/l_bracket.step"), false);
     assert_eq!(out.status.code(), Some(0));
-    let text = std::fs::read_to_string(dir.path().join("l_bracket.mat.json")).unwrap();
-    let clean: Value = serde_json::from_str(&text).unwrap();
     for k in ["seams", "junctions"] {
         assert_eq!(
             report["mat"][k].as_array().unwrap().len(),

@@ -172,29 +172,36 @@ impl Tracer<'_> {
         let n4 = fourth.eval(self.model, slot(jx, 3))?.n;
         let p4 = sys_point(self.model, fourth, slot(jx, 3));
         (0..3).find(|&i| {
-            let joined = match (triplet[i], fourth) {
-                (Element::Face(f), Element::Face(g)) => self.smooth_edge_between(f, g).is_some(),
-                (Element::Edge(e), Element::Edge(g)) => e != g && self.edges_run_on(e, g),
-                _ => false,
+            let one_place = || {
+                let gap = self.element_gap(triplet[i]).max(self.element_gap(fourth));
+                gap > 0.0
+                    && p4
+                        .zip(sys_point(self.model, triplet[i], slot(jx, i)))
+                        .is_some_and(|(a, b)| {
+                            a.distance(b) <= separation(jx[3], self.opts.accuracy + gap)
+                        })
             };
-            let gap = self.element_gap(triplet[i]).max(self.element_gap(fourth));
-            let one_place = gap > 0.0
-                && p4
-                    .zip(sys_point(self.model, triplet[i], slot(jx, i)))
-                    .is_some_and(|(a, b)| {
-                        a.distance(b) <= separation(jx[3], self.opts.accuracy + gap)
-                    });
-            joined
-                && (one_place
+            self.one_tangent(triplet[i], fourth)
+                && (one_place()
                     || triplet[i].eval(self.model, slot(jx, i)).is_some_and(|ev| {
                         ev.n.angle_between(n4) <= 2.0 * self.opts.tangent_angle_rad
                     }))
         })
     }
 
+    /// True when elements `a` and `b` are one tangent surface or curve by the angle
+    /// tolerance: faces joined by a smooth edge, or reflex edges that run on from each other.
+    fn one_tangent(&self, a: Element, b: Element) -> bool {
+        match (a, b) {
+            (Element::Face(f), Element::Face(g)) => self.smooth_edge_between(f, g).is_some(),
+            (Element::Edge(e), Element::Edge(g)) => e != g && self.edges_run_on(e, g),
+            _ => false,
+        }
+    }
+
     /// True when edges `e` and `g` meet at a vertex where one runs on from the other within
     /// the angle tolerance.
-    pub(super) fn edges_run_on(&self, e: usize, g: usize) -> bool {
+    fn edges_run_on(&self, e: usize, g: usize) -> bool {
         let ends = |k: usize| self.model.edges[k].vertices;
         ends(e).iter().filter(|v| ends(g).contains(v)).any(|&v| {
             self.turn_at(v, e, g)
@@ -208,13 +215,7 @@ impl Tracer<'_> {
     /// between them, whose sheet and seams are not part of the medial axis.
     pub(super) fn across_a_tangent_joint(&self, triplet: &[Element; 3], x: &DVector<f64>) -> bool {
         self.one_place_pairs(triplet, x)
-            .any(|(i, k)| match (triplet[i], triplet[k]) {
-                (Element::Face(f), Element::Face(g)) => {
-                    f != g && self.smooth_edge_between(f, g).is_some()
-                }
-                (Element::Edge(e), Element::Edge(g)) => e != g && self.edges_run_on(e, g),
-                _ => false,
-            })
+            .any(|(i, k)| self.one_tangent(triplet[i], triplet[k]))
     }
 
     /// The nearest boundary point of the solid to the seam point `y` when it is closer than
