@@ -105,6 +105,9 @@ pub struct StatsReport {
     pub degenerate_open_ends_by_reason: BTreeMap<&'static str, usize>,
     /// Seams whose every ball touches more than three elements.
     pub non_generic_seams: usize,
+    /// Seams traced in two halves that stopped one crossing apart (where the file's gap keeps
+    /// a touch point from being handed on from either side), joined into one.
+    pub joined_seams: usize,
     pub points: usize,
     /// Triangles in `<stem>.sheets.obj`.
     pub mesh_triangles: usize,
@@ -150,6 +153,7 @@ impl TraceReport {
                 degenerate_open_ends: mat.degenerate_open_ends_by_reason().values().sum(),
                 degenerate_open_ends_by_reason: mat.degenerate_open_ends_by_reason(),
                 non_generic_seams: mat.stats.non_generic_seams,
+                joined_seams: mat.stats.joined_seams,
                 points: mat.stats.points,
                 mesh_triangles: 0,
                 accuracy: options.accuracy,

@@ -524,6 +524,9 @@ pub struct TraceStats {
     pub skipped_seeds: usize,
     /// Seams traced a second time from their other end, and dropped.
     pub duplicate_seams: usize,
+    /// Seams traced in two halves that stopped at one place from both sides (a crossing the
+    /// file's gap or tilt keeps either half from passing), joined into one.
+    pub joined_seams: usize,
     /// Seams whose every ball touches more than three elements (non-generic seams).
     pub non_generic_seams: usize,
 }

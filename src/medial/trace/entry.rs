@@ -51,6 +51,7 @@ pub fn trace_with_seeds(
     t.seed_by_sampling();
     t.seed_by_arcs();
     t.drop_open_halves();
+    t.stats.joined_seams = t.join_open_halves();
     t.add_more_contacts();
     t.merge_junctions_found_twice();
     t.stats.duplicate_seams += t.drop_repeated_seams();

@@ -41,8 +41,8 @@
 //! (state and model queries), `unknowns` (the layout of the unknowns), `queue`, `starts`,
 //! `seeds`, `arcs` (seeds on reflex edges' sheets), `march`, `handover`, `junctions`, `pinch`,
 //! `skeletal` (skeletal edges at vertices), `degenerate` (degenerate curves traced), `apex` (cone apexes at vertices),
-//! `contacts` (non-generic seams: more than three elements touching every ball), `merge`
-//! (junctions found twice, merged), `through` (seams carried across a junction, dropped).
+//! `join` (seam halves that stop at one place, joined), `contacts` (non-generic seams: more
+//! than three elements touching every ball), `merge` (junctions found twice, merged), `through` (seams carried across a junction, dropped).
 
 mod apex;
 mod arcs;
@@ -51,6 +51,7 @@ mod degenerate;
 mod degenerate_join;
 mod entry;
 mod handover;
+mod join;
 mod junctions;
 mod march;
 mod merge;
