@@ -126,6 +126,12 @@ impl Classification {
     /// joined across edges classified smooth along their whole length are one surface (a
     /// tube's wall and the hemisphere closing it; a fillet and the faces it blends).
     pub fn smooth_surfaces(&self, model: &Model) -> Vec<usize> {
+        self.faces_joined_by(model, &[EdgeKind::Smooth])
+    }
+
+    /// For each face of `model`, the least face of the set it belongs to when faces are joined
+    /// across every edge of one of the `kinds` (see [`Self::smooth_surfaces`]).
+    pub fn faces_joined_by(&self, model: &Model, kinds: &[EdgeKind]) -> Vec<usize> {
         fn find(root: &mut [usize], mut f: usize) -> usize {
             while root[f] != f {
                 root[f] = root[root[f]];
@@ -135,7 +141,7 @@ impl Classification {
         }
         let mut root: Vec<usize> = (0..model.faces.len()).collect();
         for (class, edge) in self.edges.iter().zip(&model.edges) {
-            if class.kind != EdgeKind::Smooth {
+            if !kinds.contains(&class.kind) {
                 continue;
             }
             for w in edge.faces.windows(2) {

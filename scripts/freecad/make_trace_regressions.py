@@ -19,7 +19,8 @@ a thin tube grazing a cube's corner (analytic and as NURBS), a boss whose foot c
 line of an edge seam's touch points, a plate with two shallow pockets, a pin with a
 hemispherical tip (a degenerate curve that ends where its ball is a face's sphere), a block
 with a hip roof (seams touched by four faces), a plate with a pocket half as deep as the plate
-is thick (a closed seam whose touch point runs along the pocket's foot edges), a thin tube closed
+is thick (a closed seam whose touch point runs along the pocket's foot edges), a pocket over a
+thin floor (a face reached by sheet balls only, across its reflex edges), a thin tube closed
 by a hemispherical end (a face too narrow for the seeds' first grid; faces touched only by a
 sheet's balls), a flat ring with a bead round each rim whose fillet axis's balls reach the
 bottom (a face touched at no listed touch point), a wall whose foot fillets end at its flat end
@@ -760,6 +761,21 @@ def hip_roof_block():
       "corner. Every sheet closes; the Euler characteristic is 1, the solid's.")
 def pocket_half_plate_deep():
     return Part.makeBox(30, 30, 8).cut(Part.makeBox(10, 10, 4, V(10, 10, 4)))
+
+
+@part("pocket_over_a_thin_floor",
+      "Plate 60x40x10 with a rectangular pocket x 20..40, y 12..28, 7 mm deep: its floor 3 mm "
+      "above the plate's bottom, the pocket's walls 16 and 20 mm apart.",
+      60 * 40 * 10 - 20 * 16 * 7,
+      "The balls under the floor (r = 1.5) touch the floor and the bottom; past the floor's "
+      "edge they touch that edge, then the wall, growing, with the bottom all along, up to the "
+      "closed seam round the pocket in the plate's mid-plane (r = 5, touching top, bottom and "
+      "the walls). That one sheet runs across the floor's reflex edges, and no seam or junction "
+      "touches the floor: it is reached by sheet balls only, through its reflex edges (as a "
+      "plain milled pocket is in most parts). Every sheet closes; the Euler characteristic is "
+      "1, the solid's.")
+def pocket_over_a_thin_floor():
+    return Part.makeBox(60, 40, 10).cut(Part.makeBox(20, 16, 7, V(20, 12, 3)))
 
 
 TUBE_R, TUBE_BORE, TUBE_LEN = 5.0, 4.8, 20.0

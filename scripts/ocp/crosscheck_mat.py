@@ -86,6 +86,7 @@ from OCP.BRepAdaptor import BRepAdaptor_Curve
 from OCP.BRepBndLib import BRepBndLib
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
 from OCP.BRepClass import BRepClass_FaceClassifier
+from OCP.BRepTools import BRepTools
 from OCP.BRepClass3d import BRepClass3d_SolidClassifier
 from OCP.BRepExtrema import BRepExtrema_DistShapeShape, BRepExtrema_SupportType
 from OCP.GeomAPI import GeomAPI_ProjectPointOnCurve, GeomAPI_ProjectPointOnSurf
@@ -107,6 +108,13 @@ SEAM_PLACES = 3
 # smooth surface (faces_touched).
 SMOOTH_DEG = 1.0
 SMOOTH_SAMPLES = 9
+# An edge is reflex when the points this far (relative to the diagonal) off its middle, along
+# the difference of its faces' normals, are inside (faces_touched).
+REFLEX_STEP_REL = 1e-5
+# Cells a side of the grid over an untouched face at which its sheet balls are grown, and the
+# bisection's resolution on their radius, relative to the diagonal (faces_touched).
+SHEET_SAMPLE_GRID = 8
+SHEET_BALL_REL = 1e-9
 CURVATURE_END_PLACES = 2
 PINCH_END_PLACES = 2
 JUNCTION_PLACES = 4
@@ -677,6 +685,15 @@ def outward_normal(face, p):
 def smooth_surfaces(part):
     """For each face (index from 1), the least face of its smooth surface: faces joined across an
     edge where their outward normals agree within SMOOTH_DEG at SMOOTH_SAMPLES points along it."""
+    return joined_faces(part, False)
+
+
+def joined_faces(part, reflex):
+    """For each face (index from 1), the least face of the set it is in when faces are joined
+    across smooth edges (see smooth_surfaces) and, with `reflex`, across reflex edges too: an
+    edge whose points just off it along the difference of its two faces' outward normals, both
+    ways (into each face's side of the other), are inside the solid, as at a concave corner and
+    not a convex one."""
     root = list(range(part.faces.Extent() + 1))
 
     def find(f):
@@ -686,6 +703,7 @@ def smooth_surfaces(part):
         return f
 
     cos_tol = math.cos(math.radians(SMOOTH_DEG))
+    step = REFLEX_STEP_REL * part.diagonal
     for i in range(1, part.edge_faces.Extent() + 1):
         edge = TopoDS.Edge(part.edge_faces.FindKey(i))
         faces = []
@@ -704,10 +722,88 @@ def smooth_surfaces(part):
             if None in n or sum(a * b for a, b in zip(n[0], n[1])) < cos_tol:
                 smooth = False
                 break
-        if smooth:
+        joined = smooth
+        if not smooth and reflex:
+            p = curve.Value(0.5 * (t0 + t1))
+            n = [outward_normal(f, p) for _, f in faces]
+            if None not in n:
+                d = [n[0][j] - n[1][j] for j in range(3)]
+                at = [tuple(p.Coord(j + 1) + sign * step * d[j] for j in range(3))
+                      for sign in (1.0, -1.0)]
+                joined = all(part.state(q) == TopAbs_IN for q in at)
+        if joined:
             a, b = find(faces[0][0]), find(faces[1][0])
             root[max(a, b)] = min(a, b)
     return [find(f) for f in range(len(root))]
+
+
+def other_contact(part, face_index, uv, tol):
+    """The place other than its foot where the largest ball inside the part touching face
+    `face_index` (from 1) at `uv` (centre on the inward normal) touches the boundary, or None
+    (no normal there, or that place within the separation of the foot: the ball osculates)."""
+    face = TopoDS.Face(part.faces.FindKey(face_index))
+    surface = BRep_Tool.Surface_s(face)
+    props = GeomLProp_SLProps(surface, uv[0], uv[1], 1, 1e-9)
+    if not props.IsNormalDefined():
+        return None
+    q = props.Value()
+    p = (q.X(), q.Y(), q.Z())
+    sign = -1.0 if face.Orientation() == TopAbs_REVERSED else 1.0
+    n = props.Normal()
+    n = (sign * n.X(), sign * n.Y(), sign * n.Z())
+    solids = [k for k, faces in enumerate(part.solid_faces) if face_index in faces]
+    solid = solids[0] if len(part.solids) > 1 and solids else None
+
+    def centre(r):
+        return tuple(p[j] - r * n[j] for j in range(3))
+
+    lo, hi = 0.0, part.diagonal
+    while hi - lo > SHEET_BALL_REL * part.diagonal:
+        mid = 0.5 * (lo + hi)
+        if part.nearest(centre(mid), solid)[0] >= mid * (1.0 - 1e-9):
+            lo = mid
+        else:
+            hi = mid
+    _, sols = part.nearest(centre(hi), solid)
+    far = [q for q, _, _ in sols if dist3(q, p) > separation(lo, tol)]
+    return far[0] if far else None
+
+
+def reached_across_reflex_edges(part, mat, tol, surface, reached):
+    """Adds to `reached` the smooth surfaces no ball touches whose sheet runs on across reflex
+    edges to balls that are listed (a pocket's floor over a plate thinner than the pocket's
+    walls are far apart: its balls touch the floor and the plate's bottom, then the floor's
+    edge, then the wall, and the seams bounding that sheet touch the walls, not the floor). At
+    the centres of an 8 x 8 grid over a face's UV bounds that are on the face, the largest ball
+    inside touching it there touches one other place q; the face is reached when a listed ball
+    touches a face within tol of q and a face of the face's reflex group (faces joined across
+    reflex and smooth edges), q's faces not in that group."""
+    group = joined_faces(part, True)
+    balls = [p.get("touch", []) for s in mat.get("seams", []) for p in s.get("points", [])]
+    balls += [j.get("touch", []) for j in mat.get("junctions", [])]
+    ball_faces = None
+    for f in range(1, part.faces.Extent() + 1):
+        if surface[f] in reached:
+            continue
+        face = TopoDS.Face(part.faces.FindKey(f))
+        u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
+        n = SHEET_SAMPLE_GRID
+        for k in range(n * n):
+            uv = (u0 + (u1 - u0) * (k % n + 0.5) / n, v0 + (v1 - v0) * (k // n + 0.5) / n)
+            if BRepClass_FaceClassifier(face, gp_Pnt2d(*uv), 1e-9).State() != TopAbs_IN:
+                continue
+            q = other_contact(part, f, uv, tol)
+            if q is None:
+                continue
+            across = {g for g in part.faces_within(q, tol) if group[g] != group[f]}
+            if not across:
+                continue
+            if ball_faces is None:
+                ball_faces = [{g for t in touch if finite(t) for g in part.faces_within(t, tol)}
+                              for touch in balls]
+            if any(b & across and any(group[g] == group[f] for g in b) for b in ball_faces):
+                reached.add(surface[f])
+                break
 
 
 def check_graph(mat, checks, touched, part):
@@ -755,10 +851,13 @@ def check_graph(mat, checks, touched, part):
                 if d.IsDone() and d.NbSolution() > 0 and d.Value() <= reach:
                     reached.add(surface[f])
                     break
+    if any(surface[f] not in reached for f in range(1, part.faces.Extent() + 1)):
+        reached_across_reflex_edges(part, mat, checks.tol, surface, reached)
     for f in range(1, part.faces.Extent() + 1):
         checks.record("faces_touched", surface[f] in reached,
                       lambda: f"face F{f - 1} is touched by no ball (nor is a face joined to it "
-                      "across smooth edges)")
+                      "across smooth edges, nor does its sheet run on across its reflex edges to "
+                      "balls that are)")
 
 
 def main():

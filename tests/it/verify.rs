@@ -612,13 +612,17 @@ fn touch_points_near_a_files_gap_are_held_to_the_gap_and_no_more() {
 /// checkers pass the genuine reports (faces joined across smooth edges are one surface; a
 /// face within `r` + the accuracy of a ball's centre is touched); with the tube's seam
 /// removed, or the beads' balls 0.01 mm smaller (their touch points kept), both fail
-/// `faces_touched`.
+/// `faces_touched`. A pocket over a thin floor (`samples/trace/pocket_over_a_thin_floor`):
+/// no seam or junction touches the floor, whose balls (touching it and the plate's bottom)
+/// run on across its reflex edges to the walls; both pass the genuine report (a listed ball
+/// touches the bottom and the pocket's walls), and fail it with every seam and junction
+/// touching the pocket removed.
 #[test]
-fn faces_joined_across_smooth_edges_or_reached_by_a_ball_are_touched_and_no_others() {
+fn faces_joined_across_smooth_edges_or_reached_by_a_ball_or_a_sheet_are_touched_and_no_others() {
     let dir = tempfile::tempdir().unwrap();
     let occt_present = require(
-        "verify::faces_joined_across_smooth_edges_or_reached_by_a_ball_are_touched_and_no_others \
-         (OCCT half)",
+        "verify::faces_joined_across_smooth_edges_or_reached_by_a_ball_or_a_sheet_are_touched_and_no_\
+         others (OCCT half)",
         &[Tool::Occt],
     );
     let tube = genuine("trace/test_tube.step", dir.path());
@@ -631,12 +635,42 @@ fn faces_joined_across_smooth_edges_or_reached_by_a_ball_are_touched_and_no_othe
             b[3] = json!(b[3].as_f64().unwrap() - 0.01);
         }
     }
+    let pocket = genuine("trace/pocket_over_a_thin_floor.step", dir.path());
+    let mut walls_gone = pocket.clone();
+    // The pocket: x 20..40, y 12..28, z 3..10.
+    let in_pocket = |t: &Value| {
+        let x = |c: usize| t[c].as_f64().unwrap_or(f64::NAN);
+        let within = |v: f64, lo: f64, hi: f64| v >= lo - 1e-6 && v <= hi + 1e-6;
+        within(x(0), 20.0, 40.0) && within(x(1), 12.0, 28.0) && within(x(2), 3.0, 10.0)
+    };
+    let touches_pocket = |touch: &Value| touch.as_array().unwrap().iter().any(in_pocket);
+    walls_gone["mat"]["seams"]
+        .as_array_mut()
+        .unwrap()
+        .retain(|s| {
+            !s["points"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|p| touches_pocket(&p["touch"]))
+        });
+    walls_gone["mat"]["junctions"]
+        .as_array_mut()
+        .unwrap()
+        .retain(|j| !touches_pocket(&j["touch"]));
     let mut problems = vec![];
     for (name, stem, report, must_pass) in [
         ("tube", "test_tube", &tube, true),
         ("tube without its seam", "test_tube", &bare, false),
         ("ring", "beaded_ring", &ring, true),
         ("ring with smaller balls", "beaded_ring", &shrunk, false),
+        ("pocket", "pocket_over_a_thin_floor", &pocket, true),
+        (
+            "pocket without its walls' balls",
+            "pocket_over_a_thin_floor",
+            &walls_gone,
+            false,
+        ),
     ] {
         let part = sample(&format!("trace/{stem}.step"));
         let path = write(dir.path(), &name.replace(' ', "_"), report);

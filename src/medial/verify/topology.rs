@@ -527,15 +527,148 @@ fn check_faces_touched(
             }
         }
     }
+    if (0..model.faces.len()).any(|f| !surface_touched[surface[f]]) {
+        reach_across_reflex_edges(
+            model,
+            class,
+            boundary,
+            axis,
+            a,
+            &surface,
+            &mut surface_touched,
+        );
+    }
     for f in 0..model.faces.len() {
         v.record("faces_touched", surface_touched[surface[f]], || {
             format!(
                 "face F{f} (solid {}) is touched by no ball (nor is any face joined to it \
-                 across smooth edges)",
+                 across smooth edges, nor does its sheet run on across its reflex edges to \
+                 balls that are)",
                 model.solid_of_face(f)
             )
         });
     }
+}
+
+/// Marks in `surface_touched` the smooth surfaces (`surface`, by least face) no ball touches
+/// whose sheet runs on across reflex edges to balls that are listed. A face whose every
+/// neighbour across its edges is reached through a reflex edge (a pocket's floor, the
+/// plate under it thinner than the pocket's walls are far apart) may be touched by sheet
+/// balls only: the ball touching the floor and the plate's bottom moves on, as it passes the
+/// floor's edge, to touching that edge and then the pocket's wall, with the bottom all along,
+/// and the seams bounding that sheet touch the walls, not the floor. So for a face `f` no
+/// ball touches: at points of it (a grid over its domain, up to 8×8 on the face), the largest
+/// ball inside the solid touching it there (centre on the inward normal) touches the boundary
+/// at one other place `q`; the face is reached when a listed ball touches both a face within
+/// the accuracy of `q` and a face of `f`'s reflex group (faces joined to it across reflex and
+/// smooth edges), other than those: the sheet between them is the one `f`'s balls are on.
+fn reach_across_reflex_edges(
+    model: &Model,
+    class: &Classification,
+    boundary: &Boundary,
+    axis: &MedialAxis,
+    a: f64,
+    surface: &[usize],
+    surface_touched: &mut [bool],
+) {
+    use crate::classify::EdgeKind;
+    use crate::medial::equations::NormalField;
+    let group = class.faces_joined_by(model, &[EdgeKind::Smooth, EdgeKind::Reflex]);
+    // The faces each listed ball touches (within the accuracy of a touch point).
+    let mut near = vec![];
+    let balls: Vec<Vec<usize>> = axis
+        .seams
+        .iter()
+        .flat_map(|s| s.points.iter().map(|p| &p.touch))
+        .chain(axis.junctions.iter().map(|j| &j.touch))
+        .map(|touch| {
+            let mut faces = vec![];
+            for t in touch.iter().map(|t| DVec3::from_array(*t)) {
+                if t.is_finite() {
+                    boundary.within_into(model, t, a, &mut near);
+                    faces.extend(&near);
+                }
+            }
+            faces.sort_unstable();
+            faces.dedup();
+            faces
+        })
+        .collect();
+    let diagonal = model.diagonal();
+    for f in 0..model.faces.len() {
+        if surface_touched[surface[f]] {
+            continue;
+        }
+        let solid = model.solid_of_face(f);
+        let face = &model.faces[f];
+        let d = face.domain;
+        let n = SHEET_SAMPLE_GRID;
+        let reached = (0..n * n).any(|k| {
+            let at = |i: usize| (i as f64 + 0.5) / n as f64;
+            let uv = [
+                d.u.0 + (d.u.1 - d.u.0) * at(k % n),
+                d.v.0 + (d.v.1 - d.v.0) * at(k / n),
+            ];
+            if !crate::geom::trim::contains(face, glam::DVec2::from_array(uv)) {
+                return false;
+            }
+            let Some(ev) = Element::Face(f).eval(model, uv) else {
+                return false;
+            };
+            let Some(q) = other_contact(model, boundary, solid, ev.p, ev.n, diagonal, a) else {
+                return false;
+            };
+            boundary.within_into(model, q, a, &mut near);
+            let across: Vec<usize> = near
+                .iter()
+                .copied()
+                .filter(|&g| model.solid_of_face(g) == solid && group[g] != group[f])
+                .collect();
+            !across.is_empty()
+                && balls.iter().any(|b| {
+                    b.iter().any(|g| across.contains(g)) && b.iter().any(|&g| group[g] == group[f])
+                })
+        });
+        if reached {
+            surface_touched[surface[f]] = true;
+        }
+    }
+}
+
+/// Cells a side of the grid over a face's domain at whose centres on the face
+/// [`reach_across_reflex_edges`] grows balls.
+const SHEET_SAMPLE_GRID: usize = 8;
+
+/// The place other than `p` where the largest ball inside solid `solid` touching its boundary
+/// at `p` (outward normal `n`, centre `p − r·n`) touches it: the nearest boundary point to the
+/// centre of a ball just bigger (by bisection on `r` to 1e-12 of the diagonal). `None` where
+/// that point is within `√(8·r·a)` of `p` (the ball osculates the face there: no second place).
+fn other_contact(
+    model: &Model,
+    boundary: &Boundary,
+    solid: usize,
+    p: DVec3,
+    n: DVec3,
+    diagonal: f64,
+    a: f64,
+) -> Option<DVec3> {
+    let nearest = |c: DVec3| {
+        boundary
+            .nearest_face_where(model, c, |g| model.solid_of_face(g) == solid)
+            .map(|(_, h)| h)
+    };
+    let fits = |r: f64| nearest(p - n * r).is_some_and(|h| h.distance >= r * (1.0 - 1e-9));
+    let (mut lo, mut hi) = (0.0, diagonal);
+    while hi - lo > 1e-12 * diagonal {
+        let mid = 0.5 * (lo + hi);
+        if fits(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let q = nearest(p - n * hi)?.point;
+    (q.distance(p) > crate::medial::verify::separation(lo, a)).then_some(q)
 }
 
 /// Every convex vertex ends a seam (the ball shrinks to nothing there).
