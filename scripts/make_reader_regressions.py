@@ -97,6 +97,28 @@ def edges_off_their_face():
     return t.replace(old, "#128 = CARTESIAN_POINT('',(0.,0.,20.015));")
 
 
+def edge_on_part_of_a_curve():
+    """Cause 3 (edge to curve): the box's edge from (0,0,0) to (0,0,20) written on the first of
+    the two Bezier pieces of a cubic B-spline (0 <= t <= 2): the first straight along the edge,
+    ending at its far vertex at t = 1, the second curling away from the box, as an exporter
+    writes an edge on a stretch of a longer intersection curve. The far vertex is in the
+    middle of the curve: a search for it from the curve's far end stops on the curl."""
+    t = text("box.step")
+    old = "#27 = LINE('',#28,#29);"
+    assert old in t
+    n = max_id(t)
+    points = [(0, 0, 0), (0, 0, 20 / 3), (0, 0, 40 / 3), (0, 0, 20),
+              (30, 5, 25), (40, 40, 30), (-10, 10, 60)]
+    lines = [f"#{n + 1 + k} = CARTESIAN_POINT('',({x!r},{y!r},{z!r}));"
+             for k, (x, y, z) in enumerate(points)]
+    refs = ",".join(f"#{n + 1 + k}" for k in range(len(points)))
+    curve = n + 1 + len(points)
+    lines.append(f"#{curve} = B_SPLINE_CURVE_WITH_KNOTS('',3,({refs}),.UNSPECIFIED.,.F.,.F.,"
+                 "(4,3,4),(0.,1.,2.),.UNSPECIFIED.);")
+    t = t.replace("#26 = SURFACE_CURVE('',#27,", f"#26 = SURFACE_CURVE('',#{curve},")
+    return add_before_endsec(t, lines)
+
+
 def latin1_name():
     """Cause 4 (STEP): a product name in Windows-1252 / Latin-1 (not UTF-8)."""
     t = text("box.step")
@@ -369,6 +391,7 @@ def main():
     write("gap_within_uncertainty.step", moved_vertex("0.01"))
     write("gap_beyond_uncertainty.step", moved_vertex("1.E-07"))
     write("edges_off_their_face.step", edges_off_their_face())
+    write("edge_on_part_of_a_curve.step", edge_on_part_of_a_curve())
     write("latin1_name.step", latin1_name())
     write("utf8_name.igs", utf8_iges_name())
     write("empty_range.igs", empty_iges_range())

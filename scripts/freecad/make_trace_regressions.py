@@ -20,7 +20,8 @@ line of an edge seam's touch points, a plate with two shallow pockets, a pin wit
 hemispherical tip (a degenerate curve that ends where its ball is a face's sphere), a block
 with a hip roof (seams touched by four faces), a plate with a pocket half as deep as the plate
 is thick (a closed seam whose touch point runs along the pocket's foot edges), a pocket over a
-thin floor (a face reached by sheet balls only, across its reflex edges), a thin tube closed
+thin floor (a face reached by sheet balls only, across its reflex edges), a frustum cut along
+its axis (hyperbola edges), a thin tube closed
 by a hemispherical end (a face too narrow for the seeds' first grid; faces touched only by a
 sheet's balls), a flat ring with a bead round each rim whose fillet axis's balls reach the
 bottom (a face touched at no listed touch point), a wall whose foot fillets end at its flat end
@@ -776,6 +777,19 @@ def pocket_half_plate_deep():
       "1, the solid's.")
 def pocket_over_a_thin_floor():
     return Part.makeBox(60, 40, 10).cut(Part.makeBox(20, 16, 7, V(20, 12, 3)))
+
+
+@part("frustum_cut_along_its_axis",
+      "Frustum (cone r = 2 at z = 0 to r = 8 at z = 10, axis z) with the part beyond the plane "
+      "x = 1, parallel to its axis, cut away: the plane meets the cone in two hyperbola arcs, "
+      "which FreeCAD writes as HYPERBOLA curves, their ends at parameters beyond -1..1.",
+      None,
+      "Read with its hyperbolas whole: truck trims a STEP hyperbola (and parabola) to the "
+      "parameters -1..1 and its search for a vertex stays there, so the file was refused "
+      "('the edge's vertices are not on its curve', 12.9 and 137.5 mm). The medial axis of "
+      "the four faces: every ball passes both checkers.")
+def frustum_cut_along_its_axis():
+    return Part.makeCone(2, 8, 10).cut(Part.makeBox(20, 20, 20, V(1, -10, -5)))
 
 
 TUBE_R, TUBE_BORE, TUBE_LEN = 5.0, 4.8, 20.0

@@ -113,6 +113,58 @@ fn edges_off_their_faces_surface_within_the_readers_limit_are_reported() {
     assert_box("edges_off_their_face.step", &m, sample_box("box.step"));
 }
 
+/// An edge on the first of two pieces of a longer spline (`edge_on_part_of_a_curve.step`: the
+/// box's edge to (0, 0, 20), a vertex in the middle of the curve): read with no warning, the
+/// edge ending at its vertex (the search for it from the curve's far end stopped on the curl
+/// beyond, 42 mm off, and the file was refused), the box as the sample's.
+#[test]
+fn an_edge_on_part_of_a_longer_curve_ends_at_its_vertices() {
+    let name = "edge_on_part_of_a_curve.step";
+    let m = matrace::read_model(&reader_file(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert!(m.source.warnings.is_empty(), "{:#?}", m.source.warnings);
+    assert_box(name, &m, sample_box("box.step"));
+    edges_end_at_their_vertices(name, &m);
+    let v = matrace::geom::solid_volumes(&m)[0].unwrap();
+    assert!((v - 48000.0).abs() < 1e-6 * 48000.0, "{name}: volume {v}");
+}
+
+/// A frustum cut along its axis (`samples/trace/frustum_cut_along_its_axis.step`, by FreeCAD):
+/// its two hyperbola edges, whose ends are at parameters beyond −1..1 (where truck trims a
+/// STEP hyperbola), are read whole, ending at their vertices; the volume is FreeCAD's.
+#[test]
+fn hyperbola_edges_are_read_to_their_vertices() {
+    let name = "trace/frustum_cut_along_its_axis.step";
+    let m = matrace::read_model(&sample(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let hyperbolas = m
+        .edges
+        .iter()
+        .filter(|e| {
+            matches!(
+                e.curve,
+                matrace::model::Curve3D::Conic(truck_stepio::r#in::alias::Conic3D::Hyperbola(_))
+            )
+        })
+        .count();
+    assert_eq!(hyperbolas, 2, "{name}");
+    edges_end_at_their_vertices(name, &m);
+    let v = matrace::geom::solid_volumes(&m)[0].unwrap();
+    assert!((v - 539.042537).abs() < 1e-5 * 539.0, "{name}: volume {v}");
+}
+
+/// Every edge of `m` starts and ends at its vertices (to 1e-9 of the coordinates' size).
+fn edges_end_at_their_vertices(name: &str, m: &matrace::Model) {
+    for (k, e) in m.edges.iter().enumerate() {
+        for (t, v) in [(e.range.0, e.vertices[0]), (e.range.1, e.vertices[1])] {
+            let p = matrace::geom::eval_curve(&e.curve, t).p;
+            let q = m.vertices[v].point;
+            assert!(
+                p.distance(q) <= 1e-9 * (1.0 + q.abs().max_element()),
+                "{name}: edge E{k} at {t} is {p}, its vertex V{v} {q}"
+            );
+        }
+    }
+}
+
 #[test]
 fn names_outside_ascii_are_read() {
     let m = read_with_warning("latin1_name.step", "text", "byte", 1);
@@ -340,5 +392,5 @@ fn the_regression_files_are_what_the_script_makes() {
         );
         n += 1;
     }
-    assert_eq!(n, 21);
+    assert_eq!(n, 22);
 }

@@ -138,11 +138,28 @@ impl Source<'_> {
         if at(t0).distance(pa) <= tol && at(t1).distance(pb) <= tol {
             return Ok((t0, t1));
         }
-        // Project the vertices (hint: the nearer end).
-        let proj = |p: DVec3, hint: f64| {
+        // Project the vertices (hint: the nearer end); on a hyperbola or parabola in closed
+        // form (truck trims both to the parameters −1..1 whatever the edge, and its search
+        // stays there: a countersink's cone cut by a slanted plane ends 2.4 and 4.1 mm off).
+        // Where the search from the nearer end fails (an edge on a short stretch of a long
+        // spline, its far vertex in the middle of the curve: a FreeCAD fillet's edge on a
+        // sphere), it starts again from the nearest of samples along the curve.
+        let search = |p: DVec3, hint: f64| {
             guarded(|| curve.search_nearest_parameter(Point3::new(p.x, p.y, p.z), Some(hint), 100))
                 .ok()
                 .flatten()
+                .filter(|&s| at(s).distance(p) <= vertex_gap_allowed(scale, self.uncertainty_mm))
+        };
+        let proj = |p: DVec3, hint: f64| {
+            open_conic_parameter(curve, p)
+                .or_else(|| search(p, hint))
+                .or_else(|| {
+                    let sample = |k: usize| t0 + (t1 - t0) * k as f64 / PROJECTION_SAMPLES as f64;
+                    let nearest = (0..=PROJECTION_SAMPLES)
+                        .map(sample)
+                        .min_by(|&a, &b| at(a).distance(p).total_cmp(&at(b).distance(p)))?;
+                    search(p, nearest)
+                })
         };
         let s0 = proj(pa, t0);
         let s1 = proj(pb, t1);
@@ -178,6 +195,34 @@ impl Source<'_> {
             )),
         }
     }
+}
+
+/// Samples along an edge's curve from whose nearest a vertex's projection starts again when
+/// the search from the curve's nearer end fails.
+const PROJECTION_SAMPLES: usize = 256;
+
+/// The parameter of a hyperbola's or parabola's point whose local `y` is that of `p` (the
+/// point itself, for a point on the curve): truck's unit hyperbola is `(cosh t, sinh t)` and
+/// its unit parabola `(t², 2t)` before the placement's transform, whose inverse gives `p`'s
+/// local coordinates; a reversed curve runs `t ↦ t0 + t1 − t` over its range. `None` for
+/// other curves (or a singular placement).
+fn open_conic_parameter(curve: &Curve3D, p: DVec3) -> Option<f64> {
+    use truck_geometry::prelude::{BoundedCurve, SquareMatrix, Transform};
+    use truck_stepio::r#in::alias::Conic3D;
+    let p = Point3::new(p.x, p.y, p.z);
+    let (t, orientation, (t0, t1)) = match curve {
+        Curve3D::Conic(Conic3D::Hyperbola(h)) => {
+            let q = h.transform().invert()?.transform_point(p);
+            (q.y.asinh(), h.orientation(), h.range_tuple())
+        }
+        Curve3D::Conic(Conic3D::Parabola(c)) => {
+            let q = c.transform().invert()?.transform_point(p);
+            (0.5 * q.y, c.orientation(), c.range_tuple())
+        }
+        _ => return None,
+    };
+    let t = if orientation { t } else { t0 + t1 - t };
+    t.is_finite().then_some(t)
 }
 
 /// `[k_p, k_{m−p}]` of a knot vector of degree `p` (m + 1 knots).
