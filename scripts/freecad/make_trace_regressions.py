@@ -21,7 +21,8 @@ hemispherical tip (a degenerate curve that ends where its ball is a face's spher
 with a hip roof (seams touched by four faces), a plate with a pocket half as deep as the plate
 is thick (a closed seam whose touch point runs along the pocket's foot edges), a pocket over a
 thin floor (a face reached by sheet balls only, across its reflex edges), a frustum cut along
-its axis (hyperbola edges), a thin tube closed
+its axis (hyperbola edges), a hole whose wall passes 0.01 mm from a face (a seam whose r dips
+towards 0 and rises again), a thin tube closed
 by a hemispherical end (a face too narrow for the seeds' first grid; faces touched only by a
 sheet's balls), a flat ring with a bead round each rim whose fillet axis's balls reach the
 bottom (a face touched at no listed touch point), a wall whose foot fillets end at its flat end
@@ -790,6 +791,24 @@ def pocket_over_a_thin_floor():
       "the four faces: every ball passes both checkers.")
 def frustum_cut_along_its_axis():
     return Part.makeCone(2, 8, 10).cut(Part.makeBox(20, 20, 20, V(1, -10, -5)))
+
+
+NECK = 0.01
+
+
+@part("hole_next_to_an_edge",
+      f"Block 60x30x10 with a through hole r = 4 along z whose wall passes {NECK} mm from the "
+      "front face y = 0, at x = 30: a neck 0.01 mm thick between them.",
+      60 * 30 * 10 - PI * 16 * 10,
+      "The seams of the balls touching the top, the front face and the hole run along the "
+      "front edges, r falling towards the neck and rising past it: at x = 30 the ball is "
+      "0.005 mm, touching the front face and the hole on either side of the neck. Steps grow "
+      "along the straight seam while r falls linearly; one whose predictor heads below r = 0 "
+      "landed on the far side of the dip, its touch point on the top past the front edge, and "
+      "the seam ended open ('reached convex edge'). Such a step is refused and halved "
+      "(`Tracer::step`): the seam runs through the dip, and every ball passes both checkers.")
+def hole_next_to_an_edge():
+    return Part.makeBox(60, 30, 10).cut(Part.makeCylinder(4, 12, V(30, 4 + NECK, -1)))
 
 
 TUBE_R, TUBE_BORE, TUBE_LEN = 5.0, 4.8, 20.0

@@ -1198,3 +1198,52 @@ fn no_seam_runs_down_a_kink_within_the_tangent_tolerance() {
         "no seam hands a touch point across the kink at (0, 1.04, 0)"
     );
 }
+
+/// A through hole whose wall passes 0.01 mm from the block's front face
+/// (`hole_next_to_an_edge`): the seams of the top, the front face and the hole run along the
+/// front edges with r falling towards the neck at x = 30 and rising past it. The step that
+/// grew along the straight seam, its predictor heading below r = 0, once landed beyond the dip
+/// with its touch point on the top past the front edge, and the seam ended open ("reached
+/// convex edge"). Now every seam closes, one ball of each such seam is within 0.002 mm of the
+/// neck's half-width (r = 0.005 at x = 30), and `--verify` passes.
+#[test]
+fn a_seam_whose_radius_dips_towards_zero_runs_through_the_dip() {
+    let report = traced_and_verified("hole_next_to_an_edge");
+    for s in seams(&report) {
+        assert!(
+            s["ends"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .all(|e| e.get("open").is_none()),
+            "{}",
+            s["ends"]
+        );
+    }
+    // The seams that pass the neck: a ball within 1 mm of (30, ·, ·) with r < 0.1.
+    let dips: Vec<f64> = seams(&report)
+        .iter()
+        .filter_map(|s| {
+            s["points"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|p| {
+                    (
+                        p["point"][0].as_f64().unwrap(),
+                        p["point"][3].as_f64().unwrap(),
+                    )
+                })
+                .filter(|&(x, r)| (x - 30.0).abs() < 1.0 && r < 0.1)
+                .map(|(_, r)| r)
+                .reduce(f64::min)
+        })
+        .collect();
+    assert!(!dips.is_empty(), "no seam passes the neck");
+    for r in dips {
+        assert!(
+            (r - 0.005).abs() < 0.002,
+            "smallest ball at the neck: r = {r}"
+        );
+    }
+}

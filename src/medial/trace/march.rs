@@ -647,7 +647,12 @@ impl Tracer<'_> {
         // is the mirror ball on the other side of the boundary (where a surface's normal
         // flips, past a sphere's pole), not the seam.
         let mirror = sol.x[3] < -self.opts.accuracy && (x[3] <= 0.0 || pred_r > 0.0);
-        if sol.status != SolveStatus::Converged || mirror {
+        // A predictor heading below r = 0 from a ball of r > 0 whose corrector lands on a
+        // bigger ball has jumped: past a convex vertex the ball shrinks to nothing, and
+        // where the seam only dips towards r = 0 (passing a convex edge close by, a face
+        // nearly meeting it), the corrector lands on some other stretch of it beyond the dip.
+        let jumped = pred_r < 0.0 && x[3] > 0.0 && sol.x[3] > x[3];
+        if sol.status != SolveStatus::Converged || mirror || jumped {
             return None;
         }
         if self.touch_runs_round_an_edge(sys, x, &sol.x) {
