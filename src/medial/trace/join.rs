@@ -215,8 +215,14 @@ pub(super) fn reverse(s: &mut Seam) {
     s.points.reverse();
     s.ends.swap(0, 1);
     std::mem::swap(&mut s.segments, &mut s.end_segments);
-    s.handovers = s
-        .handovers
+    s.handovers = reversed_handovers(&s.handovers, n);
+    s.unresolved = s.unresolved.iter().rev().map(|&k| n - 1 - k).collect();
+}
+
+/// The hand-overs of a run of `n` points, for the run reversed: in reverse order, each from
+/// the element it was to, at point `n − 1 − p` (the ball on both elements stays the same).
+pub(super) fn reversed_handovers(handovers: &[Handover], n: usize) -> Vec<Handover> {
+    handovers
         .iter()
         .rev()
         .map(|h| Handover {
@@ -224,8 +230,7 @@ pub(super) fn reverse(s: &mut Seam) {
             from: h.to,
             to: h.from,
         })
-        .collect();
-    s.unresolved = s.unresolved.iter().rev().map(|&k| n - 1 - k).collect();
+        .collect()
 }
 
 /// Seam `s` with its slots reordered: slot `i` becomes what was slot `perm[i]`.

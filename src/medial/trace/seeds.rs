@@ -478,16 +478,7 @@ impl Tracer<'_> {
         // The backward run reversed, then the forward run after the seed point; the
         // backward run's hand-overs reversed in order and sense.
         let nb = back.points.len();
-        let mut handovers: Vec<Handover> = back
-            .handovers
-            .into_iter()
-            .rev()
-            .map(|h| Handover {
-                point: nb - 1 - h.point,
-                from: h.to,
-                to: h.from,
-            })
-            .collect();
+        let mut handovers = super::join::reversed_handovers(&back.handovers, nb);
         handovers.extend(fwd.handovers.into_iter().map(|h| Handover {
             point: h.point + nb - 1,
             ..h
