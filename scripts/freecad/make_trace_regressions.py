@@ -22,7 +22,7 @@ with a hip roof (seams touched by four faces), a plate with a pocket half as dee
 is thick (a closed seam whose touch point runs along the pocket's foot edges), a pocket over a
 thin floor (a face reached by sheet balls only, across its reflex edges), a frustum cut along
 its axis (hyperbola edges), a hole whose wall passes 0.01 mm from a face (a seam whose r dips
-towards 0 and rises again), a thin tube closed
+towards 0 and rises again), a boss lower than it is wide (its foot circle's axis), a thin tube closed
 by a hemispherical end (a face too narrow for the seeds' first grid; faces touched only by a
 sheet's balls), a flat ring with a bead round each rim whose fillet axis's balls reach the
 bottom (a face touched at no listed touch point), a wall whose foot fillets end at its flat end
@@ -809,6 +809,20 @@ NECK = 0.01
       "(`Tracer::step`): the seam runs through the dip, and every ball passes both checkers.")
 def hole_next_to_an_edge():
     return Part.makeBox(60, 30, 10).cut(Part.makeCylinder(4, 12, V(30, 4 + NECK, -1)))
+
+
+@part("short_boss_on_plate",
+      "Plate 60x40x10 with a cylindrical boss r = 5, 3 mm high, at (30, 20) on its top: the boss "
+      "lower than it is wide.",
+      60 * 40 * 10 + PI * 25 * 3,
+      "Under and in the boss the balls touch the boss's foot circle (a reflex circle, z = 10) "
+      "all round on its axis, from the ball that touches the bottom too (centre z = 6.25, "
+      "r = 6.25: 25 + (10 - z)^2 = z^2) to the one that touches the cap (z = 7.333, r = 5.667: "
+      "13 - z = sqrt(25 + (10 - z)^2)): a degenerate curve of the circle. No seam touches the "
+      "boss; its cap and wall are reached only through that curve, whose balls the sampled "
+      "edge sheet passes between a ball touching the cap and one touching the bottom.")
+def short_boss_on_plate():
+    return Part.makeBox(60, 40, 10).fuse(Part.makeCylinder(5, 3, V(30, 20, 10))).removeSplitter()
 
 
 TUBE_R, TUBE_BORE, TUBE_LEN = 5.0, 4.8, 20.0

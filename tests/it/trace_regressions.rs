@@ -1247,3 +1247,56 @@ fn a_seam_whose_radius_dips_towards_zero_runs_through_the_dip() {
         );
     }
 }
+
+/// A boss lower than it is wide (`short_boss_on_plate`: r = 5, 3 high, on a 10 mm plate): no
+/// seam touches it; the balls on its axis touch its foot circle all round, a degenerate curve
+/// of that reflex circle from the ball touching the bottom (centre z = 6.25, r = 6.25) to the
+/// one touching the cap (z = 7.333, r = 5.667), both ends located. It was not found (the
+/// sampled sheet of the circle has balls touching the cap and balls touching the bottom, and
+/// the circle's axis between them), and the boss's wall and cap were touched by no ball.
+#[test]
+fn a_short_bosss_foot_circle_has_its_axis() {
+    let report = traced_and_verified("short_boss_on_plate");
+    let curves: Vec<&Value> = report["mat"]["degenerate"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|d| d["kind"] == "curve")
+        .collect();
+    assert_eq!(curves.len(), 1, "{curves:?}");
+    let d = curves[0];
+    let segments = d["segments"].as_array().unwrap();
+    assert!(
+        segments.len() == 2
+            && segments[0] == segments[1]
+            && segments[0].as_str().unwrap().starts_with('E'),
+        "{segments:?}"
+    );
+    let balls = d["balls"].as_array().unwrap();
+    let ball = |b: &Value| [0, 1, 2, 3].map(|k| b[k].as_f64().unwrap());
+    let mut zs: Vec<[f64; 4]> = balls.iter().map(ball).collect();
+    zs.sort_by(|a, b| a[2].total_cmp(&b[2]));
+    for b in &zs {
+        assert!(
+            (b[0] - 30.0).hypot(b[1] - 20.0) < 1e-6,
+            "{b:?} off the axis"
+        );
+        let on_circle = (25.0 + (10.0 - b[2]).powi(2)).sqrt();
+        assert!(
+            (b[3] - on_circle).abs() < 1e-4,
+            "{b:?}: r is not the distance to the circle"
+        );
+    }
+    let (low, high) = (zs[0], zs[zs.len() - 1]);
+    assert!(
+        (low[2] - 6.25).abs() < 1e-3 && (low[3] - 6.25).abs() < 1e-3,
+        "{low:?}"
+    );
+    assert!(
+        (high[2] - 22.0 / 3.0).abs() < 1e-3 && (high[3] - 17.0 / 3.0).abs() < 1e-3,
+        "{high:?}"
+    );
+    for end in d["ends"].as_array().unwrap() {
+        assert_eq!(end["kind"], "meets", "{end}");
+    }
+}

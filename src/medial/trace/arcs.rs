@@ -101,6 +101,16 @@ impl Tracer<'_> {
             if ca.seg == cb.seg || self.seams.len() >= MAX_SEAMS {
                 continue;
             }
+            // Between a ball touching one element and one touching another, the ball may
+            // touch the edge itself a second time: where it touches the edge along a curve (a
+            // boss's foot circle, touched all round by the balls on its axis), that is a
+            // degenerate curve of the edge, recorded (and traced with the others) instead of a
+            // seam touching the edge twice.
+            if let Some(c) = self.edge_again_between(e, (place(a), ca), (place(b), cb)) {
+                if self.collapsed(Element::Edge(e), c.edge_s, c.seg, c.s, c.centre, c.r) {
+                    continue;
+                }
+            }
             if let Some(seed) = self.bisect_contacts(e, (place(a), ca), (place(b), cb)) {
                 self.trace_seed(&seed);
                 self.run_queue();
@@ -139,6 +149,30 @@ impl Tracer<'_> {
             centre,
             r,
         })
+    }
+
+    /// The ball between two places on edge `e`'s sheet whose balls touch different elements
+    /// that touches the edge itself a second time, found by bisection (towards the place whose
+    /// ball touches the same element as the midpoint's), if any.
+    fn edge_again_between(
+        &self,
+        e: usize,
+        (mut pa, mut ca): (Place, Contact),
+        (mut pb, _): (Place, Contact),
+    ) -> Option<Contact> {
+        for _ in 0..BISECTIONS {
+            let pm = lerp(pa, pb, 0.5);
+            let cm = self.edge_contact(e, pm)?;
+            if cm.seg == Element::Edge(e) {
+                return Some(cm);
+            }
+            if cm.seg == ca.seg {
+                (pa, ca) = (pm, cm);
+            } else {
+                pb = pm;
+            }
+        }
+        None
     }
 
     /// Bisects between two places on edge `e`'s sheet whose balls touch different elements

@@ -529,13 +529,17 @@ impl Tracer<'_> {
                         // corner blend it runs into); carrying on onto the next face is
                         // not done yet.
                         StepFail::Left { seg, .. } => match self.meets(sys, solid, &end, d, None) {
-                            DegenerateEnd::Open { .. } => open(
-                                DegenerateOpen::LeftFace,
-                                format!(
+                            DegenerateEnd::Open { .. } => {
+                                self.osculated_past(seg, &end).unwrap_or_else(|| {
+                                    open(
+                                        DegenerateOpen::LeftFace,
+                                        format!(
                                     "a touch point left {seg}, and the curve is not carried \
                                      on onto the next face"
                                 ),
-                            ),
+                                    )
+                                })
+                            }
                             met => met,
                         },
                         StepFail::Other(cause, why) => open(cause, why),
@@ -1076,6 +1080,35 @@ impl Tracer<'_> {
                 "its ball stops being empty, but no other element touches it",
             ),
         }
+    }
+
+    /// Where a touch point left edge `seg` at the end of its arc onto a face of the edge that
+    /// the ball `x` osculates there (its radius of curvature towards the ball is `r`: a
+    /// circle's axis reaching the centre of a sphere through the circle, the ball now that
+    /// sphere), the curve ends meeting that face. `None` otherwise.
+    fn osculated_past(&self, seg: Element, x: &DVector<f64>) -> Option<DegenerateEnd> {
+        let Element::Edge(e) = seg else {
+            return None;
+        };
+        let (c, r) = (v3(x), x[3]);
+        self.model.edges[e].faces.iter().find_map(|&g| {
+            let hit = self.boundary.nearest_on_face(
+                self.model,
+                g,
+                c,
+                None,
+                r + 2.0 * self.opts.accuracy,
+            )?;
+            let element = Element::Face(g);
+            let s = [hit.uv.0, hit.uv.1];
+            (!curvature_allows(self.model, element, s, r * (1.0 + OSCULATING_REL_RADIUS))).then(
+                || DegenerateEnd::Meets {
+                    element,
+                    touch: hit.point.to_array(),
+                    osculates: true,
+                },
+            )
+        })
     }
 
     /// How a curve whose ball shrinks to nothing past `x` ends: at the vertex of its
