@@ -106,12 +106,14 @@ impl Tracer<'_> {
             // boss's foot circle, touched all round by the balls on its axis), that is a
             // degenerate curve of the edge, recorded (and traced with the others) instead of a
             // seam touching the edge twice.
-            if let Some(c) = self.edge_again_between(e, (place(a), ca), (place(b), cb)) {
+            let mut again = None;
+            let seed = self.bisect_contacts(e, (place(a), ca), (place(b), cb), &mut again);
+            if let Some(c) = again {
                 if self.collapsed(Element::Edge(e), c.edge_s, c.seg, c.s, c.centre, c.r) {
                     continue;
                 }
             }
-            if let Some(seed) = self.bisect_contacts(e, (place(a), ca), (place(b), cb)) {
+            if let Some(seed) = seed {
                 self.trace_seed(&seed);
                 self.run_queue();
             }
@@ -151,39 +153,17 @@ impl Tracer<'_> {
         })
     }
 
-    /// The ball between two places on edge `e`'s sheet whose balls touch different elements
-    /// that touches the edge itself a second time, found by bisection (towards the place whose
-    /// ball touches the same element as the midpoint's), if any.
-    fn edge_again_between(
-        &self,
-        e: usize,
-        (mut pa, mut ca): (Place, Contact),
-        (mut pb, _): (Place, Contact),
-    ) -> Option<Contact> {
-        for _ in 0..BISECTIONS {
-            let pm = lerp(pa, pb, 0.5);
-            let cm = self.edge_contact(e, pm)?;
-            if cm.seg == Element::Edge(e) {
-                return Some(cm);
-            }
-            if cm.seg == ca.seg {
-                (pa, ca) = (pm, cm);
-            } else {
-                pb = pm;
-            }
-        }
-        None
-    }
-
     /// Bisects between two places on edge `e`'s sheet whose balls touch different elements
     /// to the ball touching both (to the accuracy): a seed on the edge and the two elements,
     /// when their touch points are distinct there (not one element passing into its
-    /// neighbour, as a face into its reflex edge).
+    /// neighbour, as a face into its reflex edge). `again` is set to the first ball on the
+    /// way that touches the edge itself a second time (see [`Self::seed_on_edge`]).
     fn bisect_contacts(
         &self,
         e: usize,
         (mut pa, mut ca): (Place, Contact),
         (mut pb, mut cb): (Place, Contact),
+        again: &mut Option<Contact>,
     ) -> Option<Seed> {
         for _ in 0..BISECTIONS {
             // Close enough for Newton (the seed is refined onto its seam); or one element
@@ -197,6 +177,9 @@ impl Tracer<'_> {
             }
             let pm = lerp(pa, pb, 0.5);
             let cm = self.edge_contact(e, pm)?;
+            if cm.seg == Element::Edge(e) && again.is_none() {
+                *again = Some(cm);
+            }
             if cm.seg == ca.seg {
                 (pa, ca) = (pm, cm);
             } else {
