@@ -144,11 +144,12 @@ impl Source<'_> {
         // Where the search from the nearer end fails (an edge on a short stretch of a long
         // spline, its far vertex in the middle of the curve: a FreeCAD fillet's edge on a
         // sphere), it starts again from the nearest of samples along the curve.
+        let allowed = vertex_gap_allowed(scale, self.uncertainty_mm);
         let search = |p: DVec3, hint: f64| {
             guarded(|| curve.search_nearest_parameter(Point3::new(p.x, p.y, p.z), Some(hint), 100))
                 .ok()
                 .flatten()
-                .filter(|&s| at(s).distance(p) <= vertex_gap_allowed(scale, self.uncertainty_mm))
+                .filter(|&s| at(s).distance(p) <= allowed)
         };
         let proj = |p: DVec3, hint: f64| {
             open_conic_parameter(curve, p)
@@ -163,7 +164,6 @@ impl Source<'_> {
         };
         let s0 = proj(pa, t0);
         let s1 = proj(pb, t1);
-        let allowed = vertex_gap_allowed(scale, self.uncertainty_mm);
         match (s0, s1) {
             (Some(s0), Some(s1))
                 if at(s0).distance(pa) <= allowed && at(s1).distance(pb) <= allowed =>

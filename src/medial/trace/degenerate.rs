@@ -526,19 +526,16 @@ impl Tracer<'_> {
                         StepFail::Vanished { .. } => self.vanishes(sys, &end),
                         // Where the continuum reaches its face's border, the curve ends if
                         // the ball touches something else there (a fillet's axis at the
-                        // corner blend it runs into); carrying on onto the next face is
-                        // not done yet.
+                        // corner blend it runs into), or osculates the face it leaves onto
+                        // (`osculated_past`); carrying on onto the next face is not done yet.
                         StepFail::Left { seg, .. } => match self.meets(sys, solid, &end, d, None) {
                             DegenerateEnd::Open { .. } => {
-                                self.osculated_past(seg, &end).unwrap_or_else(|| {
-                                    open(
-                                        DegenerateOpen::LeftFace,
-                                        format!(
-                                    "a touch point left {seg}, and the curve is not carried \
-                                     on onto the next face"
-                                ),
-                                    )
-                                })
+                                let why = format!(
+                                    "a touch point left {seg}, and the curve is not carried on \
+                                     onto the next face"
+                                );
+                                self.osculated_past(seg, &end)
+                                    .unwrap_or_else(|| open(DegenerateOpen::LeftFace, why))
                             }
                             met => met,
                         },
