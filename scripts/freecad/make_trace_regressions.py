@@ -34,7 +34,9 @@ turns (a step must not land on the arc's far side), and a round bar with a drill
 drill point's apex, reached by the cone's seam edge, is the nearest boundary point of the
 axis's balls), and a tapered pin with a drilled end (the pin's axis runs from its cylinder
 onto its cone, a degenerate curve handed over at a convex circle), and a frustum (a cone's
-axis, whose balls touch it all round along a circle off their centre's plane).
+axis, whose balls touch it all round along a circle off their centre's plane), and a box
+with two edges rounded at one corner, meeting in a mitre (a rim whose faces come to one
+tangent plane at its vertex: its sheet ends there along a free edge).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -1110,6 +1112,32 @@ def tapered_pin_with_a_drilled_end():
       "end at those balls. The medial axis's Euler characteristic is 1, counted.")
 def frustum():
     return Part.makeCone(10, 6, 30)
+
+
+@part("box_with_a_mitred_corner",
+      "Box 40x30x10 (x 0 to 40, y 0 to 30, z 0 to 10) with two edges at its corner (40, 0, "
+      "10) rounded r = 3: the vertical edge x = 40, y = 0 and the top edge x = 40, z = 10. "
+      "The two rounds meet in a mitre: an ellipse between the two cylinders, convex, whose "
+      "angle opens to 180 degrees at its lower end (40, 3, 7), where both rounds are tangent "
+      "to the side face x = 40.",
+      None,
+      "The sheet of the mitre's rim ends at its lower vertex along a free edge: the balls "
+      "tangent to both rounds there, centres (40 - s, 3, 7) and radius s for s from 0 to 3, "
+      "up to the ball at (37, 3, 7) where the two rounds' axes end (each a degenerate curve "
+      "touching its round along a quarter circle). Before, that rim's end was the only arc "
+      "end at the vertex and the sheet did not close. The Euler characteristic is withheld "
+      "(the rounds' axes bound sheets, not yet in the cell count).")
+def box_with_a_mitred_corner():
+    box = Part.makeBox(40, 30, 10)
+
+    def corner_edge(e):
+        p, q = e.Vertexes[0].Point, e.Vertexes[1].Point
+        at_x = abs(p.x - 40) < 1e-9 and abs(q.x - 40) < 1e-9
+        vertical = abs(p.y) < 1e-9 and abs(q.y) < 1e-9
+        top = abs(p.z - 10) < 1e-9 and abs(q.z - 10) < 1e-9
+        return at_x and (vertical or top)
+
+    return box.makeFillet(3, [e for e in box.Edges if corner_edge(e)])
 
 
 def main():

@@ -579,11 +579,21 @@ def check_pinch(part, checks, what, touch, tol):
                   f"of the part (within {tol:.3e} mm)")
 
 
-def check_skeletal(part, checks, touched, k, tol):
+def check_skeletal(part, checks, touched, k, tol, degenerate):
     """A skeletal edge at a vertex: balls on a straight line ending at a vertex of the part
-    (r = 0 there), each touching that vertex alone."""
+    (r = 0 there), each touching that vertex alone; a free edge where a rim flattens out
+    starts at the end ball of each degenerate curve it `meets` (to 4 tol: its ball is found by
+    emptiness, the curve's end is located)."""
     balls = k.get("balls", [])
     what = f"skeletal edge {k.get('id')}"
+    for d, end in k.get("meets", []):
+        curve = degenerate[d] if isinstance(d, int) and 0 <= d < len(degenerate) else {}
+        cb = curve.get("balls") or []
+        b = (cb[0] if end == 0 else cb[-1]) if cb and end in (0, 1) else None
+        ok = bool(balls) and b is not None and finite(b[:3], b[3]) and finite(balls[0][:3], balls[0][3]) \
+            and dist3(b[:3], balls[0][:3]) <= 4 * tol and abs(b[3] - balls[0][3]) <= 4 * tol
+        checks.record("skeletal_edges", ok, lambda: f"{what}: degenerate {d} does not end (end {end}) "
+                      f"at its first ball")
     last = balls[-1] if balls else None
     at = None
     if last is not None and finite(last[:3], last[3]):
@@ -909,7 +919,7 @@ def main():
             check_ball(part, checks, touched, f"degenerate {i} ball {k}", b[:3], b[3], t, need)
         check_degenerate_ends(part, checks, touched, i, d, tol)
     for k in mat.get("skeletal_edges", []):
-        check_skeletal(part, checks, touched, k, tol)
+        check_skeletal(part, checks, touched, k, tol, mat.get("degenerate", []))
     for s in mat.get("seams", []):
         pts = s["points"]
         picks = sorted(set(list(range(0, len(pts), max(1, a.every))) + [len(pts) - 1]))

@@ -491,7 +491,10 @@ impl DegenerateOpen {
 /// one part of the boundary (faces and the reflex edges joining them) met at a vertex of it:
 /// the balls touching only that vertex, centres on the straight line from it through the
 /// seam's last centre, `r` from that ball's down to 0 at the vertex (each inside the last, so
-/// each empty). The sheet of those two elements ends along it.
+/// each empty). The sheet of those two elements ends along it. And where a convex edge
+/// flattens out at its vertex (its two faces tangent there: two fillets meeting in a mitre),
+/// its rim's sheet ends along the same kind of line, the balls tangent to both faces at the
+/// vertex, from the largest of them that is empty down to the vertex.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SkeletalEdge {
     pub id: usize,
@@ -504,6 +507,12 @@ pub struct SkeletalEdge {
     pub segments: [Element; 2],
     /// The vertex it ends at, `r = 0`.
     pub vertex: usize,
+    /// A free edge where a rim flattens out (no seam starts it): the degenerate curves whose
+    /// end ball is its first ball, `[degenerate index, end]` (end 0 or 1). Empty for an edge
+    /// started by seams, and for one whose first ball nothing known ends at (its sheet's
+    /// boundary is then open there).
+    #[serde(default)]
+    pub meets: Vec<[usize; 2]>,
     /// Balls `[x, y, z, r]` from the seam's end to the vertex.
     #[serde(deserialize_with = "nullable::balls")]
     pub balls: Vec<[f64; 4]>,

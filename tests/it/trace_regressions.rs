@@ -1300,3 +1300,41 @@ fn a_short_bosss_foot_circle_has_its_axis() {
         assert_eq!(end["kind"], "meets", "{end}");
     }
 }
+
+/// A box with two edges rounded r = 3 at one corner, meeting in a mitre
+/// (`box_with_a_mitred_corner`): the mitre's rim (an ellipse between the rounds) opens to
+/// 180 degrees at its lower vertex (40, 3, 7), where both rounds are tangent to the side face.
+/// Its sheet ends there along a free edge, the balls tangent to both rounds at the vertex
+/// (centres (40 − s, 3, 7), radius s), from the ball at (37, 3, 7), r = 3, where the two
+/// rounds' axes end, down to the vertex. Before, the rim's end was the only arc end at that
+/// vertex and `sheets_closed` failed; verification and the sheets now close.
+#[test]
+fn a_mitres_rim_ends_in_a_free_edge_where_its_faces_are_tangent() {
+    let report = traced_and_verified("box_with_a_mitred_corner");
+    let edges = report["mat"]["skeletal_edges"].as_array().unwrap();
+    assert_eq!(edges.len(), 1, "{edges:?}");
+    let k = &edges[0];
+    assert!(k["starts"].as_array().unwrap().is_empty(), "{k}");
+    let meets = k["meets"].as_array().unwrap();
+    assert_eq!(
+        meets.len(),
+        2,
+        "both rounds' axes end at its first ball: {k}"
+    );
+    let a = report["stats"]["accuracy"].as_f64().unwrap();
+    let ball = |b: &Value| [0, 1, 2, 3].map(|i| b[i].as_f64().unwrap());
+    let balls: Vec<[f64; 4]> = k["balls"].as_array().unwrap().iter().map(ball).collect();
+    let (first, last) = (balls[0], balls[balls.len() - 1]);
+    let off =
+        |b: [f64; 4], want: [f64; 4]| (0..4).map(|i| (b[i] - want[i]).abs()).fold(0.0, f64::max);
+    assert!(off(first, [37.0, 3.0, 7.0, 3.0]) <= a, "{first:?}");
+    assert!(off(last, [40.0, 3.0, 7.0, 0.0]) <= a, "{last:?}");
+    for b in &balls {
+        assert!(
+            off(*b, [40.0 - b[3], 3.0, 7.0, b[3]]) <= a,
+            "{b:?} off the vertex's normal"
+        );
+    }
+    let checks = &report["stats"]["verification"]["checks"];
+    assert_eq!(checks["sheets_closed"]["failed"], 0, "{checks}");
+}

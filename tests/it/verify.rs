@@ -401,6 +401,48 @@ fn a_skeletal_edge_removed_turned_or_moved_fails() {
     t.both_fail("moved", &moved, &["skeletal_edges"]);
 }
 
+/// The free edge where a mitre's rim opens to 180 degrees (`box_with_a_mitred_corner`): the
+/// genuine report passes both checkers; removed, the rim's sheet is open at its vertex
+/// (`sheets_closed`); shortened to start at r = 2 (still straight, still empty), it no longer
+/// starts where the rounds' axes end (`skeletal_edges`, in both checkers); lengthened to
+/// start at r = 3.5, past the axes, its first balls cut the rounds (`distance`).
+#[test]
+fn a_free_edge_removed_shortened_or_lengthened_fails() {
+    let t = Tampered::new(
+        "trace/box_with_a_mitred_corner.step",
+        "verify::a_free_edge_removed_shortened_or_lengthened_fails",
+    );
+    assert_eq!(
+        t.genuine["mat"]["skeletal_edges"][0]["meets"]
+            .as_array()
+            .map(Vec::len),
+        Some(2),
+        "{}",
+        t.genuine["mat"]["skeletal_edges"]
+    );
+    let mut removed = t.genuine.clone();
+    removed["mat"]["skeletal_edges"] = json!([]);
+    t.verify_fails("removed", &removed, &["sheets_closed"]);
+
+    // The same line of balls tangent at the vertex (40, 3, 7), from radius `r0` down to 0.
+    let line = |r0: f64| -> Value {
+        let balls: Vec<Value> = (0..9)
+            .map(|i| {
+                let r = r0 * (8 - i) as f64 / 8.0;
+                json!([40.0 - r, 3.0, 7.0, r])
+            })
+            .collect();
+        json!(balls)
+    };
+    let mut shortened = t.genuine.clone();
+    shortened["mat"]["skeletal_edges"][0]["balls"] = line(2.0);
+    t.both_fail("shortened", &shortened, &["skeletal_edges"]);
+
+    let mut lengthened = t.genuine.clone();
+    lengthened["mat"]["skeletal_edges"][0]["balls"] = line(3.5);
+    t.both_fail("lengthened", &lengthened, &["distance"]);
+}
+
 /// The seam from a square pyramid's apex is touched by all four side faces (a non-generic
 /// seam): the genuine report names the four in their order round it (each touch point nearer
 /// its neighbours than the one across) and passes both checkers, every sheet boundary closed.

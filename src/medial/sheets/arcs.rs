@@ -245,15 +245,21 @@ pub(super) fn convex_kinks(
 }
 
 /// Adds the skeletal edges to `arcs`: each runs from its ball to its vertex, on its pair.
+/// One that starts at degenerate curves' end ball (a free edge where a rim flattens out, up
+/// to the fillets' axes) has no node there: degenerate curves are not in the graph yet.
 pub(super) fn add_skeletal(mat: &MedialAxis, groups: &SegmentGroups, arcs: &mut Vec<Arc>) {
     for k in &mat.skeletal_edges {
-        arcs.push(Arc::between(
+        let mut arc = Arc::between(
             BoundaryRef::Skeletal(k.id),
             k.solid,
             [Place::Skeletal(k.id), Place::Node(Node::Vertex(k.vertex))],
             k.segments,
             groups,
-        ));
+        );
+        if k.starts.is_empty() && !k.meets.is_empty() {
+            arc.ends[0] = None;
+        }
+        arcs.push(arc);
     }
 }
 

@@ -627,6 +627,12 @@ fn withheld(
         Some("the solid has mixed edges (convex along part, reflex along the rest)".into())
     } else if let Some(why) = degenerate_withheld(mat, solid, has_arcs) {
         Some(why)
+    } else if mat
+        .skeletal_edges
+        .iter()
+        .any(|k| k.solid == solid && !k.meets.is_empty())
+    {
+        Some("skeletal edges end at degenerate curves, which are not in the cell count yet".into())
     } else if mat.seams.iter().enumerate().any(|(i, s)| {
         s.solid == solid
             && (0..2).any(|end| {

@@ -316,6 +316,30 @@ fn check_skeletal_edges(model: &Model, axis: &MedialAxis, v: &mut Verification) 
                 k.id, k.vertex
             )
         });
+        // A free edge where a rim flattens out starts at the end ball of the degenerate
+        // curves it names (the emptiness search finds that ball to a fraction of the
+        // accuracy, the curve's end is found to it: they agree to four accuracies).
+        for &[d, end] in &k.meets {
+            let ends_here = axis.degenerate.get(d).is_some_and(|g| {
+                let b = if end == 0 {
+                    g.balls.first()
+                } else {
+                    g.balls.last()
+                };
+                g.kind == DegenerateKind::Curve
+                    && end < 2
+                    && b.is_some_and(|b| {
+                        let (c, r) = ball(b);
+                        c.distance(c0) <= 4.0 * a && (r - r0).abs() <= 4.0 * a
+                    })
+            });
+            v.record("skeletal_edges", ends_here, || {
+                format!(
+                    "skeletal edge {}: degenerate {d} does not end (end {end}) at its first ball",
+                    k.id
+                )
+            });
+        }
         for &[s, end] in &k.starts {
             let seam = &axis.seams[s];
             let (point, segs) = seam.at_end(end);
