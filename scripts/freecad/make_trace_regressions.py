@@ -36,7 +36,9 @@ axis's balls), and a tapered pin with a drilled end (the pin's axis runs from it
 onto its cone, a degenerate curve handed over at a convex circle), and a frustum (a cone's
 axis, whose balls touch it all round along a circle off their centre's plane), and a box
 with two edges rounded at one corner, meeting in a mitre (a rim whose faces come to one
-tangent plane at its vertex: its sheet ends there along a free edge).
+tangent plane at its vertex: its sheet ends there along a free edge), and a bar whose rounded
+edge ends against a block's wall, square and skew (the rim above the round ends at the vertex
+where the round is tangent to the top: a free edge again).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -1138,6 +1140,48 @@ def box_with_a_mitred_corner():
         return at_x and (vertical or top)
 
     return box.makeFillet(3, [e for e in box.Edges if corner_edge(e)])
+
+
+def bar_into_a_block(block):
+    """A bar 20x12x8 (x 0 to 20, y 0 to 12, z 0 to 8) fused to `block` (as high) at its end
+    x = 20, its edge between the top z = 8 and the side y = 0 rounded r = 3 up to the block."""
+    s = Part.makeBox(20, 12, 8).fuse(block).removeSplitter()
+    edge = [e for e in s.Edges
+            if e.BoundBox.ZMin > 8 - 1e-9 and e.BoundBox.YMax < 1e-9 and e.BoundBox.XMin < 1e-9]
+    return s.makeFillet(3, edge)
+
+
+@part("round_ending_at_a_wall",
+      "A bar 20x12x8 (x 0 to 20, y 0 to 12, z 0 to 8) running into a block 10x17x8 (x 20 to "
+      "30, y -5 to 12), its edge between its top and its side y = 0 rounded r = 3 up to the "
+      "block's wall x = 20. The round ends against the wall in a quarter circle (a reflex "
+      "edge); above it the wall shows a sliver between the circle and the top, which narrows "
+      "to nothing at the vertex (20, 3, 8) where the round is tangent to the top.",
+      None,
+      "The sheet of the top and the sliver (the rim of their convex edge) goes on past the "
+      "sliver's foot as the sheet of the top and the quarter circle, whose two touch points "
+      "meet at (20, 3, 8): it ends along a free edge, the balls tangent to the top there, "
+      "centres (20, 3, 8 - s) and radius s, up to the ball at (20, 3, 5), r = 3, on the "
+      "round's axis (a degenerate curve touching the round along a quarter circle). Before, "
+      "the rim's end was the only arc end at that vertex and the sheet did not close.")
+def round_ending_at_a_wall():
+    return bar_into_a_block(Part.makeBox(10, 17, 8, V(20, -5, 0)))
+
+
+@part("round_ending_at_a_skew_wall",
+      "round_ending_at_a_wall with the block turned 30 degrees about the vertical line x = 20, "
+      "y = 0 (a block 10x22x8 from (20, -8, 0), turned): the round ends against the skew wall "
+      "in an ellipse, and the vertex where it is tangent to the top is (18.268, 3, 8).",
+      None,
+      "As in round_ending_at_a_wall, the sheet of the top and the wall's sliver ends along a "
+      "free edge from (18.268, 3, 8) straight down to the round's axis, centres (18.268, 3, "
+      "8 - s), radius s up to 3; the axis goes on past that ball (its arc of contact narrowing "
+      "to the vertex (20, 0, 5) where the ellipse meets the bar's side), so the free edge meets "
+      "it between two of its balls.")
+def round_ending_at_a_skew_wall():
+    block = Part.makeBox(10, 22, 8, V(20, -8, 0))
+    block.rotate(V(20, 0, 0), V(0, 0, 1), 30)
+    return bar_into_a_block(block)
 
 
 def main():

@@ -579,21 +579,36 @@ def check_pinch(part, checks, what, touch, tol):
                   f"of the part (within {tol:.3e} mm)")
 
 
+def on_polyline(balls, b, tol):
+    """True when ball b ([x, y, z, r]) is within tol (centre and radius) of a point of the
+    polyline of balls (or of its one ball)."""
+    def close(p):
+        return dist3(p[:3], b[:3]) <= tol and abs(p[3] - b[3]) <= tol
+    if any(close(p) for p in balls):
+        return True
+    for p, q in zip(balls, balls[1:]):
+        d = [q[j] - p[j] for j in range(4)]
+        dd = sum(x * x for x in d[:3])
+        t = 0.0 if dd == 0 else max(0.0, min(1.0, sum((b[j] - p[j]) * d[j] for j in range(3)) / dd))
+        if close([p[j] + t * d[j] for j in range(4)]):
+            return True
+    return False
+
+
 def check_skeletal(part, checks, touched, k, tol, degenerate):
     """A skeletal edge at a vertex: balls on a straight line ending at a vertex of the part
-    (r = 0 there), each touching that vertex alone; a free edge where a rim flattens out
-    starts at the end ball of each degenerate curve it `meets` (to 4 tol: its ball is found by
-    emptiness, the curve's end is located)."""
+    (r = 0 there), each touching that vertex alone; a free edge where a rim's sheet ends
+    starts on each degenerate curve it `meets` [d, i], at its ball i or between its balls i and
+    i + 1 (to 4 tol: its ball is found by emptiness, the curve's balls are located)."""
     balls = k.get("balls", [])
     what = f"skeletal edge {k.get('id')}"
-    for d, end in k.get("meets", []):
+    for d, i in k.get("meets", []):
         curve = degenerate[d] if isinstance(d, int) and 0 <= d < len(degenerate) else {}
-        cb = curve.get("balls") or []
-        b = (cb[0] if end == 0 else cb[-1]) if cb and end in (0, 1) else None
-        ok = bool(balls) and b is not None and finite(b[:3], b[3]) and finite(balls[0][:3], balls[0][3]) \
-            and dist3(b[:3], balls[0][:3]) <= 4 * tol and abs(b[3] - balls[0][3]) <= 4 * tol
-        checks.record("skeletal_edges", ok, lambda: f"{what}: degenerate {d} does not end (end {end}) "
-                      f"at its first ball")
+        cb = (curve.get("balls") or [])[i:i + 2] if isinstance(i, int) and i >= 0 else []
+        ok = bool(balls) and bool(cb) and all(finite(b[:3], b[3]) for b in cb + balls[:1]) \
+            and on_polyline(cb, balls[0], 4 * tol)
+        checks.record("skeletal_edges", ok, lambda: f"{what}: its first ball is not on degenerate {d} "
+                      f"at its ball {i}")
     last = balls[-1] if balls else None
     at = None
     if last is not None and finite(last[:3], last[3]):

@@ -6,6 +6,7 @@
 use crate::classify::{EdgeKind, VertexKind};
 use crate::medial::solver::SolveStatus;
 use crate::model::Element;
+use glam::DVec3;
 use std::fmt;
 
 /// One point of a seam.
@@ -507,15 +508,37 @@ pub struct SkeletalEdge {
     pub segments: [Element; 2],
     /// The vertex it ends at, `r = 0`.
     pub vertex: usize,
-    /// A free edge where a rim flattens out (no seam starts it): the degenerate curves whose
-    /// end ball is its first ball, `[degenerate index, end]` (end 0 or 1). Empty for an edge
-    /// started by seams, and for one whose first ball nothing known ends at (its sheet's
-    /// boundary is then open there).
+    /// A free edge where a rim's sheet ends (no seam starts it): the degenerate curves its
+    /// first ball lies on, `[degenerate index, k]`: at that curve's ball `k` or between its
+    /// balls `k` and `k + 1` (see [`ball_on_polyline`]). Empty for an edge started by seams,
+    /// and for one whose first ball is on nothing known (its sheet's boundary is then open
+    /// there).
     #[serde(default)]
     pub meets: Vec<[usize; 2]>,
     /// Balls `[x, y, z, r]` from the seam's end to the vertex.
     #[serde(deserialize_with = "nullable::balls")]
     pub balls: Vec<[f64; 4]>,
+}
+
+/// Where ball `(c, r)` lies on the polyline of `balls` `[x, y, z, r]` (centre and radius
+/// within `near` of a point of one of its segments, or of its one ball): the index of the
+/// ball starting that segment (the last ball's own index where it is that ball).
+pub fn ball_on_polyline(balls: &[[f64; 4]], c: DVec3, r: f64, near: f64) -> Option<usize> {
+    let at = |b: &[f64; 4]| (DVec3::new(b[0], b[1], b[2]), b[3]);
+    let close = |(p, s): (DVec3, f64)| p.distance(c) <= near && (s - r).abs() <= near;
+    if let Some(k) = balls.iter().position(|b| close(at(b))) {
+        return Some(k);
+    }
+    balls.windows(2).position(|w| {
+        let ((p, rp), (q, rq)) = (at(&w[0]), at(&w[1]));
+        let d = q - p;
+        let t = if d.length_squared() > 0.0 {
+            ((c - p).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        close((p + t * d, rp + t * (rq - rp)))
+    })
 }
 
 /// Counters of a trace.

@@ -1301,6 +1301,56 @@ fn a_short_bosss_foot_circle_has_its_axis() {
     }
 }
 
+/// The free edge of `part` (the only skeletal edge), checked to run straight down from
+/// `vertex` (the top's normal there is +z) to the ball of radius `r` on the degenerate curves
+/// it meets (`meets` of them), every ball tangent at the vertex, and the sheets closed.
+fn free_edge_down_from(part: &str, vertex: [f64; 3], r: f64, meets: usize) {
+    let report = traced_and_verified(part);
+    let edges = report["mat"]["skeletal_edges"].as_array().unwrap();
+    assert_eq!(edges.len(), 1, "{part}: {edges:?}");
+    let k = &edges[0];
+    assert!(k["starts"].as_array().unwrap().is_empty(), "{part}: {k}");
+    assert_eq!(k["meets"].as_array().unwrap().len(), meets, "{part}: {k}");
+    let a = report["stats"]["accuracy"].as_f64().unwrap();
+    let ball = |b: &Value| [0, 1, 2, 3].map(|i| b[i].as_f64().unwrap());
+    let balls: Vec<[f64; 4]> = k["balls"].as_array().unwrap().iter().map(ball).collect();
+    let off =
+        |b: [f64; 4], want: [f64; 4]| (0..4).map(|i| (b[i] - want[i]).abs()).fold(0.0, f64::max);
+    let [x, y, z] = vertex;
+    assert!(
+        off(balls[0], [x, y, z - r, r]) <= a,
+        "{part}: {:?}",
+        balls[0]
+    );
+    assert!(
+        off(balls[balls.len() - 1], [x, y, z, 0.0]) <= a,
+        "{part}: {balls:?}"
+    );
+    for b in &balls {
+        assert!(
+            off(*b, [x, y, z - b[3], b[3]]) <= a,
+            "{part}: {b:?} off the normal"
+        );
+    }
+    let checks = &report["stats"]["verification"]["checks"];
+    assert_eq!(checks["sheets_closed"]["failed"], 0, "{part}: {checks}");
+}
+
+/// A bar whose top edge is rounded r = 3 up to a block's wall, square
+/// (`round_ending_at_a_wall`) and turned 30 degrees (`round_ending_at_a_skew_wall`): the rim
+/// between the top and the wall's sliver above the round ends where the round is tangent to
+/// the top, (20, 3, 8) and (18.268, 3, 8). Its sheet goes on past the sliver's foot as the
+/// sheet of the top and the reflex edge where the round meets the wall, whose touch points
+/// meet at that vertex: a free edge runs from there straight down to the round's axis (at its
+/// end at the square wall, between two of its balls at the skew one). Before, the rim's end was
+/// the only arc end at the vertex and `sheets_closed` failed.
+#[test]
+fn a_rim_over_a_round_ending_at_a_wall_ends_in_a_free_edge() {
+    free_edge_down_from("round_ending_at_a_wall", [20.0, 3.0, 8.0], 3.0, 1);
+    let x = 20.0 - 3.0 * 30f64.to_radians().tan();
+    free_edge_down_from("round_ending_at_a_skew_wall", [x, 3.0, 8.0], 3.0, 1);
+}
+
 /// A box with two edges rounded r = 3 at one corner, meeting in a mitre
 /// (`box_with_a_mitred_corner`): the mitre's rim (an ellipse between the rounds) opens to
 /// 180 degrees at its lower vertex (40, 3, 7), where both rounds are tangent to the side face.

@@ -23,9 +23,10 @@ const VERTEX_LINE_BALLS: usize = 9;
 /// accuracies tangent at the vertex is empty (a shorter one is a vertex's rounding).
 const FREE_EDGE_MIN_ACCURACIES: f64 = 16.0;
 
-/// A free edge's largest ball is a degenerate curve's end ball when centres and radii agree
-/// to this many accuracies (the edge's ball is found to an eighth of the accuracy by
-/// emptiness, which grows only linearly past it; the curve's end to the accuracy).
+/// A free edge's largest ball is on a degenerate curve when its centre and radius are this
+/// many accuracies from the curve's polyline of balls (the edge's ball is found to an eighth
+/// of the accuracy by emptiness, which grows only linearly past it; the curve's balls to the
+/// accuracy).
 const FREE_EDGE_MEETS_ACCURACIES: f64 = 4.0;
 
 impl Tracer<'_> {
@@ -82,15 +83,23 @@ impl Tracer<'_> {
         out
     }
 
-    /// The free edges where a rim flattens out: at each end of a convex edge where its two
-    /// faces are tangent (smooth to the classification's angle tolerance: two fillets of one
-    /// radius meeting in a mitre, both tangent to the side face at the mitre's end), the
-    /// sheet between the faces ends along the line of balls tangent to both there, centres
-    /// `V − s·n` and radius `s`, from the largest of them that is empty down to the vertex
-    /// (each lies inside the next, so emptiness decides one radius). Where a degenerate curve
-    /// ends at that largest ball (the fillets' axes meeting), the edge meets it; otherwise
-    /// nothing known ends there and the sheet's boundary stays open (verification says so).
-    /// Not where a skeletal edge of the same two faces already ends at the vertex.
+    /// The free edges where a rim's sheet ends at its vertex with its two touch points
+    /// together: at each end `V` of a convex edge between faces `A` and `B`,
+    /// - where the edge flattens out (smooth at `V` by the classification's angle tolerance:
+    ///   two rounds of one radius meeting in a mitre, both tangent to the side face at the
+    ///   mitre's end), along the faces' common normal `n` there;
+    /// - where `V`'s other edges are a smooth one joining `A` to a face `C` and a reflex one
+    ///   joining `B` to `C` (a round ending against a wall: `A` the top the round is tangent
+    ///   to, `B` the wall above the round, which narrows to nothing at `V`), along `A`'s
+    ///   normal `n` there: the sheet of `A` and `B` goes on past the wall's foot as the sheet
+    ///   of `A` and that reflex edge, whose two touch points meet at `V`;
+    ///
+    /// the line of balls tangent to the boundary at `V`, centres `V − s·n` and radius `s`, from
+    /// the largest of them that is empty down to the vertex (each lies inside the next, so
+    /// emptiness decides one radius). Where a degenerate curve passes through that largest
+    /// ball (the rounds' axes), the edge meets it; otherwise nothing known ends there and the
+    /// sheet's boundary stays open (verification says so). Not where a skeletal edge already
+    /// ends at the vertex (one a seam's end found).
     fn flat_rim_ends(&self, out: &mut Vec<SkeletalEdge>) {
         let tol = crate::classify::DEFAULT_ANGLE_TOL_DEG.to_radians();
         for (e, edge) in self.model.edges.iter().enumerate() {
@@ -104,25 +113,36 @@ impl Tracer<'_> {
             let pair = [Element::Face(fa), Element::Face(fb)];
             for (end, &v) in edge.vertices.iter().enumerate() {
                 let t = if end == 0 { edge.range.0 } else { edge.range.1 };
-                if crate::classify::edge_kind_at(self.model, e, t, tol).0 != EdgeKind::Smooth {
-                    continue;
-                }
-                let done = out.iter().any(|k| {
-                    k.vertex == v && (k.segments == pair || k.segments == [pair[1], pair[0]])
-                });
+                // A skeletal edge a seam started at this vertex is that free edge already.
+                let done = out.iter().any(|k| k.vertex == v);
                 if done {
                     continue;
                 }
                 let p = self.model.vertices[v].point;
                 let normal = |f| self.edge_face_normal(e, f, t, p).map(|(_, n)| n);
-                let (Some(na), Some(nb)) = (normal(fa), normal(fb)) else {
-                    continue;
-                };
-                let n = (na + nb).normalize_or_zero();
+                let n =
+                    if crate::classify::edge_kind_at(self.model, e, t, tol).0 == EdgeKind::Smooth {
+                        let (Some(na), Some(nb)) = (normal(fa), normal(fb)) else {
+                            continue;
+                        };
+                        (na + nb).normalize_or_zero()
+                    } else if let Some(x) = self.round_against_a_wall(e, v, [fa, fb]) {
+                        let Some(n) = normal(x) else { continue };
+                        n
+                    } else {
+                        continue;
+                    };
                 let solid = self.face_solid[fa];
-                let Some(r) = self.largest_tangent_ball(solid, p, n) else {
+                let Some(largest) = self.largest_tangent_ball(solid, p, n) else {
                     continue;
                 };
+                // Where a degenerate curve crosses the line below the largest empty ball (a
+                // round's axis whose arc of contact narrows to the vertex there: past its
+                // ball the line's balls are empty but touch the vertex alone), the free edge
+                // starts on it.
+                let r = self
+                    .degenerate_on_line(solid, p, n, largest)
+                    .unwrap_or(largest);
                 let c = p - r * n;
                 let ball = [c.x, c.y, c.z, r];
                 out.push(SkeletalEdge {
@@ -132,10 +152,40 @@ impl Tracer<'_> {
                     segments: pair,
                     vertex: v,
                     balls: self.vertex_line(ball, v),
-                    meets: self.degenerate_ends_at(solid, c, r),
+                    meets: self.degenerate_balls_at(solid, c, r),
                 });
             }
         }
+    }
+
+    /// At vertex `v` of convex edge `e` between faces `faces`: where `v`'s other edges are
+    /// exactly a smooth one joining one of the faces to a third face `C` and a reflex one
+    /// joining the other to `C`, the face joined smoothly (whose normal at `v` is `C`'s).
+    fn round_against_a_wall(&self, e: usize, v: usize, faces: [usize; 2]) -> Option<usize> {
+        let others: Vec<usize> = self.vertex_edges[v]
+            .iter()
+            .map(|&(g, _)| g)
+            .filter(|&g| g != e)
+            .collect();
+        let [g, h] = others[..] else { return None };
+        let kind = |g: usize| self.class.edges[g].kind;
+        let (smooth, reflex) = match (kind(g), kind(h)) {
+            (EdgeKind::Smooth, EdgeKind::Reflex) => (g, h),
+            (EdgeKind::Reflex, EdgeKind::Smooth) => (h, g),
+            _ => return None,
+        };
+        let ends = |g: usize| match self.model.edges[g].faces[..] {
+            [a, b] if a != b => Some([a, b]),
+            _ => None,
+        };
+        let (s, r) = (ends(smooth)?, ends(reflex)?);
+        faces.into_iter().find(|&x| {
+            let y = faces[0] + faces[1] - x;
+            s.contains(&x)
+                && r.contains(&y)
+                && s.iter()
+                    .any(|&c| c != x && !faces.contains(&c) && r.contains(&c))
+        })
     }
 
     /// The radius of the largest empty ball tangent to the boundary at `p` with outward
@@ -171,20 +221,50 @@ impl Tracer<'_> {
         Some(lo)
     }
 
-    /// The ends of degenerate curves of `solid` whose ball is the ball at `c` of radius `r`
-    /// (to [`FREE_EDGE_MEETS_ACCURACIES`] accuracies): `[degenerate index, end]`.
-    fn degenerate_ends_at(&self, solid: usize, c: DVec3, r: f64) -> Vec<[usize; 2]> {
+    /// The largest `s` up to `largest` (and a quarter of the accuracy past it) at which the
+    /// line of balls `(p − s·n, s)` passes within [`FREE_EDGE_MEETS_ACCURACIES`] accuracies of the
+    /// polyline of a degenerate curve of `solid` (nearest approach of each segment, in centre
+    /// and radius, to the line).
+    fn degenerate_on_line(&self, solid: usize, p: DVec3, n: DVec3, largest: f64) -> Option<f64> {
+        let near = FREE_EDGE_MEETS_ACCURACIES * self.opts.accuracy;
+        // Past the largest empty ball only by what its search leaves open (a ball further
+        // out would not pass the distance check; a curve that close is met there anyway).
+        let slack = 0.25 * self.opts.accuracy;
+        let mut best: Option<f64> = None;
+        for d in &self.degenerate {
+            if d.solid != solid || d.kind != DegenerateKind::Curve {
+                continue;
+            }
+            let at = |b: &[f64; 4]| (DVec3::new(b[0], b[1], b[2]), b[3]);
+            let pieces: Vec<[(DVec3, f64); 2]> = match d.balls.len() {
+                0 => vec![],
+                1 => vec![[at(&d.balls[0]), at(&d.balls[0])]],
+                _ => d.balls.windows(2).map(|w| [at(&w[0]), at(&w[1])]).collect(),
+            };
+            for [(a, ra), (b, rb)] in pieces {
+                let Some((s, gap)) = line_meets_segment(p, n, (a, ra), (b, rb)) else {
+                    continue;
+                };
+                if gap <= near && s > 0.0 && s <= largest + slack && best.is_none_or(|m| s > m) {
+                    best = Some(s);
+                }
+            }
+        }
+        best
+    }
+
+    /// The degenerate curves of `solid` that pass through the ball at `c` of radius `r` (to
+    /// [`FREE_EDGE_MEETS_ACCURACIES`] accuracies, between two of their consecutive balls, or
+    /// at a curve's one ball): `[degenerate index, k]`, the ball at or after which it does.
+    fn degenerate_balls_at(&self, solid: usize, c: DVec3, r: f64) -> Vec<[usize; 2]> {
         let near = FREE_EDGE_MEETS_ACCURACIES * self.opts.accuracy;
         let mut out = vec![];
         for (i, d) in self.degenerate.iter().enumerate() {
-            if d.solid != solid || d.kind != DegenerateKind::Curve || d.balls.is_empty() {
+            if d.solid != solid || d.kind != DegenerateKind::Curve {
                 continue;
             }
-            for (end, b) in [(0, d.balls[0]), (1, d.balls[d.balls.len() - 1])] {
-                let at = DVec3::new(b[0], b[1], b[2]);
-                if at.distance(c) <= near && (b[3] - r).abs() <= near {
-                    out.push([i, end]);
-                }
+            if let Some(k) = crate::medial::axis::ball_on_polyline(&d.balls, c, r, near) {
+                out.push([i, k]);
             }
         }
         out
@@ -237,5 +317,99 @@ impl Tracer<'_> {
                 [q.x, q.y, q.z, r]
             })
             .collect()
+    }
+}
+
+/// The nearest approach, in centre and radius (`[x, y, z, r]` as a point of 4-space), of the
+/// line of balls `(p − s·n, s)` (`n` a unit vector) to the segment of balls from `(a, ra)` to
+/// `(b, rb)`: the line's `s` there and the distance; `None` when they are parallel.
+fn line_meets_segment(
+    p: DVec3,
+    n: DVec3,
+    (a, ra): (DVec3, f64),
+    (b, rb): (DVec3, f64),
+) -> Option<(f64, f64)> {
+    use nalgebra::{Matrix2, Vector2, Vector4};
+    let four = |c: DVec3, r: f64| Vector4::new(c.x, c.y, c.z, r);
+    // Line: L(s) = P + s·U; segment: A + t·D, t in [0, 1].
+    let (big_p, u) = (four(p, 0.0), four(-n, 1.0));
+    let (big_a, big_d) = (four(a, ra), four(b - a, rb - ra));
+    let at = |s: f64, t: f64| ((big_p + u * s) - (big_a + big_d * t)).norm();
+    let s_for = |t: f64| (big_a + big_d * t - big_p).dot(&u) / u.dot(&u);
+    if big_d.norm() == 0.0 {
+        let s = s_for(0.0);
+        return Some((s, at(s, 0.0)));
+    }
+    // Normal equations of min |P + s·U − A − t·D|².
+    let m = Matrix2::new(u.dot(&u), -u.dot(&big_d), -u.dot(&big_d), big_d.dot(&big_d));
+    let w = big_a - big_p;
+    let rhs = Vector2::new(u.dot(&w), -big_d.dot(&w));
+    let st = m.lu().solve(&rhs)?;
+    let t = st[1].clamp(0.0, 1.0);
+    let s = s_for(t);
+    Some((s, at(s, t)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The line of balls tangent at the origin under the plane z = 0 (centres (0, 0, −s),
+    /// radius s) meets a round's axis along x at depth 3 (balls of radius 3) where it crosses
+    /// it, at s = 3, exactly; an axis 0.5 off to the side passes at a distance of 0.5; balls
+    /// of the wrong radius on the crossing axis are as far off as their radius is.
+    #[test]
+    fn a_line_of_tangent_balls_meets_an_axis_where_it_crosses_it() {
+        let n = DVec3::Z;
+        let axis = |y: f64, r: f64| {
+            (
+                (DVec3::new(-5.0, y, -3.0), r),
+                (DVec3::new(5.0, y, -3.0), r),
+            )
+        };
+        let ((a, ra), (b, rb)) = axis(0.0, 3.0);
+        let (s, gap) = line_meets_segment(DVec3::ZERO, n, (a, ra), (b, rb)).unwrap();
+        assert!((s - 3.0).abs() < 1e-12 && gap < 1e-12, "{s} {gap}");
+        let ((a, ra), (b, rb)) = axis(0.5, 3.0);
+        let (s, gap) = line_meets_segment(DVec3::ZERO, n, (a, ra), (b, rb)).unwrap();
+        assert!(
+            (s - 3.0).abs() < 1e-12 && (gap - 0.5).abs() < 1e-12,
+            "{s} {gap}"
+        );
+        let ((a, ra), (b, rb)) = axis(0.0, 2.0);
+        let (_, gap) = line_meets_segment(DVec3::ZERO, n, (a, ra), (b, rb)).unwrap();
+        assert!((gap - 0.5f64.sqrt()).abs() < 1e-12, "{gap}");
+        // A segment that stops short of the line: its end is the nearest approach.
+        let (s, gap) = line_meets_segment(
+            DVec3::ZERO,
+            n,
+            (DVec3::new(-5.0, 0.0, -3.0), 3.0),
+            (DVec3::new(-1.0, 0.0, -3.0), 3.0),
+        )
+        .unwrap();
+        assert!(
+            (s - 3.0).abs() < 1e-12 && (gap - 1.0).abs() < 1e-12,
+            "{s} {gap}"
+        );
+    }
+
+    /// A ball on a polyline of balls is found on the segment it lies on (between balls 1
+    /// and 2 here), or at a ball it is; one off by more than `near` in centre or radius is
+    /// not.
+    #[test]
+    fn a_ball_is_on_a_polyline_of_balls_between_two_of_them_or_at_one() {
+        use crate::medial::axis::ball_on_polyline;
+        let balls = [
+            [0.0, 0.0, 0.0, 1.0],
+            [1.0, 0.0, 0.0, 1.0],
+            [2.0, 0.0, 0.0, 2.0],
+        ];
+        let on = |x: f64, y: f64, r: f64| ball_on_polyline(&balls, DVec3::new(x, y, 0.0), r, 1e-6);
+        assert_eq!(on(1.5, 0.0, 1.5), Some(1));
+        assert_eq!(on(2.0, 0.0, 2.0), Some(2));
+        assert_eq!(on(0.5, 0.0, 1.0), Some(0));
+        assert_eq!(on(1.5, 1e-3, 1.5), None);
+        assert_eq!(on(1.5, 0.0, 1.6), None);
+        assert_eq!(on(2.5, 0.0, 2.5), None);
     }
 }

@@ -316,26 +316,19 @@ fn check_skeletal_edges(model: &Model, axis: &MedialAxis, v: &mut Verification) 
                 k.id, k.vertex
             )
         });
-        // A free edge where a rim flattens out starts at the end ball of the degenerate
-        // curves it names (the emptiness search finds that ball to a fraction of the
-        // accuracy, the curve's end is found to it: they agree to four accuracies).
-        for &[d, end] in &k.meets {
-            let ends_here = axis.degenerate.get(d).is_some_and(|g| {
-                let b = if end == 0 {
-                    g.balls.first()
-                } else {
-                    g.balls.last()
-                };
+        // A free edge where a rim's sheet ends starts on the degenerate curves it names, at
+        // ball `i` of each or between its balls `i` and `i + 1` (the emptiness search finds
+        // that ball to a fraction of the accuracy, the curve's balls are found to it: they
+        // agree to four accuracies).
+        for &[d, i] in &k.meets {
+            let on = axis.degenerate.get(d).is_some_and(|g| {
+                let piece = g.balls.get(i..(i + 2).min(g.balls.len())).unwrap_or(&[]);
                 g.kind == DegenerateKind::Curve
-                    && end < 2
-                    && b.is_some_and(|b| {
-                        let (c, r) = ball(b);
-                        c.distance(c0) <= 4.0 * a && (r - r0).abs() <= 4.0 * a
-                    })
+                    && crate::medial::axis::ball_on_polyline(piece, c0, r0, 4.0 * a).is_some()
             });
-            v.record("skeletal_edges", ends_here, || {
+            v.record("skeletal_edges", on, || {
                 format!(
-                    "skeletal edge {}: degenerate {d} does not end (end {end}) at its first ball",
+                    "skeletal edge {}: its first ball is not on degenerate {d} at its ball {i}",
                     k.id
                 )
             });
