@@ -57,6 +57,7 @@ pub fn trace_with_seeds(
     t.stats.duplicate_seams += t.drop_repeated_seams();
     t.stats.duplicate_seams += t.drop_seams_through_junctions();
     t.stats.non_generic_seams = t.seams.iter().filter(|s| s.segments.len() > 3).count();
+    t.sample_rounds_at_free_edges();
     t.trace_degenerates();
     t.into_axis()
 }

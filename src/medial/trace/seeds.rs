@@ -204,6 +204,16 @@ impl Tracer<'_> {
         })
     }
 
+    /// Records the maximal ball touching face `f` at `s` as a degenerate ball when it is one
+    /// (see [`Self::collapsed`]); seeds nothing else.
+    pub(super) fn sample_for_degenerate(&mut self, f: usize, s: [f64; 2]) -> bool {
+        let Some(ball) = self.sheet_ball(f, s) else {
+            return false;
+        };
+        let (seg, s2) = ball.seg;
+        self.collapsed(Element::Face(f), s, seg, s2, ball.centre, ball.r)
+    }
+
     /// Points of face `f` to sample from: the centres of a grid of cells over its domain that
     /// are on the face, the grid made finer (up to [`MAX_SAMPLE_GRID`] cells a side) while
     /// fewer than [`MIN_FACE_SAMPLES`] are (a thin face: a tube's annular end, a narrow

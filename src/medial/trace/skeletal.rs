@@ -16,6 +16,18 @@ use crate::medial::axis::{DegenerateKind, SeamEnd, SkeletalEdge};
 use crate::model::Element;
 use glam::DVec3;
 
+/// A rim end where a free edge starts (see [`Tracer::flat_rim_ends`]).
+struct FreeEdgeStart {
+    vertex: usize,
+    /// The rim's two faces.
+    pair: [Element; 2],
+    /// The outward normal at the vertex the free edge runs against (`V − s·n`).
+    normal: DVec3,
+    /// The faces tangent to the plane of that normal at the vertex: where a round's axis
+    /// the free edge runs to is looked for.
+    tangent: Vec<usize>,
+}
+
 /// Balls written along a skeletal edge at a vertex (it is straight, `r` linear along it).
 const VERTEX_LINE_BALLS: usize = 9;
 
@@ -101,7 +113,48 @@ impl Tracer<'_> {
     /// sheet's boundary stays open (verification says so). Not where a skeletal edge already
     /// ends at the vertex (one a seam's end found).
     fn flat_rim_ends(&self, out: &mut Vec<SkeletalEdge>) {
+        for start in self.free_edge_starts() {
+            // A skeletal edge a seam started at this vertex is that free edge already.
+            if out.iter().any(|k| k.vertex == start.vertex) {
+                continue;
+            }
+            let FreeEdgeStart {
+                vertex: v,
+                pair,
+                normal: n,
+                ..
+            } = start;
+            let p = self.model.vertices[v].point;
+            let solid = self.solid_of(pair[0]);
+            let Some(largest) = self.largest_tangent_ball(solid, p, n) else {
+                continue;
+            };
+            // Where a degenerate curve crosses the line below the largest empty ball (a
+            // round's axis whose arc of contact narrows to the vertex there: past its ball
+            // the line's balls are empty but touch the vertex alone), the free edge starts
+            // on it.
+            let r = self
+                .degenerate_on_line(solid, p, n, largest)
+                .unwrap_or(largest);
+            let c = p - r * n;
+            let ball = [c.x, c.y, c.z, r];
+            out.push(SkeletalEdge {
+                id: out.len(),
+                solid,
+                starts: vec![],
+                segments: pair,
+                vertex: v,
+                balls: self.vertex_line(ball, v),
+                meets: self.degenerate_balls_at(solid, c, r),
+            });
+        }
+    }
+
+    /// The rim ends where a free edge starts (see [`Self::flat_rim_ends`]), with the normal
+    /// it runs along and the faces tangent to that normal's plane at the vertex.
+    fn free_edge_starts(&self) -> Vec<FreeEdgeStart> {
         let tol = crate::classify::DEFAULT_ANGLE_TOL_DEG.to_radians();
+        let mut out = vec![];
         for (e, edge) in self.model.edges.iter().enumerate() {
             if self.class.edges[e].kind != EdgeKind::Convex {
                 continue;
@@ -110,58 +163,75 @@ impl Tracer<'_> {
                 [a, b] if a != b => [a, b],
                 _ => continue,
             };
-            let pair = [Element::Face(fa), Element::Face(fb)];
             for (end, &v) in edge.vertices.iter().enumerate() {
                 let t = if end == 0 { edge.range.0 } else { edge.range.1 };
-                // A skeletal edge a seam started at this vertex is that free edge already.
-                let done = out.iter().any(|k| k.vertex == v);
-                if done {
-                    continue;
-                }
                 let p = self.model.vertices[v].point;
                 let normal = |f| self.edge_face_normal(e, f, t, p).map(|(_, n)| n);
-                let n =
-                    if crate::classify::edge_kind_at(self.model, e, t, tol).0 == EdgeKind::Smooth {
-                        let (Some(na), Some(nb)) = (normal(fa), normal(fb)) else {
-                            continue;
-                        };
-                        (na + nb).normalize_or_zero()
-                    } else if let Some(x) = self.round_against_a_wall(e, v, [fa, fb]) {
-                        let Some(n) = normal(x) else { continue };
-                        n
-                    } else {
+                let flat =
+                    crate::classify::edge_kind_at(self.model, e, t, tol).0 == EdgeKind::Smooth;
+                let (n, tangent) = if flat {
+                    let (Some(na), Some(nb)) = (normal(fa), normal(fb)) else {
                         continue;
                     };
-                let solid = self.face_solid[fa];
-                let Some(largest) = self.largest_tangent_ball(solid, p, n) else {
+                    ((na + nb).normalize_or_zero(), vec![fa, fb])
+                } else if let Some((x, c)) = self.round_against_a_wall(e, v, [fa, fb]) {
+                    let Some(n) = normal(x) else { continue };
+                    (n, vec![x, c])
+                } else {
                     continue;
                 };
-                // Where a degenerate curve crosses the line below the largest empty ball (a
-                // round's axis whose arc of contact narrows to the vertex there: past its
-                // ball the line's balls are empty but touch the vertex alone), the free edge
-                // starts on it.
-                let r = self
-                    .degenerate_on_line(solid, p, n, largest)
-                    .unwrap_or(largest);
-                let c = p - r * n;
-                let ball = [c.x, c.y, c.z, r];
-                out.push(SkeletalEdge {
-                    id: out.len(),
-                    solid,
-                    starts: vec![],
-                    segments: pair,
-                    vertex: v,
-                    balls: self.vertex_line(ball, v),
-                    meets: self.degenerate_balls_at(solid, c, r),
-                });
+                if n != DVec3::ZERO {
+                    out.push(FreeEdgeStart {
+                        vertex: v,
+                        pair: [Element::Face(fa), Element::Face(fb)],
+                        normal: n,
+                        tangent,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// Samples the faces tangent at each rim end where a free edge starts, near its vertex,
+    /// for degenerate curves (recorded like any sampled ball's, and traced with them): a
+    /// round's axis the free edge runs to is often found by no other sample (the round's
+    /// balls elsewhere blocked by what stands next to it, or the round touched by seams
+    /// already, so not sampled at all). Points at 1/64, 1/16 and 1/4 of the face's domain
+    /// from the vertex's parameters along each direction, those on the face.
+    pub(super) fn sample_rounds_at_free_edges(&mut self) {
+        for start in self.free_edge_starts() {
+            let p = self.model.vertices[start.vertex].point;
+            for f in start.tangent {
+                let face = &self.model.faces[f];
+                let Some((u, v)) = crate::geom::project_point(&face.surface, p, None) else {
+                    continue;
+                };
+                let d = face.domain;
+                let (du, dv) = (d.u.1 - d.u.0, d.v.1 - d.v.0);
+                for frac in [1.0 / 64.0, 1.0 / 16.0, 0.25] {
+                    for [su, sv] in [[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]] {
+                        let s = [u + su * frac * du, v + sv * frac * dv];
+                        if !self.on_segment(Element::Face(f), s) {
+                            continue;
+                        }
+                        self.sample_for_degenerate(f, s);
+                    }
+                }
             }
         }
     }
 
     /// At vertex `v` of convex edge `e` between faces `faces`: where `v`'s other edges are
     /// exactly a smooth one joining one of the faces to a third face `C` and a reflex one
-    /// joining the other to `C`, the face joined smoothly (whose normal at `v` is `C`'s).
-    fn round_against_a_wall(&self, e: usize, v: usize, faces: [usize; 2]) -> Option<usize> {
+    /// joining the other to `C`, the face joined smoothly (whose normal at `v` is `C`'s) and
+    /// `C`.
+    fn round_against_a_wall(
+        &self,
+        e: usize,
+        v: usize,
+        faces: [usize; 2],
+    ) -> Option<(usize, usize)> {
         let others: Vec<usize> = self.vertex_edges[v]
             .iter()
             .map(|&(g, _)| g)
@@ -179,12 +249,12 @@ impl Tracer<'_> {
             _ => None,
         };
         let (s, r) = (ends(smooth)?, ends(reflex)?);
-        faces.into_iter().find(|&x| {
+        faces.into_iter().find_map(|x| {
             let y = faces[0] + faces[1] - x;
-            s.contains(&x)
-                && r.contains(&y)
-                && s.iter()
-                    .any(|&c| c != x && !faces.contains(&c) && r.contains(&c))
+            let c = s
+                .into_iter()
+                .find(|&c| c != x && !faces.contains(&c) && r.contains(&c))?;
+            (s.contains(&x) && r.contains(&y)).then_some((x, c))
         })
     }
 
