@@ -492,10 +492,12 @@ impl DegenerateOpen {
 /// one part of the boundary (faces and the reflex edges joining them) met at a vertex of it:
 /// the balls touching only that vertex, centres on the straight line from it through the
 /// seam's last centre, `r` from that ball's down to 0 at the vertex (each inside the last, so
-/// each empty). The sheet of those two elements ends along it. And where a convex edge
-/// flattens out at its vertex (its two faces tangent there: two fillets meeting in a mitre),
-/// its rim's sheet ends along the same kind of line, the balls tangent to both faces at the
-/// vertex, from the largest of them that is empty down to the vertex.
+/// each empty). The sheet of those two elements ends along it. And where a rim's sheet
+/// narrows to nothing at the rim's vertex (its two faces tangent there, two rounds meeting in
+/// a mitre; or the rim over a round that ends against a wall), it ends along the same kind of
+/// line, the balls tangent to the boundary at the vertex, from the largest of them that is
+/// empty (or the one on a degenerate curve below it) down to the vertex: a free edge, with
+/// no `starts`.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SkeletalEdge {
     pub id: usize,

@@ -245,8 +245,8 @@ pub(super) fn convex_kinks(
 }
 
 /// Adds the skeletal edges to `arcs`: each runs from its ball to its vertex, on its pair.
-/// One that starts at degenerate curves' end ball (a free edge where a rim flattens out, up
-/// to the fillets' axes) has no node there: degenerate curves are not in the graph yet.
+/// A free edge that starts on degenerate curves (where a rim's sheet ends, up to the rounds'
+/// axes: `meets`) has no node there: degenerate curves are not in the graph yet.
 pub(super) fn add_skeletal(mat: &MedialAxis, groups: &SegmentGroups, arcs: &mut Vec<Arc>) {
     for k in &mat.skeletal_edges {
         let mut arc = Arc::between(

@@ -167,8 +167,10 @@ impl Tracer<'_> {
                 let t = if end == 0 { edge.range.0 } else { edge.range.1 };
                 let p = self.model.vertices[v].point;
                 let normal = |f| self.edge_face_normal(e, f, t, p).map(|(_, n)| n);
-                let flat =
-                    crate::classify::edge_kind_at(self.model, e, t, tol).0 == EdgeKind::Smooth;
+                // Told by the edges at the vertex first (a mitre's end has two smooth ones
+                // besides), the dihedral angle measured only there.
+                let flat = self.others_smooth(e, v)
+                    && crate::classify::edge_kind_at(self.model, e, t, tol).0 == EdgeKind::Smooth;
                 let (n, tangent) = if flat {
                     let (Some(na), Some(nb)) = (normal(fa), normal(fb)) else {
                         continue;
@@ -220,6 +222,20 @@ impl Tracer<'_> {
                 }
             }
         }
+    }
+
+    /// True when vertex `v` has two edges besides `e`, both smooth (where two rounds meet
+    /// `e`'s end in a mitre, each tangent to the face between them).
+    fn others_smooth(&self, e: usize, v: usize) -> bool {
+        let others: Vec<usize> = self.vertex_edges[v]
+            .iter()
+            .map(|&(g, _)| g)
+            .filter(|&g| g != e)
+            .collect();
+        others.len() == 2
+            && others
+                .iter()
+                .all(|&g| self.class.edges[g].kind == EdgeKind::Smooth)
     }
 
     /// At vertex `v` of convex edge `e` between faces `faces`: where `v`'s other edges are
