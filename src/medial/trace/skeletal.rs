@@ -17,7 +17,7 @@ use crate::model::Element;
 use glam::DVec3;
 
 /// A rim end where a free edge starts (see [`Tracer::flat_rim_ends`]).
-pub(super) struct FreeEdgeStart {
+struct FreeEdgeStart {
     vertex: usize,
     /// The rim's two faces.
     pair: [Element; 2],
@@ -48,7 +48,7 @@ impl Tracer<'_> {
     /// ball to the vertex. A curvature-limit end there is renamed for the vertex (the ball
     /// "osculates" it: the element it was being handed to is another face at that vertex).
     /// Seam ends at one ball share one edge.
-    pub(super) fn skeletal_at_vertices(&mut self, free: &[FreeEdgeStart]) -> Vec<SkeletalEdge> {
+    pub(super) fn skeletal_at_vertices(&mut self) -> Vec<SkeletalEdge> {
         let near = self.opts.accuracy;
         let mut out: Vec<SkeletalEdge> = vec![];
         for s in 0..self.seams.len() {
@@ -91,7 +91,7 @@ impl Tracer<'_> {
                 }
             }
         }
-        self.flat_rim_ends(free, &mut out);
+        self.flat_rim_ends(&mut out);
         out
     }
 
@@ -112,13 +112,13 @@ impl Tracer<'_> {
     /// ball (the rounds' axes), the edge meets it; otherwise nothing known ends there and the
     /// sheet's boundary stays open (verification says so). Not where a skeletal edge already
     /// ends at the vertex (one a seam's end found).
-    fn flat_rim_ends(&self, free: &[FreeEdgeStart], out: &mut Vec<SkeletalEdge>) {
-        for start in free {
+    fn flat_rim_ends(&self, out: &mut Vec<SkeletalEdge>) {
+        for start in self.free_edge_starts() {
             // A skeletal edge a seam started at this vertex is that free edge already.
             if out.iter().any(|k| k.vertex == start.vertex) {
                 continue;
             }
-            let &FreeEdgeStart {
+            let FreeEdgeStart {
                 vertex: v,
                 pair,
                 normal: n,
@@ -152,7 +152,7 @@ impl Tracer<'_> {
 
     /// The rim ends where a free edge starts (see [`Self::flat_rim_ends`]), with the normal
     /// it runs along and the faces tangent to that normal's plane at the vertex.
-    pub(super) fn free_edge_starts(&self) -> Vec<FreeEdgeStart> {
+    fn free_edge_starts(&self) -> Vec<FreeEdgeStart> {
         let tol = crate::classify::DEFAULT_ANGLE_TOL_DEG.to_radians();
         let mut out = vec![];
         for (e, edge) in self.model.edges.iter().enumerate() {
@@ -201,10 +201,10 @@ impl Tracer<'_> {
     /// balls elsewhere blocked by what stands next to it, or the round touched by seams
     /// already, so not sampled at all). Points at 1/64, 1/16 and 1/4 of the face's domain
     /// from the vertex's parameters along each direction, those on the face.
-    pub(super) fn sample_rounds_at_free_edges(&mut self, free: &[FreeEdgeStart]) {
-        for start in free {
+    pub(super) fn sample_rounds_at_free_edges(&mut self) {
+        for start in self.free_edge_starts() {
             let p = self.model.vertices[start.vertex].point;
-            for &f in &start.tangent {
+            for f in start.tangent {
                 let face = &self.model.faces[f];
                 let Some((u, v)) = crate::geom::project_point(&face.surface, p, None) else {
                     continue;
@@ -224,19 +224,14 @@ impl Tracer<'_> {
         }
     }
 
-    /// The edges at vertex `v` besides `e`.
-    fn other_edges_at(&self, e: usize, v: usize) -> Vec<usize> {
-        self.vertex_edges[v]
-            .iter()
-            .map(|&(g, _)| g)
-            .filter(|&g| g != e)
-            .collect()
-    }
-
     /// True when vertex `v` has two edges besides `e`, both smooth (where two rounds meet
     /// `e`'s end in a mitre, each tangent to the face between them).
     fn others_smooth(&self, e: usize, v: usize) -> bool {
-        let others = self.other_edges_at(e, v);
+        let others: Vec<usize> = self.vertex_edges[v]
+            .iter()
+            .map(|&(g, _)| g)
+            .filter(|&g| g != e)
+            .collect();
         others.len() == 2
             && others
                 .iter()
@@ -253,9 +248,12 @@ impl Tracer<'_> {
         v: usize,
         faces: [usize; 2],
     ) -> Option<(usize, usize)> {
-        let [g, h] = self.other_edges_at(e, v)[..] else {
-            return None;
-        };
+        let others: Vec<usize> = self.vertex_edges[v]
+            .iter()
+            .map(|&(g, _)| g)
+            .filter(|&g| g != e)
+            .collect();
+        let [g, h] = others[..] else { return None };
         let kind = |g: usize| self.class.edges[g].kind;
         let (smooth, reflex) = match (kind(g), kind(h)) {
             (EdgeKind::Smooth, EdgeKind::Reflex) => (g, h),
@@ -288,7 +286,7 @@ impl Tracer<'_> {
                 .is_some_and(|(_, h)| h.distance >= s - 0.25 * a)
         };
         let mut lo = FREE_EDGE_MIN_ACCURACIES * a;
-        if !empty(lo) {
+        if n == DVec3::ZERO || !empty(lo) {
             return None;
         }
         let mut hi = 2.0 * lo;

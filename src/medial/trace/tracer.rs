@@ -124,9 +124,9 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// The medial axis traced, with the free edges where rims' sheets end at `free`.
-    pub(super) fn into_axis(mut self, free: &[super::skeletal::FreeEdgeStart]) -> MedialAxis {
-        let skeletal_edges = self.skeletal_at_vertices(free);
+    /// The medial axis traced.
+    pub(super) fn into_axis(mut self) -> MedialAxis {
+        let skeletal_edges = self.skeletal_at_vertices();
         MedialAxis {
             seams: self.seams,
             junctions: self.junctions,
