@@ -22,7 +22,8 @@ with a hip roof (seams touched by four faces), a plate with a pocket half as dee
 is thick (a closed seam whose touch point runs along the pocket's foot edges), a pocket over a
 thin floor (a face reached by sheet balls only, across its reflex edges), a frustum cut along
 its axis (hyperbola edges), a hole whose wall passes 0.01 mm from a face (a seam whose r dips
-towards 0 and rises again), a boss lower than it is wide (its foot circle's axis), a thin tube closed
+towards 0 and rises again), a boss lower than it is wide (its foot circle's axis), the same boss near
+the plate's side (a foot circle touched by a seam whose axis is still to be found), a thin tube closed
 by a hemispherical end (a face too narrow for the seeds' first grid; faces touched only by a
 sheet's balls), a flat ring with a bead round each rim whose fillet axis's balls reach the
 bottom (a face touched at no listed touch point), a wall whose foot fillets end at its flat end
@@ -827,6 +828,22 @@ def hole_next_to_an_edge():
       "edge sheet passes between a ball touching the cap and one touching the bottom.")
 def short_boss_on_plate():
     return Part.makeBox(60, 40, 10).fuse(Part.makeCylinder(5, 3, V(30, 20, 10))).removeSplitter()
+
+
+@part("short_boss_near_a_side",
+      "short_boss_on_plate with the boss moved towards the side y = 40: a plate 60x40x10 with "
+      "a boss r=5, h=3 centred (30, 34), its foot circle 1 from that side.",
+      60 * 40 * 10 + PI * 25 * 3,
+      "The plate's edge seam along that side (balls r = 5 touching top, bottom and side, "
+      "centres y = 35, z = 5) passes under the boss's foot circle, and there its balls touch "
+      "the circle instead of the top: the foot circle is touched by a seam. Under the boss "
+      "the balls touch the foot circle all round on its axis, from the ball that touches the "
+      "side too (centre z = 6.683, r = 6: 25 + (10 - z)^2 = 36) to the one that touches the "
+      "cap (z = 7.333, r = 5.667, as in short_boss_on_plate): a degenerate curve of the "
+      "circle. Before, an edge touched by a seam was not sampled for its collapsed sheet: the "
+      "curve was missed and the cap touched by no ball.")
+def short_boss_near_a_side():
+    return Part.makeBox(60, 40, 10).fuse(Part.makeCylinder(5, 3, V(30, 34, 10))).removeSplitter()
 
 
 TUBE_R, TUBE_BORE, TUBE_LEN = 5.0, 4.8, 20.0

@@ -1256,21 +1256,39 @@ fn a_seam_whose_radius_dips_towards_zero_runs_through_the_dip() {
 /// the circle's axis between them), and the boss's wall and cap were touched by no ball.
 #[test]
 fn a_short_bosss_foot_circle_has_its_axis() {
-    let report = traced_and_verified("short_boss_on_plate");
+    foot_circle_axis("short_boss_on_plate", [30.0, 20.0], [6.25, 6.25]);
+}
+
+/// The same boss 1 mm from the plate's side (`short_boss_near_a_side`): the plate's edge
+/// seam passes under the foot circle and touches it, and the circle's sheet was then not
+/// sampled at all; its axis runs from the ball touching the side (z = 6.683, r = 6) to the
+/// cap's. It was missed, and the cap touched by no ball (`faces_touched` failed).
+#[test]
+fn a_foot_circle_a_seam_touches_still_has_its_axis() {
+    let low_z = 10.0 - 11f64.sqrt();
+    foot_circle_axis("short_boss_near_a_side", [30.0, 34.0], [low_z, 6.0]);
+}
+
+/// `part`'s one degenerate curve: on the vertical axis through `axis` of its boss (r = 5,
+/// foot at z = 10, cap at z = 13), its balls touching the foot circle all round, from the
+/// ball `low` (`[z, r]`) up to the one touching the cap (z = 22/3, r = 17/3), both ends
+/// meeting a face.
+fn foot_circle_axis(part: &str, axis: [f64; 2], low: [f64; 2]) {
+    let report = traced_and_verified(part);
     let curves: Vec<&Value> = report["mat"]["degenerate"]
         .as_array()
         .unwrap()
         .iter()
         .filter(|d| d["kind"] == "curve")
         .collect();
-    assert_eq!(curves.len(), 1, "{curves:?}");
+    assert_eq!(curves.len(), 1, "{part}: {curves:?}");
     let d = curves[0];
     let segments = d["segments"].as_array().unwrap();
     assert!(
         segments.len() == 2
             && segments[0] == segments[1]
             && segments[0].as_str().unwrap().starts_with('E'),
-        "{segments:?}"
+        "{part}: {segments:?}"
     );
     let balls = d["balls"].as_array().unwrap();
     let ball = |b: &Value| [0, 1, 2, 3].map(|k| b[k].as_f64().unwrap());
@@ -1278,26 +1296,26 @@ fn a_short_bosss_foot_circle_has_its_axis() {
     zs.sort_by(|a, b| a[2].total_cmp(&b[2]));
     for b in &zs {
         assert!(
-            (b[0] - 30.0).hypot(b[1] - 20.0) < 1e-6,
-            "{b:?} off the axis"
+            (b[0] - axis[0]).hypot(b[1] - axis[1]) < 1e-6,
+            "{part}: {b:?} off the axis"
         );
         let on_circle = (25.0 + (10.0 - b[2]).powi(2)).sqrt();
         assert!(
             (b[3] - on_circle).abs() < 1e-4,
-            "{b:?}: r is not the distance to the circle"
+            "{part}: {b:?}: r is not the distance to the circle"
         );
     }
-    let (low, high) = (zs[0], zs[zs.len() - 1]);
+    let (first, last) = (zs[0], zs[zs.len() - 1]);
     assert!(
-        (low[2] - 6.25).abs() < 1e-3 && (low[3] - 6.25).abs() < 1e-3,
-        "{low:?}"
+        (first[2] - low[0]).abs() < 1e-3 && (first[3] - low[1]).abs() < 1e-3,
+        "{part}: {first:?}"
     );
     assert!(
-        (high[2] - 22.0 / 3.0).abs() < 1e-3 && (high[3] - 17.0 / 3.0).abs() < 1e-3,
-        "{high:?}"
+        (last[2] - 22.0 / 3.0).abs() < 1e-3 && (last[3] - 17.0 / 3.0).abs() < 1e-3,
+        "{part}: {last:?}"
     );
     for end in d["ends"].as_array().unwrap() {
-        assert_eq!(end["kind"], "meets", "{end}");
+        assert_eq!(end["kind"], "meets", "{part}: {end}");
     }
 }
 

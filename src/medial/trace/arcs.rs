@@ -10,8 +10,9 @@
 use super::options::{DISTINCT_TOUCH_REL_RADIUS, MAX_SEAMS, SAME_PLACE_REL_ACCURACY};
 use super::seeds::Seed;
 use super::tracer::Tracer;
+use crate::geom::eval_curve;
 use crate::medial::axis::SeamEnd;
-use crate::model::Element;
+use crate::model::{Curve3D, Element};
 use glam::DVec3;
 
 /// Samples along each edge, and across its arc of normals.
@@ -19,11 +20,33 @@ const ALONG: usize = 4;
 const ACROSS: usize = 6;
 /// Most bisection steps between two samples touching different elements.
 const BISECTIONS: usize = 40;
+/// Most bisection steps looking for a ball that touches an edge along a curve between two
+/// samples: each step keeps the stretch of such balls between the two ends, so after these
+/// it has been hit unless it spans less than 2^-12 of the samples' spacing (a 90-degree arc
+/// of normals sampled 6 times: 0.004 degrees; about 3e-4 mm of axis under a boss r = 5).
+const COLLAPSE_BISECTIONS: usize = 12;
 /// Bisection stops with the centres this close (× r): Newton refines the seed from there.
 const SEED_REL_RADIUS: f64 = 1e-4;
 /// Bisection gives up with the touch points this close (× r): one element passing into its
 /// neighbour (a face into its reflex edge, an edge into its vertex), not a seam.
 const MEETING_REL_RADIUS: f64 = 1e-2;
+
+/// Balls reaching less than this far towards an edge's centre of curvature (see
+/// [`Tracer::reach`]) are not bisected between for a ball touching the edge all round: on a
+/// circle the reach is 1 on its axis and falls off smoothly away from it (0.83 for the
+/// ball 8 degrees below the axis's end under a boss r = 5 on a 10 mm plate).
+const REACH: f64 = 0.5;
+
+/// The curvature vector of a curve with derivatives `d1`, `d2` (towards its centre of
+/// curvature, length 1/radius); `None` where it has no tangent.
+fn bend(d1: DVec3, d2: DVec3) -> Option<DVec3> {
+    let speed2 = d1.length_squared();
+    if speed2 <= 0.0 {
+        return None;
+    }
+    let tangent = d1 / speed2.sqrt();
+    Some((d2 - tangent * d2.dot(tangent)) / speed2)
+}
 
 /// The maximal ball grown from a point of an edge: where it touches besides the edge.
 #[derive(Clone, Copy, Debug)]
@@ -65,10 +88,100 @@ impl Tracer<'_> {
             if self.seams.len() >= MAX_SEAMS {
                 break;
             }
-            if self.is_reflex(e) && !self.touched_edges[e] {
+            if !self.is_reflex(e) {
+                continue;
+            }
+            if !self.touched_edges[e] {
                 self.seed_on_edge(e);
+            } else if !matches!(self.model.edges[e].curve, Curve3D::Line(_)) {
+                // A seam touching an edge does not say its sheet has no collapsed piece: a
+                // boss wider than it is high has, under its foot circle, a stretch of axis
+                // whose balls touch the circle all round, which no face sample finds.
+                self.collapse_on_edge(e);
             }
         }
+    }
+
+    /// Looks for a ball touching curved reflex edge `e` along a curve (a degenerate curve of
+    /// the edge) across its sheet at the middle of the edge: a ball touching a circle all
+    /// round touches every point of it, so it is grown from any one of them (the edges that
+    /// bound such balls are circles and circular arcs, exactly or as splines). Of the
+    /// `ACROSS` directions there only those towards the edge's centre of curvature (where
+    /// its balls can reach round it: a boss's foot circle, not a hole's floor circle): a
+    /// sampled ball touching the edge a second time, or one bisected between two neighbours
+    /// touching different elements, is recorded, and the whole curve traced from it with the
+    /// others.
+    fn collapse_on_edge(&mut self, e: usize) {
+        let (lo, hi) = self.model.edges[e].range;
+        let t = 0.5 * (lo + hi);
+        let line: Vec<(Place, Option<Contact>)> = (0..ACROSS)
+            .map(|j| [t, (j as f64 + 0.5) / ACROSS as f64])
+            .map(|place| {
+                let c = self
+                    .bends_towards(e, place)
+                    .then(|| self.edge_contact(e, place))
+                    .flatten();
+                (place, c)
+            })
+            .collect();
+        for &(_, c) in &line {
+            if let Some(c) = c.filter(|c| c.seg == Element::Edge(e)) {
+                if self.collapsed(Element::Edge(e), c.edge_s, c.seg, c.s, c.centre, c.r) {
+                    return;
+                }
+            }
+        }
+        for pair in line.windows(2) {
+            let [(pa, Some(ca)), (pb, Some(cb))] = [pair[0], pair[1]] else {
+                continue;
+            };
+            // Between two balls that reach towards the centre of curvature less than half
+            // way, no ball reaches round the edge.
+            if ca.seg == cb.seg || self.reach(e, pa, &ca).max(self.reach(e, pb, &cb)) < REACH {
+                continue;
+            }
+            let mut again = None;
+            let _ = self.bisect_contacts(e, (pa, ca), (pb, cb), &mut again, COLLAPSE_BISECTIONS);
+            if let Some(c) = again {
+                if self.collapsed(Element::Edge(e), c.edge_s, c.seg, c.s, c.centre, c.r) {
+                    return;
+                }
+            }
+        }
+    }
+
+    /// How far ball `c`, grown at `place` on reflex edge `e`'s sheet, reaches towards the
+    /// edge's centre of curvature: its centre's distance along the principal normal over the
+    /// radius of curvature (at most 1 on a circle, where the ball touches the circle all
+    /// round exactly when it is 1).
+    fn reach(&self, e: usize, place: Place, c: &Contact) -> f64 {
+        let d = eval_curve(&self.model.edges[e].curve, place[0]);
+        let Some(bend) = bend(d.d1, d.d2) else {
+            return 0.0;
+        };
+        (c.centre - d.p).dot(bend)
+    }
+
+    /// Whether the inward direction at `place` on reflex edge `e`'s sheet points towards the
+    /// edge's centre of curvature there.
+    fn bends_towards(&self, e: usize, place: Place) -> bool {
+        let edge = &self.model.edges[e];
+        let d = eval_curve(&edge.curve, place[0]);
+        let (Some(n), Some(bend)) = (self.fan_normal(e, place), bend(d.d1, d.d2)) else {
+            return false;
+        };
+        -n.dot(bend) > 0.0
+    }
+
+    /// The outward normal at `place` on reflex edge `e`'s arc of normals.
+    fn fan_normal(&self, e: usize, place: Place) -> Option<DVec3> {
+        let [na, nb] = self.edge_fan(e, place[0])?;
+        let span = na.angle_between(nb);
+        if span.is_nan() || span <= 1e-6 {
+            return None;
+        }
+        let w = place[1];
+        Some(((na * ((1.0 - w) * span).sin() + nb * (w * span).sin()) / span.sin()).normalize())
     }
 
     /// Samples edge `e`'s sheet on a grid, bisects between neighbours touching different
@@ -107,7 +220,8 @@ impl Tracer<'_> {
             // degenerate curve of the edge, recorded (and traced with the others) instead of a
             // seam touching the edge twice.
             let mut again = None;
-            let seed = self.bisect_contacts(e, (place(a), ca), (place(b), cb), &mut again);
+            let seed =
+                self.bisect_contacts(e, (place(a), ca), (place(b), cb), &mut again, BISECTIONS);
             if let Some(c) = again {
                 if self.collapsed(Element::Edge(e), c.edge_s, c.seg, c.s, c.centre, c.r) {
                     continue;
@@ -126,14 +240,8 @@ impl Tracer<'_> {
     fn edge_contact(&self, e: usize, place: Place) -> Option<Contact> {
         let edge = &self.model.edges[e];
         let t = place[0];
-        let [na, nb] = self.edge_fan(e, t)?;
-        let span = na.angle_between(nb);
-        if span.is_nan() || span <= 1e-6 {
-            return None;
-        }
-        let w = place[1];
-        let n = ((na * ((1.0 - w) * span).sin() + nb * (w * span).sin()) / span.sin()).normalize();
-        let p = crate::geom::eval_curve(&edge.curve, t).p;
+        let n = self.fan_normal(e, place)?;
+        let p = eval_curve(&edge.curve, t).p;
         let solid = self.face_solid[edge.faces[0]];
         let (r, centre, g, hit) = self.maximal_along(solid, p, n)?;
         if r <= SAME_PLACE_REL_ACCURACY * self.opts.accuracy
@@ -164,8 +272,9 @@ impl Tracer<'_> {
         (mut pa, mut ca): (Place, Contact),
         (mut pb, mut cb): (Place, Contact),
         again: &mut Option<Contact>,
+        steps: usize,
     ) -> Option<Seed> {
-        for _ in 0..BISECTIONS {
+        for _ in 0..steps {
             // Close enough for Newton (the seed is refined onto its seam); or one element
             // passing into its neighbour, where the touch points meet.
             let r = ca.r.min(cb.r);
