@@ -39,7 +39,9 @@ axis, whose balls touch it all round along a circle off their centre's plane), a
 with two edges rounded at one corner, meeting in a mitre (a rim whose faces come to one
 tangent plane at its vertex: its sheet ends there along a free edge), and a bar whose rounded
 edge ends against a block's wall, square and skew (the rim above the round ends at the vertex
-where the round is tangent to the top: a free edge again).
+where the round is tangent to the top: a free edge again), and a boss whose top rim ends against a
+taller boss's wall (a rim between two reflex edges to one face: a free edge along that face's
+normal).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -1199,6 +1201,25 @@ def round_ending_at_a_skew_wall():
     block = Part.makeBox(10, 22, 8, V(20, -8, 0))
     block.rotate(V(20, 0, 0), V(0, 0, 1), 30)
     return bar_into_a_block(block)
+
+
+@part("boss_against_a_taller_boss",
+      "A plate 40x30x5 (x -15 to 25, y -15 to 15) with two bosses r=5 that overlap: one 4 "
+      "high centred (0, 0), one 9 high centred (8, 0). The low boss's top rim ends against "
+      "the tall boss's wall at (4, +-3, 9), each a vertex with the rim (convex) and two "
+      "reflex edges to that wall.",
+      40 * 30 * 5 + (4 + 9) * 25 * PI - 4 * (50 * math.acos(0.8) - 4 * 6),
+      "The rim's sheet (balls touching the low boss's top and wall) ends at each of those "
+      "vertices along a free edge: the balls tangent to the tall boss's wall there, centres "
+      "(4, +-3, 9) + s(0.8, -+0.6, 0) and radius s, up to s = 5 on the tall boss's axis "
+      "(8, 0, 9), the top end of its degenerate curve (balls r = 5 on the axis from z = 5 to "
+      "9, touching its wall all round; the one at z = 9 touches its cap). Before, the rim "
+      "ended there with nothing to pair it and the sheet did not close.")
+def boss_against_a_taller_boss():
+    plate = Part.makeBox(40, 30, 5, V(-15, -15, 0))
+    low = Part.makeCylinder(5, 4, V(0, 0, 5))
+    tall = Part.makeCylinder(5, 9, V(8, 0, 5))
+    return plate.fuse(low).fuse(tall).removeSplitter()
 
 
 def main():

@@ -1369,6 +1369,48 @@ fn a_rim_over_a_round_ending_at_a_wall_ends_in_a_free_edge() {
     free_edge_down_from("round_ending_at_a_skew_wall", [x, 3.0, 8.0], 3.0, 1);
 }
 
+/// A low boss overlapping a taller one on a plate (`boss_against_a_taller_boss`, both r = 5,
+/// axes 8 apart): the low boss's top rim ends against the tall boss's wall at (4, ±3, 9),
+/// vertices whose other two edges are reflex, to that wall. Its sheet ends at each along a
+/// free edge of balls tangent to the wall there, from the vertex straight to the ball r = 5 on
+/// the tall boss's axis at (8, 0, 9), where that axis's degenerate curve ends (touching the
+/// cap). Before, the rims' ends were the only arc ends at those vertices and `sheets_closed`
+/// failed.
+#[test]
+fn a_rim_ending_against_a_wall_between_two_reflex_edges_ends_in_a_free_edge() {
+    let part = "boss_against_a_taller_boss";
+    let report = traced_and_verified(part);
+    let a = report["stats"]["accuracy"].as_f64().unwrap();
+    let edges = report["mat"]["skeletal_edges"].as_array().unwrap();
+    assert_eq!(edges.len(), 2, "{edges:?}");
+    let ball = |b: &Value| [0, 1, 2, 3].map(|i| b[i].as_f64().unwrap());
+    let mut sides = vec![];
+    for k in edges {
+        assert!(k["starts"].as_array().unwrap().is_empty(), "{k}");
+        // It meets the axis's curve at that curve's end ball.
+        assert_eq!(k["meets"].as_array().unwrap().len(), 1, "{k}");
+        let balls: Vec<[f64; 4]> = k["balls"].as_array().unwrap().iter().map(ball).collect();
+        let last = balls[balls.len() - 1];
+        let y = last[1].signum() * 3.0;
+        sides.push(y);
+        let off = |b: [f64; 4], want: [f64; 4]| {
+            (0..4).map(|i| (b[i] - want[i]).abs()).fold(0.0, f64::max)
+        };
+        assert!(off(last, [4.0, y, 9.0, 0.0]) <= a, "{balls:?}");
+        assert!(off(balls[0], [8.0, 0.0, 9.0, 5.0]) <= a, "{balls:?}");
+        // Along the wall's inward normal at the vertex, (0.8, ∓0.6, 0).
+        for b in &balls {
+            let s = b[3];
+            let want = [4.0 + 0.8 * s, y - y / 3.0 * 0.6 * s, 9.0, s];
+            assert!(off(*b, want) <= a, "{b:?} off the wall's normal");
+        }
+    }
+    sides.sort_by(f64::total_cmp);
+    assert_eq!(sides, [-3.0, 3.0]);
+    let checks = &report["stats"]["verification"]["checks"];
+    assert_eq!(checks["sheets_closed"]["failed"], 0, "{checks}");
+}
+
 /// A box with two edges rounded r = 3 at one corner, meeting in a mitre
 /// (`box_with_a_mitred_corner`): the mitre's rim (an ellipse between the rounds) opens to
 /// 180 degrees at its lower vertex (40, 3, 7), where both rounds are tangent to the side face.

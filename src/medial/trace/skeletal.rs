@@ -105,6 +105,10 @@ impl Tracer<'_> {
     ///   to, `B` the wall above the round, which narrows to nothing at `V`), along `A`'s
     ///   normal `n` there: the sheet of `A` and `B` goes on past the wall's foot as the sheet
     ///   of `A` and that reflex edge, whose two touch points meet at `V`;
+    /// - where `V`'s other edges are two reflex ones joining `A` and `B` to one face `W` (a
+    ///   boss's top rim ending against a taller boss's wall), along `W`'s normal `n` there:
+    ///   the balls tangent to `W` at `V` are where the sheet of those two reflex edges ends,
+    ///   its two touch points meeting at `V`, and the rim's sheet ends on them;
     ///
     /// the line of balls tangent to the boundary at `V`, centres `V − s·n` and radius `s`, from
     /// the largest of them that is empty down to the vertex (each lies inside the next, so
@@ -179,6 +183,11 @@ impl Tracer<'_> {
                 } else if let Some((x, c)) = self.round_against_a_wall(e, v, [fa, fb]) {
                     let Some(n) = normal(x) else { continue };
                     (n, vec![x, c])
+                } else if let Some((w, g, tg)) = self.rim_end_at_a_wall(e, v, [fa, fb]) {
+                    let Some((_, n)) = self.edge_face_normal(g, w, tg, p) else {
+                        continue;
+                    };
+                    (n, vec![w])
                 } else {
                     continue;
                 };
@@ -272,6 +281,47 @@ impl Tracer<'_> {
                 .find(|&c| c != x && !faces.contains(&c) && r.contains(&c))?;
             (s.contains(&x) && r.contains(&y)).then_some((x, c))
         })
+    }
+
+    /// At vertex `v` of convex edge `e` between faces `faces`: where `v`'s other edges are
+    /// exactly two reflex ones joining each of the faces to one third face `W` (a boss's top
+    /// rim ending against a taller boss's wall, a block's top edge against a wall), `W`, one
+    /// of those edges and its parameter at `v`.
+    fn rim_end_at_a_wall(
+        &self,
+        e: usize,
+        v: usize,
+        faces: [usize; 2],
+    ) -> Option<(usize, usize, f64)> {
+        let others: Vec<(usize, bool)> = self.vertex_edges[v]
+            .iter()
+            .copied()
+            .filter(|&(g, _)| g != e)
+            .collect();
+        let [(g, g_end), (h, _)] = others[..] else {
+            return None;
+        };
+        let reflex = |g: usize| self.class.edges[g].kind == EdgeKind::Reflex;
+        let ends = |g: usize| match self.model.edges[g].faces[..] {
+            [a, b] if a != b => Some([a, b]),
+            _ => None,
+        };
+        if !reflex(g) || !reflex(h) {
+            return None;
+        }
+        let (eg, eh) = (ends(g)?, ends(h)?);
+        // The face the two share that is neither of the rim's; each joins one of them.
+        let w = eg
+            .into_iter()
+            .find(|&w| eh.contains(&w) && !faces.contains(&w))?;
+        let other = |pair: [usize; 2]| pair[0] + pair[1] - w;
+        let (x, y) = (other(eg), other(eh));
+        if x == y || !faces.contains(&x) || !faces.contains(&y) {
+            return None;
+        }
+        let edge = &self.model.edges[g];
+        let t = if g_end { edge.range.1 } else { edge.range.0 };
+        Some((w, g, t))
     }
 
     /// The radius of the largest empty ball tangent to the boundary at `p` with outward
