@@ -27,16 +27,14 @@ const VOIDS_TURNED: &str = "its ten voids, which the file orients into the mater
     vertical edges end along skeletal edges at the ribs' foot vertices), every face is \
     touched and `--verify` passes, but one sheet-mesh vertex lies past a sheet's boundary";
 
-const OPEN_AND_SHALLOW: &str = "seams end open where a touch point is handed to the next \
-    element near a vertex (a junction with the vertex or edge, not located yet); seams leaving \
-    a vertex between faces at a shallow angle have points whose touch points on those faces \
-    lie closer than √(8·r·accuracy), listed as unresolved and verified as such; where a seam \
-    ends open, a point may hold two touch points on one face or edge that nothing explains \
-    (`separated`); a junction whose seam ended open misses that seam end, and at a few \
-    junctions two seams leave along one triplet, the two ways (`junction_seams`); sheet \
-    boundaries stay open where seams end open, at non-generic \
-    junctions (five elements touched) and at mixed vertices where a convex edge's rim meets \
-    no seam or skeletal edge (`sheets_closed`, issue 20)";
+const OPEN_AND_SHALLOW: &str = "one seam ends open where a touch point is handed to the next \
+    face near a vertex (F172 to F164: the corrector does not converge); seams leaving a vertex \
+    between faces at a shallow angle have points whose touch points on those faces lie closer \
+    than √(8·r·accuracy), listed as unresolved and verified as such; seams whose two touch \
+    points on one B-spline reflex edge meet end at its curvature limit (they ended open before, \
+    where another face came closer at the same step, with those two touches unexplained: \
+    `separated`); three sheet boundaries stay open where free edges from vertices meet no \
+    traced curve (`sheets_closed`, issue 20)";
 
 /// No seam end open since a reflex edge's arc of normals lies in its normal plane; what is
 /// left is issue 20's.
@@ -46,10 +44,11 @@ const LCD_KNOB: &str = "no seam ends open and every ball passes both checkers; t
     issue 20's)";
 
 /// The axis of a circular reflex edge traced as seams.
-const CIRCLE_AXES: &str = "no seam ends open; three junctions touch one circular reflex edge \
-    three times (a ball centred on the edge's axis touches the whole arc: a degenerate piece, \
-    traced as seams touching the edge two or three times), each with three seam ends, and the \
-    sheets there do not close (issue 20)";
+const CIRCLE_AXES: &str = "no seam ends open; balls centred near a circular reflex edge's \
+    axis touch it (and the B-spline face beside it) several times over; where two touch points \
+    of a seam on one element meet, it ends at that element's curvature limit, and one junction \
+    touching that face three times is left with three seam ends (two leave it along one \
+    triplet to curvature limits), where the sheets do not close (issue 20)";
 
 /// No seam end open any more: the seams under holes tangent to a pocket's walls end at pinches.
 const PINCHED: &str = "no seams end open: the seams under its holes, each inscribed in a \
@@ -217,19 +216,17 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "voron0_Hotend_Mount_Revo_Voron.step",
         &[
-            ("occt:junction_seams", 3),
-            ("verify:junction_seams", 3),
-            ("verify:sheets_closed", 9),
+            ("occt:junction_seams", 1),
+            ("verify:junction_seams", 1),
+            ("verify:sheets_closed", 3),
         ],
         CIRCLE_AXES,
     ),
     (
         "voron0_Manta_M4P_Din_Mount_2pc.step",
         &[
-            ("occt:seam_ends", 3),
-            ("occt:separated", 2),
-            ("verify:seam_ends", 3),
-            ("verify:separated", 2),
+            ("occt:seam_ends", 1),
+            ("verify:seam_ends", 1),
             ("verify:sheets_closed", 3),
         ],
         OPEN_AND_SHALLOW,

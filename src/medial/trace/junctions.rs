@@ -49,6 +49,7 @@ impl Tracer<'_> {
         t: &DVector<f64>,
     ) -> Option<Meeting> {
         let (mut f, mut hit) = self.intrusion(triplet, solid, xn)?;
+        let before = self.touches(triplet, x);
         // The first intrusion between x and xn (another feature may come closer than r
         // before the one seen at xn): bisect the step.
         let sys = MedialSystem::new(triplet.to_vec());
@@ -128,6 +129,14 @@ impl Tracer<'_> {
                     )
             });
             if osculating {
+                return None;
+            }
+            // Two touch points on one element (a curved reflex edge touched twice) that have
+            // met or passed through each other by `xn`: the seam reaches that element's
+            // curvature limit first, where they meet (the 4-segment system is solved there
+            // with the two coinciding, on the Voron Manta mount's B-spline rims), which the
+            // curvature check after this one locates (on empty balls only).
+            if (0..3).any(|i| self.merged_with(triplet, &before, xn, i).is_some()) {
                 return None;
             }
             // Where the file has a gap about the face met (edges written off the surfaces),

@@ -579,19 +579,30 @@ impl Tracer<'_> {
         before: &[Option<DVec3>; 3],
         y: &DVector<f64>,
     ) -> Option<usize> {
-        let now = self.touches(triplet, y);
         (0..3).find(|&i| {
             !curvature_allows(self.model, triplet[i], slot(y, i), y[3])
-                || (0..i).any(|j| {
-                    triplet[j] == triplet[i]
-                        && match (before[i], before[j], now[i], now[j]) {
-                            (Some(a), Some(b), Some(c), Some(d)) => {
-                                (c - d).dot(a - b) <= 0.0
-                                    || c.distance(d) <= MERGED_TOUCH_REL_RADIUS * y[3]
-                            }
-                            _ => true,
-                        }
-                })
+                || self.merged_with(triplet, before, y, i).is_some()
+        })
+    }
+
+    /// The slot `j < i` touching the same element as slot `i` whose touch point and slot
+    /// `i`'s, at `before` on the last point, have met or passed through each other at `y`.
+    pub(super) fn merged_with(
+        &self,
+        triplet: &[Element; 3],
+        before: &[Option<DVec3>; 3],
+        y: &DVector<f64>,
+        i: usize,
+    ) -> Option<usize> {
+        let now = self.touches(triplet, y);
+        (0..i).find(|&j| {
+            triplet[j] == triplet[i]
+                && match (before[i], before[j], now[i], now[j]) {
+                    (Some(a), Some(b), Some(c), Some(d)) => {
+                        (c - d).dot(a - b) <= 0.0 || c.distance(d) <= MERGED_TOUCH_REL_RADIUS * y[3]
+                    }
+                    _ => true,
+                }
         })
     }
 
