@@ -441,8 +441,16 @@ impl Tracer<'_> {
         // already one place by `verify`'s separation: they meet there, the ball osculating
         // that part of the boundary (the new system is singular, its solve fails) — the
         // seam's curvature limit, as `merged_end` finds where the solve still converges.
+        // The touch point handed on is at the crossing, on `from`'s border (within the trim
+        // test's tolerance, or just past it): only the others are held to their elements.
         if let HandOverError::Stop(OpenReason::NoSeamPointAfterHandover { from, to, .. }) = e {
-            if self.merges_at_crossing(&m.triplet, from, to, xc) && self.is_medial(&m.triplet, xc) {
+            let others_on = (0..3)
+                .filter(|&k| m.triplet[k] != from)
+                .all(|k| self.on_segment(m.triplet[k], slot(xc, k)));
+            if self.merges_at_crossing(&m.triplet, from, to, xc)
+                && others_on
+                && self.ball_is_empty(m.solid, xc)
+            {
                 m.points.push(self.seam_point(&m.sys, xc));
                 return Flow::End(SeamEnd::CurvatureLimit { segment: to });
             }
