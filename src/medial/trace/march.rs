@@ -65,6 +65,11 @@ fn handed_back(m: &March, i: usize, to: Element) -> bool {
         .is_some_and(|h| h.point + 1 >= m.points.len() && h.to == m.triplet[i] && h.from == to)
 }
 
+/// Two touch points closing in on each other at a hand-over's crossing are taken to meet
+/// there when within this many of `verify`'s separations (the seam's end then within about
+/// 4 accuracies of their meeting; the new system is too near singular to go on).
+const MERGING_SEPARATIONS: f64 = 2.0;
+
 impl Tracer<'_> {
     /// Marches along the seam of `triplet` from the seam point `x0`, leaving along `dir0`,
     /// until it ends (see [`SeamEnd`]). With `close_at`, a march that comes back to that
@@ -447,7 +452,7 @@ impl Tracer<'_> {
             let others_on = (0..3)
                 .filter(|&k| m.triplet[k] != from)
                 .all(|k| self.on_segment(m.triplet[k], slot(xc, k)));
-            if self.merges_at_crossing(&m.triplet, from, to, xc)
+            if self.merges_at_crossing(&m.triplet, from, to, &m.x, xc)
                 && others_on
                 && self.ball_is_empty(m.solid, xc)
             {
@@ -475,16 +480,35 @@ impl Tracer<'_> {
     }
 
     /// True when, at the crossing `xc`, a touch point on `from` (the one being handed on) and
-    /// another on `to` or on its part of the boundary are one place by `verify`'s separation.
+    /// another on `to` or on its part of the boundary are one place by `verify`'s separation
+    /// or, closing in on each other since the last point `x`, within
+    /// [`MERGING_SEPARATIONS`] of it: the centre is then within about the square of that
+    /// many accuracies of where they meet (the separation `√(8·r·a)` is the distance of two
+    /// touch points whose ball is `a` from its curvature limit).
     fn merges_at_crossing(
         &self,
         triplet: &[Element; 3],
         from: Element,
         to: Element,
+        x: &DVector<f64>,
         xc: &DVector<f64>,
     ) -> bool {
-        self.one_place_pairs(triplet, xc)
-            .any(|(i, k)| triplet[i] == from && self.groups.of(triplet[k]) == self.groups.of(to))
+        let (before, now) = (self.touches(triplet, x), self.touches(triplet, xc));
+        let sep = crate::medial::verify::separation(xc[3], self.opts.accuracy);
+        let apart = |at: &[Option<DVec3>; 3], i: usize, k: usize| match (at[i], at[k]) {
+            (Some(a), Some(b)) => a.distance(b),
+            _ => f64::NAN,
+        };
+        (0..3).any(|i| {
+            triplet[i] == from
+                && (0..3).any(|k| {
+                    let d = apart(&now, i, k);
+                    k != i
+                        && self.groups.of(triplet[k]) == self.groups.of(to)
+                        && (d <= sep
+                            || (d <= MERGING_SEPARATIONS * sep && apart(&before, i, k) > d))
+                })
+        })
     }
 
     /// The junction between `m.x` and `to`, if another part of the boundary comes closer than

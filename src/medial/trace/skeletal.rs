@@ -133,6 +133,12 @@ impl Tracer<'_> {
             let Some(largest) = self.largest_tangent_ball(solid, p, n) else {
                 continue;
             };
+            // A line no longer than the file's gap about the vertex is that gap's noise (the
+            // boundary there is defined only to it; the two checkers put such balls on
+            // either side of it).
+            if largest <= self.element_gap(Element::Vertex(v)) {
+                continue;
+            }
             // Where a degenerate curve crosses the line below the largest empty ball (a
             // round's axis whose arc of contact narrows to the vertex there: past its ball
             // the line's balls are empty but touch the vertex alone), the free edge starts
