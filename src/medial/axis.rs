@@ -533,14 +533,20 @@ pub fn ball_on_polyline(balls: &[[f64; 4]], c: DVec3, r: f64, near: f64) -> Opti
     }
     balls.windows(2).position(|w| {
         let ((p, rp), (q, rq)) = (at(&w[0]), at(&w[1]));
-        let d = q - p;
-        let t = if d.length_squared() > 0.0 {
-            ((c - p).dot(d) / d.length_squared()).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        close((p + t * d, rp + t * (rq - rp)))
+        let t = along_chord(c, p, q);
+        close((p.lerp(q, t), rp + t * (rq - rp)))
     })
+}
+
+/// Where on the segment `[a, b]` the point nearest `p` is: its parameter in `[0, 1]` (0 for a
+/// segment of no length).
+pub(crate) fn along_chord(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let d = b - a;
+    if d.length_squared() > 0.0 {
+        ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
 }
 
 /// Counters of a trace.

@@ -57,7 +57,11 @@ pub fn trace_with_seeds(
     t.stats.duplicate_seams += t.drop_repeated_seams();
     t.stats.duplicate_seams += t.drop_seams_through_junctions();
     t.stats.non_generic_seams = t.seams.iter().filter(|s| s.segments.len() > 3).count();
-    t.sample_rounds_at_free_edges();
+    // The rim ends where free edges start: their faces sampled for rounds' axes before the
+    // degenerate curves are traced, the free edges added after.
+    let free = t.free_edge_starts();
+    t.sample_rounds_at_free_edges(&free);
     t.trace_degenerates();
-    t.into_axis()
+    let skeletal_edges = t.skeletal_at_vertices(&free);
+    t.into_axis(skeletal_edges)
 }

@@ -17,7 +17,7 @@ use crate::model::Element;
 use glam::DVec3;
 
 /// A rim end where a free edge starts (see [`Tracer::flat_rim_ends`]).
-struct FreeEdgeStart {
+pub(super) struct FreeEdgeStart {
     vertex: usize,
     /// The rim's two faces.
     pair: [Element; 2],
@@ -48,7 +48,7 @@ impl Tracer<'_> {
     /// ball to the vertex. A curvature-limit end there is renamed for the vertex (the ball
     /// "osculates" it: the element it was being handed to is another face at that vertex).
     /// Seam ends at one ball share one edge.
-    pub(super) fn skeletal_at_vertices(&mut self) -> Vec<SkeletalEdge> {
+    pub(super) fn skeletal_at_vertices(&mut self, free: &[FreeEdgeStart]) -> Vec<SkeletalEdge> {
         let near = self.opts.accuracy;
         let mut out: Vec<SkeletalEdge> = vec![];
         for s in 0..self.seams.len() {
@@ -91,7 +91,7 @@ impl Tracer<'_> {
                 }
             }
         }
-        self.flat_rim_ends(&mut out);
+        self.flat_rim_ends(free, &mut out);
         out
     }
 
@@ -116,13 +116,13 @@ impl Tracer<'_> {
     /// ball (the rounds' axes), the edge meets it; otherwise nothing known ends there and the
     /// sheet's boundary stays open (verification says so). Not where a skeletal edge already
     /// ends at the vertex (one a seam's end found).
-    fn flat_rim_ends(&self, out: &mut Vec<SkeletalEdge>) {
-        for start in self.free_edge_starts() {
+    fn flat_rim_ends(&self, free: &[FreeEdgeStart], out: &mut Vec<SkeletalEdge>) {
+        for start in free {
             // A skeletal edge a seam started at this vertex is that free edge already.
             if out.iter().any(|k| k.vertex == start.vertex) {
                 continue;
             }
-            let FreeEdgeStart {
+            let &FreeEdgeStart {
                 vertex: v,
                 pair,
                 normal: n,
@@ -162,16 +162,15 @@ impl Tracer<'_> {
 
     /// The rim ends where a free edge starts (see [`Self::flat_rim_ends`]), with the normal
     /// it runs along and the faces tangent to that normal's plane at the vertex.
-    fn free_edge_starts(&self) -> Vec<FreeEdgeStart> {
+    pub(super) fn free_edge_starts(&self) -> Vec<FreeEdgeStart> {
         let tol = crate::classify::DEFAULT_ANGLE_TOL_DEG.to_radians();
         let mut out = vec![];
         for (e, edge) in self.model.edges.iter().enumerate() {
             if self.class.edges[e].kind != EdgeKind::Convex {
                 continue;
             }
-            let [fa, fb] = match edge.faces[..] {
-                [a, b] if a != b => [a, b],
-                _ => continue,
+            let Some([fa, fb]) = self.two_faces(e) else {
+                continue;
             };
             for (end, &v) in edge.vertices.iter().enumerate() {
                 let t = if end == 0 { edge.range.0 } else { edge.range.1 };
@@ -216,10 +215,10 @@ impl Tracer<'_> {
     /// balls elsewhere blocked by what stands next to it, or the round touched by seams
     /// already, so not sampled at all). Points at 1/64, 1/16 and 1/4 of the face's domain
     /// from the vertex's parameters along each direction, those on the face.
-    pub(super) fn sample_rounds_at_free_edges(&mut self) {
-        for start in self.free_edge_starts() {
+    pub(super) fn sample_rounds_at_free_edges(&mut self, free: &[FreeEdgeStart]) {
+        for start in free {
             let p = self.model.vertices[start.vertex].point;
-            for f in start.tangent {
+            for &f in &start.tangent {
                 let face = &self.model.faces[f];
                 let Some((u, v)) = crate::geom::project_point(&face.surface, p, None) else {
                     continue;
@@ -239,18 +238,31 @@ impl Tracer<'_> {
         }
     }
 
+    /// The edges at vertex `v` besides `e`, each with `true` where `v` is its end.
+    fn other_edges_at(&self, e: usize, v: usize) -> Vec<(usize, bool)> {
+        self.vertex_edges[v]
+            .iter()
+            .copied()
+            .filter(|&(g, _)| g != e)
+            .collect()
+    }
+
+    /// Edge `g`'s two faces, when they are two.
+    fn two_faces(&self, g: usize) -> Option<[usize; 2]> {
+        match self.model.edges[g].faces[..] {
+            [a, b] if a != b => Some([a, b]),
+            _ => None,
+        }
+    }
+
     /// True when vertex `v` has two edges besides `e`, both smooth (where two rounds meet
     /// `e`'s end in a mitre, each tangent to the face between them).
     fn others_smooth(&self, e: usize, v: usize) -> bool {
-        let others: Vec<usize> = self.vertex_edges[v]
-            .iter()
-            .map(|&(g, _)| g)
-            .filter(|&g| g != e)
-            .collect();
+        let others = self.other_edges_at(e, v);
         others.len() == 2
             && others
                 .iter()
-                .all(|&g| self.class.edges[g].kind == EdgeKind::Smooth)
+                .all(|&(g, _)| self.class.edges[g].kind == EdgeKind::Smooth)
     }
 
     /// At vertex `v` of convex edge `e` between faces `faces`: where `v`'s other edges are
@@ -263,23 +275,16 @@ impl Tracer<'_> {
         v: usize,
         faces: [usize; 2],
     ) -> Option<(usize, usize)> {
-        let others: Vec<usize> = self.vertex_edges[v]
-            .iter()
-            .map(|&(g, _)| g)
-            .filter(|&g| g != e)
-            .collect();
-        let [g, h] = others[..] else { return None };
+        let [(g, _), (h, _)] = self.other_edges_at(e, v)[..] else {
+            return None;
+        };
         let kind = |g: usize| self.class.edges[g].kind;
         let (smooth, reflex) = match (kind(g), kind(h)) {
             (EdgeKind::Smooth, EdgeKind::Reflex) => (g, h),
             (EdgeKind::Reflex, EdgeKind::Smooth) => (h, g),
             _ => return None,
         };
-        let ends = |g: usize| match self.model.edges[g].faces[..] {
-            [a, b] if a != b => Some([a, b]),
-            _ => None,
-        };
-        let (s, r) = (ends(smooth)?, ends(reflex)?);
+        let (s, r) = (self.two_faces(smooth)?, self.two_faces(reflex)?);
         faces.into_iter().find_map(|x| {
             let y = faces[0] + faces[1] - x;
             let c = s
@@ -299,23 +304,14 @@ impl Tracer<'_> {
         v: usize,
         faces: [usize; 2],
     ) -> Option<(usize, usize, f64)> {
-        let others: Vec<(usize, bool)> = self.vertex_edges[v]
-            .iter()
-            .copied()
-            .filter(|&(g, _)| g != e)
-            .collect();
-        let [(g, g_end), (h, _)] = others[..] else {
+        let [(g, g_end), (h, _)] = self.other_edges_at(e, v)[..] else {
             return None;
         };
         let reflex = |g: usize| self.class.edges[g].kind == EdgeKind::Reflex;
-        let ends = |g: usize| match self.model.edges[g].faces[..] {
-            [a, b] if a != b => Some([a, b]),
-            _ => None,
-        };
         if !reflex(g) || !reflex(h) {
             return None;
         }
-        let (eg, eh) = (ends(g)?, ends(h)?);
+        let (eg, eh) = (self.two_faces(g)?, self.two_faces(h)?);
         // The face the two share that is neither of the rim's; each joins one of them.
         let w = eg
             .into_iter()

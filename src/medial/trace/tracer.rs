@@ -5,7 +5,9 @@ use super::options::{TraceOptions, MAX_CORRECTOR_ITER, SAME_PLACE_REL_ACCURACY, 
 use super::unknowns::{slot, sys_point, v3};
 use crate::classify::{Classification, EdgeKind, VertexKind};
 use crate::geom::{project_point, Boundary, FaceHit};
-use crate::medial::axis::{Degenerate, Junction, MedialAxis, Node, Seam, SeamPoint, TraceStats};
+use crate::medial::axis::{
+    Degenerate, Junction, MedialAxis, Node, Seam, SeamPoint, SkeletalEdge, TraceStats,
+};
 use crate::medial::equations::{vertex_angles, MedialSystem, NormalField};
 use crate::medial::segments::SegmentGroups;
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
@@ -124,9 +126,8 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// The medial axis traced.
-    pub(super) fn into_axis(mut self) -> MedialAxis {
-        let skeletal_edges = self.skeletal_at_vertices();
+    /// The medial axis traced, with its skeletal edges.
+    pub(super) fn into_axis(self, skeletal_edges: Vec<SkeletalEdge>) -> MedialAxis {
         MedialAxis {
             seams: self.seams,
             junctions: self.junctions,

@@ -39,16 +39,7 @@ pub(super) fn to_chord(p: DVec3, a: DVec3, b: DVec3) -> f64 {
     p.distance(a.lerp(b, along_chord(p, a, b)))
 }
 
-/// Where on the segment `[a, b]` the point nearest `p` is: its parameter in `[0, 1]` (0 for a
-/// segment of no length).
-pub(super) fn along_chord(p: DVec3, a: DVec3, b: DVec3) -> f64 {
-    let d = b - a;
-    if d.length_squared() > 0.0 {
-        ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
-    } else {
-        0.0
-    }
-}
+pub(super) use crate::medial::axis::along_chord;
 
 /// Which pairs of touch points [`touches_meet`] compares.
 #[derive(Clone, Copy, PartialEq)]
