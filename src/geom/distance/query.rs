@@ -205,6 +205,41 @@ mod tests {
         );
     }
 
+    /// Points just off an ellipse's major axis, between its two centres of curvature at the
+    /// vertices, seen from where the vertex is a maximum of the distance along the wall (the
+    /// elliptic cylinder as a NURBS, semi-axes 30 and 15: the centres of curvature at
+    /// x = ±22.5). The face's nearest cell there is the vertex's: the descent from it, with
+    /// Gauss–Newton's short steps where the distance curves away, stopped 0.11 rad from the
+    /// vertex, 0.06 mm farther than the foot, so sheet-mesh balls there were too large and
+    /// OpenCASCADE found them touching one side only. Every hit must be at the exact distance
+    /// (by dense sampling).
+    #[test]
+    fn a_point_past_a_centre_of_curvature_finds_its_foot_off_the_vertex() {
+        let model =
+            crate::ingest::read_model(&crate::testing::sample_path("elliptic_cylinder_nurbs.step"))
+                .unwrap();
+        let b = Boundary::new(&model);
+        for k in 0..=40 {
+            let x = -22.4 + 44.8 * k as f64 / 40.0;
+            for y in [4e-4, -1e-3, 0.0] {
+                let p = DVec3::new(x, y, 8.8);
+                let hit = b.nearest(&model, p);
+                let exact = (0..200_000)
+                    .map(|i| {
+                        let t = std::f64::consts::TAU * i as f64 / 200_000.0;
+                        DVec3::new(30.0 * t.cos(), 15.0 * t.sin(), 8.8).distance(p)
+                    })
+                    .fold(f64::INFINITY, f64::min)
+                    .min(8.8);
+                assert!(
+                    (hit.distance - exact).abs() < 1e-6,
+                    "{p}: {} vs {exact} ({hit:?})",
+                    hit.distance
+                );
+            }
+        }
+    }
+
     /// Every point of every face (on a grid over its domain, inside its trim) is at distance 0
     /// from the boundary, on faces that wind round many times (`samples/distance`: a coil
     /// whose turns are 0.2 mm apart; the M6 screw's thread when the corpus is there). A grid
