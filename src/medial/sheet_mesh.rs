@@ -293,10 +293,16 @@ fn maximal_ball(
             continue;
         }
         if hit.distance >= r - acc {
-            // Settled: the ball's second touch is the nearest point just beyond it.
+            // Settled. A nearest point inside the ball by less than the accuracy: the ball
+            // through it (one more exact shrink, no query), so that both contacts are at r.
+            let (r, c) = match through(p, m, hit.point).filter(|&t| t < r) {
+                Some(t) if hit.distance < r => (t, p + m * t),
+                _ => (r, c),
+            };
             if r <= 100.0 * acc {
                 return None;
             }
+            // The ball's partner: what the ball touches just beyond it.
             let (g2, _) = nearest(p + m * (r + 10.0 * acc)).unwrap_or((g, hit));
             return Some(Ball {
                 c,
@@ -304,19 +310,23 @@ fn maximal_ball(
                 partner: group_of_face(g2),
             });
         }
-        let d = hit.point - p;
-        let along = m.dot(d);
-        if along <= 0.0 {
-            return None;
-        }
-        let next = d.length_squared() / (2.0 * along);
-        if next.is_nan() || next >= r {
+        let next = through(p, m, hit.point)?;
+        if next >= r {
             return None;
         }
         r = next;
         shrunk = true;
     }
     None
+}
+
+/// The radius of the ball tangent at `p` (inward normal `m`) through `q`:
+/// `‖q − p‖² / (2 m·(q − p))`; None when `q` is not on the ball's side of the tangent plane.
+fn through(p: DVec3, m: DVec3, q: DVec3) -> Option<f64> {
+    let d = q - p;
+    let along = m.dot(d);
+    let r = d.length_squared() / (2.0 * along);
+    (along > 0.0 && r.is_finite()).then_some(r)
 }
 
 /// Rough lengths of face `f` along u and v (for sharing the sampling budget): |Su|·Δu and
