@@ -33,7 +33,10 @@ freely; `skeletal_edges`: its last ball is a vertex of the part, r = 0):
 
 With --mesh, K distinct vertices of the sheet mesh (default 200, spread over the file) are checked too:
 `inside`, and `mesh_contacts` -- the ball of radius r = distance to the boundary has a second
-contact, separated from the first: the growth test steps the centre away from the first contact
+contact, separated from the first (among every face's nearest point and the extrema of the
+distance on each face's surface inside the face, within r + tol; for a centre on the axis of a
+face of revolution, its contacts on that face turned round the axis by eighths of a turn, and
+on a torus's core circle, round the core's tangent), or else the growth test steps the centre away from the first contact
 (by r/2, r/8, r/32); the nearest boundary point from there, projected back from the centre onto
 the face, edge or vertex it lies on, must be at distance r (+ tol) and separated. A ball that
 could grow away from its only contact is not on the medial axis.
@@ -82,7 +85,7 @@ import sys
 
 from OCP.Bnd import Bnd_Box
 from OCP.BRep import BRep_Builder, BRep_Tool
-from OCP.BRepAdaptor import BRepAdaptor_Curve
+from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Surface
 from OCP.BRepBndLib import BRepBndLib
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
 from OCP.BRepClass import BRepClass_FaceClassifier
@@ -91,7 +94,9 @@ from OCP.BRepClass3d import BRepClass3d_SolidClassifier
 from OCP.BRepExtrema import BRepExtrema_DistShapeShape, BRepExtrema_SupportType
 from OCP.GeomAPI import GeomAPI_ProjectPointOnCurve, GeomAPI_ProjectPointOnSurf
 from OCP.GeomLProp import GeomLProp_SLProps
-from OCP.gp import gp_Pnt, gp_Pnt2d
+from OCP.GeomAbs import (GeomAbs_Cone, GeomAbs_Cylinder, GeomAbs_Sphere, GeomAbs_SurfaceOfRevolution,
+                         GeomAbs_Torus)
+from OCP.gp import gp_Ax1, gp_Dir, gp_Lin, gp_Pnt, gp_Pnt2d, gp_Vec
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.STEPControl import STEPControl_Reader
 from OCP.TopAbs import (TopAbs_EDGE, TopAbs_FACE, TopAbs_IN, TopAbs_ON, TopAbs_OUT, TopAbs_REVERSED,
@@ -322,12 +327,71 @@ class Part:
             sols.append(((q.X(), q.Y(), q.Z()), d.SupportTypeShape2(i), d.SupportOnShape2(i)))
         return d.Value(), sols
 
-    def face_contacts(self, p, reach, solid=None):
-        """The nearest point of every face (of that solid, if not None) within `reach` of `p`."""
+    def face_contacts(self, p, reach, solid=None, extrema=False):
+        """The nearest point of every face (of that solid, if not None) within `reach` of `p`;
+        with `extrema`, also every extremum of the distance from `p` on each such face's
+        surface that is inside the face and within `reach` (a face touched twice by a ball,
+        an elliptic wall seen from its major axis, has two: its nearest point is one)."""
         out = []
-        for _, d in self.face_distances(p, reach, solid):
+        for i, d in self.face_distances(p, reach, solid):
             for k in range(1, d.NbSolution() + 1):
                 q = d.PointOnShape2(k)
+                out.append((q.X(), q.Y(), q.Z()))
+            if extrema:
+                out += self.surface_extrema(i, p, reach)
+        return out
+
+    def axis_contacts(self, p, contacts, reach, tol, solid=None):
+        """Contacts along a circle: for a centre `p` (within `tol`) on the axis of a face of
+        revolution (cylinder, cone, sphere, torus, surface of revolution) within `reach`,
+        each contact on that face turned round the axis; on a torus's core circle, turned round
+        the core's tangent at `p` (the ball touches the tube along its meridian circle). By
+        every eighth of a turn, kept when on the face (within `tol`: a fillet's face holds a
+        quarter of the circle) and within `reach` of `p`. A ball centred there touches the face
+        along an arc, and the extrema of the distance are not isolated (OCCT's projection
+        finds none)."""
+        out = []
+        # The faces by their boxes: OCCT's distance from a point on a torus's core to the
+        # torus's face is not always found (every point of a meridian is a solution).
+        for i in range(1, self.faces.Extent() + 1):
+            if solid is not None and i not in self.solid_faces[solid]:
+                continue
+            box = self.face_boxes[i - 1]
+            if box.IsOut(gp_Pnt(*p)) and box_distance(box, p) > reach:
+                continue
+            face = TopoDS.Face(self.faces.FindKey(i))
+            surface = BRepAdaptor_Surface(face)
+            axes = []
+            axis = revolution_axis(surface)
+            if axis is not None and gp_Lin(axis).Distance(gp_Pnt(*p)) <= tol:
+                axes.append(axis)
+            if surface.GetType() == GeomAbs_Torus and core_distance(surface.Torus(), p) <= tol:
+                axes.append(core_tangent(surface.Torus(), p))
+            for axis in axes:
+                for q in contacts:
+                    for k in range(1, 8):
+                        turned = gp_Pnt(*q).Rotated(axis, k * math.pi / 4.0)
+                        t = (turned.X(), turned.Y(), turned.Z())
+                        if dist3(t, p) > reach:
+                            continue
+                        d = BRepExtrema_DistShapeShape(vertex(t), face)
+                        d.Perform()
+                        if d.IsDone() and d.NbSolution() > 0 and d.Value() <= tol:
+                            out.append(t)
+        return out
+
+    def surface_extrema(self, i, p, reach):
+        """The extrema of the distance from `p` on face i's surface (GeomAPI_ProjectPointOnSurf)
+        within `reach` of it and inside the face."""
+        face = TopoDS.Face(self.faces.FindKey(i))
+        proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(*p), BRep_Tool.Surface_s(face))
+        out = []
+        for k in range(1, proj.NbPoints() + 1):
+            if proj.Distance(k) > reach:
+                continue
+            u, v = proj.Parameters(k)
+            if BRepClass_FaceClassifier(face, gp_Pnt2d(u, v), 1e-7).State() in (TopAbs_IN, TopAbs_ON):
+                q = proj.Point(k)
                 out.append((q.X(), q.Y(), q.Z()))
         return out
 
@@ -528,11 +592,50 @@ def check_mesh_vertex(part, checks, what, p):
         return
     s = separation(r, tol)
     p1 = sols[0][0]
-    # The contacts: every face's nearest point within r + tol of the centre.
-    contacts = [q for q, _, _ in sols] + part.face_contacts(p, r + tol, k)
+    # The contacts: every face's nearest point, and every extremum of the distance on a
+    # face, within r + tol of the centre.
+    contacts = [q for q, _, _ in sols] + part.face_contacts(p, r + tol, k, extrema=True)
+    if places(contacts, s) < 2:
+        contacts += part.axis_contacts(p, contacts, r + tol, tol, k)
     ok = places(contacts, s) >= 2 or growth_contact(part, p, r, p1, s, tol, k)
     checks.record("mesh_contacts", ok,
                   lambda: f"{what}: the ball at {p} (r {r:.6g}) has no second contact: it could grow")
+
+
+def revolution_axis(surface):
+    """The axis (gp_Ax1) of a surface of revolution (BRepAdaptor_Surface), or None."""
+    kind = surface.GetType()
+    if kind == GeomAbs_Cylinder:
+        return surface.Cylinder().Axis()
+    if kind == GeomAbs_Cone:
+        return surface.Cone().Axis()
+    if kind == GeomAbs_Sphere:
+        return surface.Sphere().Position().Axis()
+    if kind == GeomAbs_Torus:
+        return surface.Torus().Axis()
+    if kind == GeomAbs_SurfaceOfRevolution:
+        return surface.AxeOfRevolution()
+    return None
+
+
+def core_distance(torus, p):
+    """The distance from `p` to a torus's core circle (gp_Torus)."""
+    ax = torus.Axis()
+    o, z = ax.Location(), ax.Direction()
+    w = [p[0] - o.X(), p[1] - o.Y(), p[2] - o.Z()]
+    h = w[0] * z.X() + w[1] * z.Y() + w[2] * z.Z()
+    rho = math.sqrt(max(0.0, w[0] ** 2 + w[1] ** 2 + w[2] ** 2 - h * h))
+    return math.hypot(rho - torus.MajorRadius(), h)
+
+
+def core_tangent(torus, p):
+    """The line through `p` along the tangent of a torus's core circle at the core's point
+    nearest `p` (gp_Ax1)."""
+    z = torus.Axis().Direction()
+    o = torus.Axis().Location()
+    w = gp_Vec(o, gp_Pnt(*p))
+    radial = w - gp_Vec(z) * w.Dot(gp_Vec(z))
+    return gp_Ax1(gp_Pnt(*p), gp_Dir(gp_Vec(z).Crossed(radial)))
 
 
 def growth_contact(part, p, r, p1, s, tol, k=None):

@@ -793,3 +793,73 @@ fn a_degenerate_curves_end_ball_that_does_not_osculate_at_its_vertex_fails() {
     assert_eq!(code, 1, "{failed:?}");
     assert!(failed.iter().any(|f| f == "degenerate_ends"), "{failed:?}");
 }
+
+/// The OCCT cross-check's count of failures of `check` on the sheet-mesh vertices of `obj`
+/// (`--mesh`), with the genuine report of `part`.
+fn occt_mesh_failures(part: &Path, report: &Path, obj: &Path, check: &str) -> u64 {
+    let out = std::process::Command::new(occt_python())
+        .arg(root().join("scripts/ocp/crosscheck_mat.py"))
+        .arg(part)
+        .arg(report)
+        .arg("--mesh")
+        .arg(obj)
+        .arg("--json")
+        .output()
+        .expect("run the OCCT cross-check");
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!(
+            "{}: the cross-check printed no JSON ({e}): {}",
+            obj.display(),
+            String::from_utf8_lossy(&out.stderr)
+        )
+    });
+    v["failed"][check].as_u64().unwrap_or(0)
+}
+
+/// OCCT's check of sheet-mesh vertices (`mesh_contacts`: the ball at the vertex has a second
+/// contact) accepts balls that touch one face twice — the elliptic bar's wall (semi-axes 20
+/// and 10, 16 high) from 1e-6 mm off its major axis, at (−14.95, −1e-6, 5.06), r 5.05, the
+/// bottom 0.01 mm farther (the face's nearest point is one contact; the other, 2e-6 mm
+/// farther, is found among the extrema of the distance on the face) — and balls on a cone's
+/// axis, touching it all round (the frustum, r = 10 at z = 0 to 6 at z = 30, at (0, 0, 15);
+/// OCCT's projection finds no extremum there), and on a torus's core circle, touching the
+/// tube along a meridian (major radius 20, minor 5, at (20, 0, 0)); and rejects each moved
+/// 0.05 mm off its axis or core, where it touches one side only and could grow.
+#[test]
+fn mesh_vertices_touching_one_face_twice_or_all_round_pass_and_moved_off_fail() {
+    if !require(
+        "verify::mesh_vertices_touching_one_face_twice_or_all_round_pass_and_moved_off_fail",
+        &[Tool::Occt],
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    for (name, on, off) in [
+        (
+            "trace/elliptic_bar.step",
+            [-14.95, -1e-6, 5.06],
+            [-14.95, 0.05, 5.06],
+        ),
+        ("trace/frustum.step", [0.0, 0.0, 15.0], [0.05, 0.0, 15.0]),
+        ("torus.step", [20.0, 0.0, 0.0], [20.0, 0.0, 0.05]),
+    ] {
+        let report = write(dir.path(), "genuine", &genuine(name, dir.path()));
+        let obj = |tag: &str, p: [f64; 3]| {
+            let path = dir.path().join(format!("{tag}.obj"));
+            std::fs::write(&path, format!("v {} {} {}\n", p[0], p[1], p[2])).unwrap();
+            path
+        };
+        let part = sample(name);
+        let (good, bad) = (obj("on", on), obj("off", off));
+        assert_eq!(
+            occt_mesh_failures(&part, &report, &good, "mesh_contacts"),
+            0,
+            "{name}: {on:?} on the axis"
+        );
+        assert_eq!(
+            occt_mesh_failures(&part, &report, &bad, "mesh_contacts"),
+            1,
+            "{name}: {off:?} off the axis"
+        );
+    }
+}
