@@ -18,15 +18,6 @@ use crate::tools::{occt_python, Tool};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// Open seam ends at hand-overs near vertices (the system there singular, or the corrector
-/// converging to another ball); with them, junctions missing a seam end, sheets that do not
-/// close and, in OCCT, a few sheet-mesh vertices past a sheet's boundary.
-const VOIDS_TURNED: &str = "its ten voids, which the file orients into the material, are \
-    turned by their geometry on reading (the readers agree since: OCCT put 1242 centres \
-    outside before); no seam ends open and every sheet closes (the sheets below its ribs' \
-    vertical edges end along skeletal edges at the ribs' foot vertices), every face is \
-    touched and `--verify` passes, but one sheet-mesh vertex lies past a sheet's boundary";
-
 const OPEN_AND_SHALLOW: &str = "no seam ends open; seams leaving a vertex between faces at a \
     shallow angle have points whose touch points on those faces lie closer than \
     √(8·r·accuracy), listed as unresolved and verified as such; seams whose two touch points \
@@ -58,33 +49,6 @@ const PINCHED: &str = "no seams end open: the seams under its holes, each inscri
     junction of three reflex edges and a vertex, and where a skeletal edge starts \
     (`sheets_closed`, issue 20)";
 
-/// Shallow facets, but every sheet closes.
-const SHALLOW_FACETS_CLOSED: &str = "no seam ends open; seams leaving a vertex between faces \
-    at a shallow angle (above the tolerance) have points whose touch points on those faces \
-    lie closer than √(8·r·accuracy), listed as unresolved and verified as such; its four \
-    non-generic seams (four faces touching every ball) bound the sheets of neighbouring \
-    contacts, and every sheet boundary closes; two sheet-mesh vertices next to a sheet's \
-    boundary lie past it, where the ball has one contact (`occt:mesh_contacts`)";
-
-/// The sheet mesh's vertices next to a sheet's boundary can lie past it, where the ball has
-/// one contact only.
-const MESH_PAST_BOUNDARY: &str = "sheet-mesh vertices next to a sheet's boundary lie past \
-    it, where the ball has one contact (`occt:mesh_contacts`); the seams themselves pass";
-
-/// One sheet-mesh vertex whose ball is off its sheet by the accuracy.
-const MESH_AT_THE_ACCURACY: &str = "the seams pass; one sheet-mesh vertex of 200 sampled, on the \
-    sheet of a plate's bottom edge far from the pockets, is 4.5e-5 mm nearer one face than the \
-    other (the accuracy is 4.49e-5 mm), so OCCT finds one contact only (`occt:mesh_contacts`)";
-
-const SCREW: &str = "no seams end open (the seam whose touch points on two reflex edges \
-    arrive together at a mixed vertex of the head ends at the pinch there); the balls next to \
-    the thread's creases touch two places at the accuracy and are listed as unresolved; two \
-    sheet-mesh vertices lie past a sheet's boundary (`occt:mesh_contacts`); every sheet \
-    boundary closes (the hex socket's seam from its bottom is touched by four faces, and \
-    traced once); the degenerate curves along the thread's root, a helical strip, are \
-    traced with their touch points spread again as the arc of contact turns, in overlapping \
-    pieces that end meeting the next turn of the root";
-
 const MOTOR_PLATE: &str = "22 faces whose edges lie off their surfaces by up to 3.9e-3 mm (the \
     accuracy is 7.4e-5 mm; the file declares 0.01 mm): both checkers hold the balls near them to \
     the gap (ten errors up to 5.7e-4 mm); OCCT puts one touch point on the top plane F6 0.83 mm \
@@ -95,19 +59,21 @@ const MOTOR_PLATE: &str = "22 faces whose edges lie off their surfaces by up to 
     located: four where the arc of contact shrinks to a point, three at vertices, one inside \
     an oblique wall's elliptic edge; nine sheet boundaries open (three at V16, where two seams \
     end at one vertex with both rims, three at rims ending at vertices, three at free edges \
-    whose largest ball is on no traced degenerate curve)";
-
-const FTC06: &str = "`--verify` passes; three sheet-mesh vertices on the bosses' axes, whose \
-    balls touch a cylinder or cone all round, have no second contact for OCCT's check (one \
-    nearest point per face)";
+    whose largest ball is on no traced degenerate curve); one sheet-mesh vertex (r 0.298) \
+    next to a B-spline round, touching it along an arc, has no second contact for OCCT (its \
+    extrema of the distance are not isolated)";
 
 const GAPS_ACCEPTED: &str = "a vertex 8.7e-3 mm off its curve, accepted within the file's \
     uncertainty (0.01 mm), and 12 faces whose edges lie off their surfaces by up to 2.2e-3 mm \
-    (the accuracy is 2e-5 mm): both checkers hold the balls near them to the gap; OCCT puts two \
-    touch points off the boundary (0.029 mm; and 6.8e-4 mm, by OCCT's measure of the gaps more \
-    than the nearby faces' own, on the last point of a seam that ends open where its touch point \
-    oscillates between two faces); two seam ends open, at a hand-over and that oscillation \
-    (issue 19); a free edge at a vertex no longer than the gap about it is not drawn";
+    (the accuracy is 2e-5 mm): both checkers hold the balls near them to the gap; OCCT puts one \
+    touch point 0.029 mm off the boundary; two seam ends open, at a hand-over and where a touch \
+    point oscillates between two faces (issue 19); a free edge at a vertex no longer than the \
+    gap about it is not drawn; where the 0.2 mm round F6 meets F4, F10 and F12, balls of \
+    r ≈ 0.2 touch F6 up to three times (its axis, found since the descent leaves a saddle of \
+    the distance: the nearest point on F6 was missed before): one junction there with five \
+    contacts leaves five sheet boundaries open beside the four elsewhere (`sheets_closed`, \
+    issue 20); one sheet-mesh vertex, r 0.195, on the B-spline faces F7 and F10 near there, \
+    has no second contact for OCCT";
 
 const DM1: &str = "seven I-DEAS solids: three solids' Euler characteristics differ (−2 for \
     0; issue 20)";
@@ -136,48 +102,16 @@ const SHRUNK_ARC_UNJOINED: &str = "no seam ends open and every ball passes both 
     (18, 3, 10), and a skeletal edge comes up to that vertex, but the degenerate curve is not \
     in the sheet graph (issue 20): the sheet bounded there stays open at the vertex.";
 
-const MESH_ON_A_CUT_ROUND: &str = "every traced ball passes both checkers and `--verify` \
-    passes; one sheet-mesh vertex lies on the round's axis at x = 15.08 (1.1e-5 mm off it), \
-    where the skew wall has cut the round's tangent planes away: its ball touches the round \
-    along an arc, which OCCT's check takes as the one nearest point (at the arc's end on the \
-    cut's edge); its growth test steps to the arc's other end, 1.3e-3 mm past r from the \
-    vertex's slightly-off centre (the mesh's vertex, not a traced ball; issue 22)";
-
-const MESH_ON_AN_AXIS: &str = "every traced ball passes both checkers and `--verify` passes; \
-    two sheet-mesh vertices lie on the cone's axis, whose balls touch the cone all round: \
-    OCCT's check takes one nearest point per face and finds no second contact (the mesh's \
-    vertices, not traced balls; issue 22)";
-
 const EXPECTED_FAILURES: &[Expected] = &[
-    (
-        "frustum.step",
-        &[("occt:mesh_contacts", 2)],
-        MESH_ON_AN_AXIS,
-    ),
-    (
-        "b3d_M6-1x12-countersunk-screw.step",
-        &[("occt:mesh_contacts", 2)],
-        SCREW,
-    ),
-    (
-        "elliptic_cylinder.step",
-        &[("occt:mesh_contacts", 3)],
-        MESH_PAST_BOUNDARY,
-    ),
-    (
-        "elliptic_cylinder_nurbs.step",
-        &[("occt:mesh_contacts", 9)],
-        MESH_PAST_BOUNDARY,
-    ),
     ("prusa_LCD-knob.stp", &[("verify:euler", 1)], LCD_KNOB),
     (
         "prusa_adapter-printer.stp",
         &[
-            ("occt:mesh_contacts", 3),
+            ("occt:mesh_contacts", 1),
             ("occt:seam_ends", 2),
-            ("occt:touch_on_boundary", 2),
+            ("occt:touch_on_boundary", 1),
             ("verify:seam_ends", 2),
-            ("verify:sheets_closed", 4),
+            ("verify:sheets_closed", 9),
         ],
         GAPS_ACCEPTED,
     ),
@@ -193,26 +127,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
         MOTOR_PLATE,
     ),
     (
-        "prusa_y-belt-idler.stp",
-        &[("occt:mesh_contacts", 1)],
-        VOIDS_TURNED,
-    ),
-    (
         "prusa_y-rod-holder.stp",
         &[("verify:sheets_closed", 4)],
         PINCHED,
     ),
     ("stepswift_dm1-id-214.stp", &[("verify:euler", 3)], DM1),
-    (
-        "stepswift_nist_ftc_06_asme1_rd.stp",
-        &[("occt:mesh_contacts", 3)],
-        FTC06,
-    ),
-    (
-        "trimesh_featuretype.STEP",
-        &[("occt:mesh_contacts", 2)],
-        SHALLOW_FACETS_CLOSED,
-    ),
     (
         "voron0_Hotend_Mount_Revo_Voron.step",
         &[
@@ -235,24 +154,9 @@ const EXPECTED_FAILURES: &[Expected] = &[
         EULER_OFF,
     ),
     (
-        "elliptic_bar.step",
-        &[("occt:mesh_contacts", 6)],
-        MESH_PAST_BOUNDARY,
-    ),
-    (
-        "shallow_pockets.step",
-        &[("occt:mesh_contacts", 1)],
-        MESH_AT_THE_ACCURACY,
-    ),
-    (
         "round_cut_by_slanted_wall.step",
         &[("verify:sheets_closed", 1)],
         SHRUNK_ARC_UNJOINED,
-    ),
-    (
-        "round_cut_by_skew_wall.step",
-        &[("occt:mesh_contacts", 1)],
-        MESH_ON_A_CUT_ROUND,
     ),
     (
         "cube_corner_in_plate.step",
