@@ -275,16 +275,22 @@ class Part:
         """(index from 1, BRepExtrema_DistShapeShape from p) of every face (of that solid, if
         not None) within `reach` of `p`."""
         v = vertex(p)
+        for i in self.faces_by_box(p, reach, solid):
+            d = BRepExtrema_DistShapeShape(v, self.faces.FindKey(i))
+            d.Perform()
+            if d.IsDone() and d.NbSolution() > 0 and d.Value() <= reach:
+                yield i, d
+
+    def faces_by_box(self, p, reach, solid=None):
+        """The faces (indices from 1) of that solid whose bounding box is within `reach` of
+        `p`."""
         for i in range(1, self.faces.Extent() + 1):
             if solid is not None and i not in self.solid_faces[solid]:
                 continue
             box = self.face_boxes[i - 1]
             if box.IsOut(gp_Pnt(*p)) and box_distance(box, p) > reach:
                 continue
-            d = BRepExtrema_DistShapeShape(v, self.faces.FindKey(i))
-            d.Perform()
-            if d.IsDone() and d.NbSolution() > 0 and d.Value() <= reach:
-                yield i, d
+            yield i
 
     def gap_near(self, p, reach, solid=None):
         """The largest gap of the faces within `reach` of `p`."""
@@ -353,12 +359,7 @@ class Part:
         out = []
         # The faces by their boxes: OCCT's distance from a point on a torus's core to the
         # torus's face is not always found (every point of a meridian is a solution).
-        for i in range(1, self.faces.Extent() + 1):
-            if solid is not None and i not in self.solid_faces[solid]:
-                continue
-            box = self.face_boxes[i - 1]
-            if box.IsOut(gp_Pnt(*p)) and box_distance(box, p) > reach:
-                continue
+        for i in self.faces_by_box(p, reach, solid):
             face = TopoDS.Face(self.faces.FindKey(i))
             surface = BRepAdaptor_Surface(face)
             axes = []
