@@ -282,24 +282,25 @@ fn maximal_ball(
     // The box of a curved part is a close inner estimate (`Model::bounding_box`), so a
     // ball that is empty at the first guess is grown until a query shrinks it: only a
     // shrunk ball is known to be maximal.
-    let mut shrunk = false;
+    // The point the ball last shrank to: its second contact once it settles.
+    let mut second: Option<DVec3> = None;
     let nearest =
         |c: DVec3| boundary.nearest_face_where(model, c, |g| model.solid_of_face(g) == solid);
     for _ in 0..64 {
         let c = p + m * r;
         let (g, hit) = nearest(c)?;
-        if hit.distance >= r - acc && !shrunk && r < model.diagonal() {
+        if hit.distance >= r - acc && second.is_none() && r < model.diagonal() {
             r = (2.0 * r).min(model.diagonal());
             continue;
         }
         if hit.distance >= r - acc {
             // Settled. A nearest point inside the ball by less than the accuracy: the ball
             // through it (one more exact shrink, no query), so that both contacts are at r.
-            let (r, c) = match through(p, m, hit.point).filter(|&t| t < r) {
-                Some(t) if hit.distance < r => (t, p + m * t),
-                _ => (r, c),
+            let (r, c, q) = match through(p, m, hit.point).filter(|&t| t < r) {
+                Some(t) if hit.distance < r => (t, p + m * t, hit.point),
+                _ => (r, c, second?),
             };
-            if r <= 100.0 * acc {
+            if r <= 100.0 * acc || !apart(p, q, r, acc) {
                 return None;
             }
             // The ball's partner: what the ball touches just beyond it.
@@ -315,7 +316,7 @@ fn maximal_ball(
             return None;
         }
         r = next;
-        shrunk = true;
+        second = Some(hit.point);
     }
     None
 }
@@ -327,6 +328,16 @@ fn through(p: DVec3, m: DVec3, q: DVec3) -> Option<f64> {
     let along = m.dot(d);
     let r = d.length_squared() / (2.0 * along);
     (along > 0.0 && r.is_finite()).then_some(r)
+}
+
+/// True when a ball of radius `r` touching at `p` and `q` has them apart by more than
+/// `verify`'s separation at accuracy `acc` ([`crate::medial::verify::separation`]). Nearer
+/// together, its two contacts are one place to the accuracy (next to a skeletal edge, where a
+/// sheet ends as its contacts meet; along a round of about the ball's radius): the ball is
+/// not known to be maximal, and the mesh leaves it out, as the tracer lists such balls
+/// unresolved. The mesh then stops that short of the sheet's boundary.
+fn apart(p: DVec3, q: DVec3, r: f64, acc: f64) -> bool {
+    p.distance(q) > crate::medial::verify::separation(r, acc)
 }
 
 /// Rough lengths of face `f` along u and v (for sharing the sampling budget): |Su|·Δu and
