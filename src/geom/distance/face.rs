@@ -512,7 +512,8 @@ pub fn descend(surface: &Surface, p: DVec3, start: (f64, f64)) -> (f64, f64) {
 }
 
 /// How often [`descend_wrapped`] doubles a Gauss–Newton step that lowered the distance
-/// where the distance's Hessian is not positive definite (while it goes on falling).
+/// where the distance's Hessian is not positive definite (while it goes on falling), and
+/// [`downhill_from_saddle`] quadruples its step, at most.
 const MAX_STEP_DOUBLINGS: usize = 40;
 
 /// The damping [`descend_wrapped`] starts from when a step fails undamped (then ×10 per
