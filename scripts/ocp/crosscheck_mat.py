@@ -276,9 +276,8 @@ class Part:
         not None) within `reach` of `p`."""
         v = vertex(p)
         for i in self.faces_by_box(p, reach, solid):
-            d = BRepExtrema_DistShapeShape(v, self.faces.FindKey(i))
-            d.Perform()
-            if d.IsDone() and d.NbSolution() > 0 and d.Value() <= reach:
+            d = distance_within(v, self.faces.FindKey(i), reach)
+            if d is not None:
                 yield i, d
 
     def faces_by_box(self, p, reach, solid=None):
@@ -375,9 +374,7 @@ class Part:
                         t = (turned.X(), turned.Y(), turned.Z())
                         if dist3(t, p) > reach:
                             continue
-                        d = BRepExtrema_DistShapeShape(vertex(t), face)
-                        d.Perform()
-                        if d.IsDone() and d.NbSolution() > 0 and d.Value() <= tol:
+                        if distance_within(vertex(t), face, tol) is not None:
                             out.append(t)
         return out
 
@@ -486,6 +483,14 @@ def box_distance(box, p):
 
 def vertex(p):
     return BRepBuilderAPI_MakeVertex(gp_Pnt(*p)).Vertex()
+
+
+def distance_within(v, shape, reach):
+    """BRepExtrema_DistShapeShape from the vertex `v` to `shape` when it finds a point of it
+    within `reach`, else None."""
+    d = BRepExtrema_DistShapeShape(v, shape)
+    d.Perform()
+    return d if d.IsDone() and d.NbSolution() > 0 and d.Value() <= reach else None
 
 
 class Checks:
@@ -975,9 +980,7 @@ def check_graph(mat, checks, touched, part):
                 solids = part.solids_holding(b[:3])
                 if solids != [None] and not any(f in part.solid_faces[k] for k in solids):
                     continue
-                d = BRepExtrema_DistShapeShape(vertex(b[:3]), part.faces.FindKey(f))
-                d.Perform()
-                if d.IsDone() and d.NbSolution() > 0 and d.Value() <= reach:
+                if distance_within(vertex(b[:3]), part.faces.FindKey(f), reach) is not None:
                     reached.add(surface[f])
                     break
     if any(surface[f] not in reached for f in range(1, part.faces.Extent() + 1)):

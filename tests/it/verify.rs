@@ -13,6 +13,7 @@
 use crate::common::{matrace, root, sample};
 use crate::tools::{occt_python, require, Tool};
 use serde_json::{json, Value};
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 
 /// Traces sample `name` (`samples/<name>`, which may be in a subfolder) into `dir` and returns
@@ -78,10 +79,18 @@ fn verify_with(part: &Path, report: &Path, more: &[&str]) -> (i32, Vec<String>) 
 
 /// The OCCT cross-check's exit status and the checks that failed.
 fn occt(part: &Path, report: &Path) -> (i32, Vec<String>) {
+    let (code, v) = occt_with(part, report, &[]);
+    let failed = v["failed"].as_object().unwrap().keys().cloned().collect();
+    (code, failed)
+}
+
+/// The OCCT cross-check of `report` with more arguments: its exit status and its JSON.
+fn occt_with(part: &Path, report: &Path, more: &[&OsStr]) -> (i32, Value) {
     let out = std::process::Command::new(occt_python())
         .arg(root().join("scripts/ocp/crosscheck_mat.py"))
         .arg(part)
         .arg(report)
+        .args(more)
         .arg("--json")
         .output()
         .expect("run the OCCT cross-check");
@@ -93,8 +102,7 @@ fn occt(part: &Path, report: &Path) -> (i32, Vec<String>) {
             String::from_utf8_lossy(&out.stderr)
         )
     });
-    let failed = v["failed"].as_object().unwrap().keys().cloned().collect();
-    (code, failed)
+    (code, v)
 }
 
 /// A seam point's ball touching one face of the box, its touch points clustered (the box is
@@ -797,22 +805,7 @@ fn a_degenerate_curves_end_ball_that_does_not_osculate_at_its_vertex_fails() {
 /// The OCCT cross-check's count of failures of `check` on the sheet-mesh vertices of `obj`
 /// (`--mesh`), with the genuine report of `part`.
 fn occt_mesh_failures(part: &Path, report: &Path, obj: &Path, check: &str) -> u64 {
-    let out = std::process::Command::new(occt_python())
-        .arg(root().join("scripts/ocp/crosscheck_mat.py"))
-        .arg(part)
-        .arg(report)
-        .arg("--mesh")
-        .arg(obj)
-        .arg("--json")
-        .output()
-        .expect("run the OCCT cross-check");
-    let v: Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
-        panic!(
-            "{}: the cross-check printed no JSON ({e}): {}",
-            obj.display(),
-            String::from_utf8_lossy(&out.stderr)
-        )
-    });
+    let (_, v) = occt_with(part, report, &[OsStr::new("--mesh"), obj.as_os_str()]);
     v["failed"][check].as_u64().unwrap_or(0)
 }
 

@@ -176,6 +176,17 @@ mod tests {
     use crate::geom::nearest_on_face;
     use crate::testing::distance::{assert_hit_on_face, Lcg};
 
+    /// The distance from `p` to the ellipse with semi-axes `a` (along x) and `b` (along y)
+    /// about the z axis at height `z`, by dense sampling (200,000 points).
+    fn ellipse_distance(a: f64, b: f64, z: f64, p: DVec3) -> f64 {
+        (0..200_000)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / 200_000.0;
+                DVec3::new(a * t.cos(), b * t.sin(), z).distance(p)
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// A face with two basins of the distance about as near: the elliptic bar's wall (semi-axes
     /// 20 and 10, 16 high) from a point just past the major axis, where the wall's two sides
     /// are at 7.81 (this side, y < 0) and 8.00 (the other). The nearest cell of the face's
@@ -191,12 +202,7 @@ mod tests {
         let b = Boundary::new(&model);
         let p = DVec3::new(10.606865956887082, -0.10567701088875538, 8.0);
         let hit = b.nearest(&model, p);
-        let exact = (0..200_000)
-            .map(|k| {
-                let t = std::f64::consts::TAU * k as f64 / 200_000.0;
-                DVec3::new(20.0 * t.cos(), 10.0 * t.sin(), 8.0).distance(p)
-            })
-            .fold(f64::INFINITY, f64::min);
+        let exact = ellipse_distance(20.0, 10.0, 8.0, p);
         assert!(hit.point.y < 0.0, "{hit:?}");
         assert!(
             (hit.distance - exact).abs() < 1e-6,
@@ -224,13 +230,7 @@ mod tests {
             for y in [4e-4, -1e-3, 0.0] {
                 let p = DVec3::new(x, y, 8.8);
                 let hit = b.nearest(&model, p);
-                let exact = (0..200_000)
-                    .map(|i| {
-                        let t = std::f64::consts::TAU * i as f64 / 200_000.0;
-                        DVec3::new(30.0 * t.cos(), 15.0 * t.sin(), 8.8).distance(p)
-                    })
-                    .fold(f64::INFINITY, f64::min)
-                    .min(8.8);
+                let exact = ellipse_distance(30.0, 15.0, 8.8, p).min(8.8);
                 assert!(
                     (hit.distance - exact).abs() < 1e-6,
                     "{p}: {} vs {exact} ({hit:?})",
