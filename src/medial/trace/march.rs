@@ -238,6 +238,15 @@ impl Tracer<'_> {
         match self.hand_over(&m.triplet, &mut i, &m.x, &m.t, m.h) {
             Ok((to, xc, xnew)) if handed_back(m, i, to) => self.stay_on_vertex(m, i, to, &xc, xnew),
             Ok((to, crossing, xnew)) => self.continue_on(m, i, to, &crossing, xnew),
+            // The step left the face away from its edges: no crossing was there to find (the
+            // corrector jumped to another stretch of the seam, whose tangent happened to pass
+            // the turn check, while the steps towards it turn too fast): the step is too long.
+            Err((HandOverError::Stop(OpenReason::LeftFaceAwayFromEdges { .. }), _))
+                if 0.5 * m.h >= MIN_STEP_REL_DIAGONAL * self.model.diagonal() =>
+            {
+                m.h *= 0.5;
+                Flow::Next
+            }
             Err((e, xc)) => self.end_at_crossing(m, e, &xc),
         }
     }
