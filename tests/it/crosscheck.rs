@@ -54,8 +54,10 @@ const MOTOR_PLATE: &str = "22 faces whose edges lie off their surfaces by up to 
     the gap (ten errors up to 5.7e-4 mm); OCCT puts one touch point on the top plane F6 0.83 mm \
     off the face, which is its distance to the face's one-edge circular hole: the point is inside \
     the outer loop and outside both holes (the loops sampled): OCCT takes that loop for an \
-    outer one; one centre outside; three seam ends open (a hand-over, a step underflow, a \
-    convex edge reached; issue 19); every degenerate curve ends located: four where the arc of \
+    outer one; one centre outside; two seam ends open, one seam's two halves 0.047 mm apart \
+    at vertex V255, where a B-spline blend meets a cylinder and a plane at convex edges of \
+    2-4 degrees written 3.9e-3 mm apart (the ball in that shallow wedge moves 0.022 mm when \
+    handed across; issue 19); every degenerate curve ends located: four where the arc of \
     contact shrinks to a point, three at vertices, one inside an oblique wall's elliptic edge; \
     six sheet boundaries open (five where skeletal edges start, one where a rim ends at a \
     vertex; issue 20); one sheet-mesh vertex (r 0.298) \
@@ -119,8 +121,8 @@ const EXPECTED_FAILURES: &[Expected] = &[
         &[
             ("occt:inside", 1),
             ("occt:mesh_contacts", 1),
-            ("occt:seam_ends", 3),
-            ("verify:seam_ends", 3),
+            ("occt:seam_ends", 2),
+            ("verify:seam_ends", 2),
             ("verify:sheets_closed", 6),
         ],
         MOTOR_PLATE,

@@ -12,11 +12,11 @@ use super::tracer::Tracer;
 use super::unknowns::{new_triplet, slot, sys_point, to_chord, touches_meet, v3, Pairs};
 use crate::medial::axis::{Handover, OpenReason, SeamEnd, SeamPoint};
 use crate::medial::equations::MedialSystem;
-use crate::medial::maximal::curvature_allows;
+use crate::medial::maximal::{bending, curvature_allows};
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
 use crate::model::Element;
 use glam::DVec3;
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 
 /// The points of one march along a seam and how it ended.
 pub(super) struct Run {
@@ -69,6 +69,14 @@ fn handed_back(m: &March, i: usize, to: Element) -> bool {
 /// there when within this many of `verify`'s separations (the seam's end then within about
 /// 4 accuracies of their meeting; the new system is too near singular to go on).
 const MERGING_SEPARATIONS: f64 = 2.0;
+
+/// A seam whose step underflows next to a ball with `r·κ` this close to 1 on a touched
+/// segment ends at that segment's curvature limit, solved for, when it lies within this
+/// times `r` of the last point (see `osculating_near`).
+const NEAR_OSCULATION: f64 = 1e-2;
+
+/// The relative step of the central differences of `r·κ` in `osculating_near`.
+const OSCULATION_DIFF_STEP: f64 = 1e-6;
 
 impl Tracer<'_> {
     /// Marches along the seam of `triplet` from the seam point `x0`, leaving along `dir0`,
@@ -151,6 +159,14 @@ impl Tracer<'_> {
                         segment: m.triplet[i],
                     });
                 }
+                // Nearly so, where the system is too near singular for the step to get
+                // within the accuracy: the osculating ball itself, solved for.
+                if let Some((i, y)) = self.osculating_near(m) {
+                    m.points.push(self.seam_point(&m.sys, &y));
+                    return Flow::End(SeamEnd::CurvatureLimit {
+                        segment: m.triplet[i],
+                    });
+                }
                 return Flow::End(SeamEnd::Open(OpenReason::StepSizeUnderflow));
             }
             return Flow::Next;
@@ -195,6 +211,55 @@ impl Tracer<'_> {
     fn osculates(&self, triplet: &[Element; 3], i: usize, x: &DVector<f64>) -> bool {
         crate::medial::maximal::bending(self.model, triplet[i], slot(x, i))
             .is_some_and(|k| k > 0.0 && k.is_finite() && 1.0 / k <= x[3] + self.opts.accuracy)
+    }
+
+    /// The ball near the seam point `m.x` that osculates one of its touched segments `i`
+    /// exactly (`r·κ = 1`, `κ` the segment's bending towards the ball, [`bending`]), when the
+    /// ball at `m.x` already nearly does (`r·κ` within [`NEAR_OSCULATION`] of 1): the seam's
+    /// system with the osculation equation as its last row, solved by Newton from `m.x`. It
+    /// must lie within [`NEAR_OSCULATION`]·`r` of `m.x`, touch every segment on it, and be
+    /// empty. (Near that ball the system is singular — the touch point on `i` moves like the
+    /// square root of the centre's travel — and steps towards it fail short of it by more
+    /// than the accuracy: a reflex B-spline edge on the extruder motor plate stopped at
+    /// `r·κ = 0.99994`, 1.25 accuracies short.)
+    fn osculating_near(&mut self, m: &March) -> Option<(usize, DVector<f64>)> {
+        let model = self.model;
+        let rk = |y: &DVector<f64>, i: usize| {
+            bending(model, m.triplet[i], slot(y, i)).map(|k| y[3] * k)
+        };
+        let i = (0..3)
+            .filter_map(|i| rk(&m.x, i).map(|v| (i, v)))
+            .filter(|&(_, v)| (v - 1.0).abs() <= NEAR_OSCULATION)
+            .max_by(|a, b| a.1.total_cmp(&b.1))?
+            .0;
+        let eval = |y: &DVector<f64>| {
+            let (f, j) = m.sys.eval(model, y)?;
+            let n = y.len();
+            let mut fa = DVector::zeros(n);
+            fa.rows_mut(0, n - 1).copy_from(&f);
+            fa[n - 1] = rk(y, i)? - 1.0;
+            let mut ja = DMatrix::zeros(n, n);
+            ja.rows_mut(0, n - 1).copy_from(&j);
+            // r·κ depends on r and on the touch point's own parameters only: central
+            // differences there.
+            for k in [3, 4 + 2 * i, 5 + 2 * i] {
+                let d = OSCULATION_DIFF_STEP * y[k].abs().max(1.0);
+                let (mut a, mut b) = (y.clone(), y.clone());
+                a[k] += d;
+                b[k] -= d;
+                ja[(n - 1, k)] = (rk(&a, i)? - rk(&b, i)?) / (2.0 * d);
+            }
+            Some((fa, ja))
+        };
+        let sol = solve(eval, m.x.clone(), &self.solve_opts());
+        self.stats.newton_iterations += sol.iterations;
+        let y = sol.x;
+        let ok = sol.status == SolveStatus::Converged
+            && y[3] > 0.0
+            && v3(&y).distance(v3(&m.x)) <= NEAR_OSCULATION * m.x[3]
+            && (0..3).all(|k| self.on_segment(m.triplet[k], slot(&y, k)))
+            && self.ball_is_empty(m.solid, &y);
+        ok.then_some((i, y))
     }
 
     /// Back to a convex vertex: `r` returns to zero at `xn`. (Away from a vertex with a touch
