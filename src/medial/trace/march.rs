@@ -161,7 +161,7 @@ impl Tracer<'_> {
                 }
                 // Nearly so, where the system is too near singular for the step to get
                 // within the accuracy: the osculating ball itself, solved for.
-                if let Some((i, y)) = self.osculating_near(m) {
+                if let Some((i, y)) = self.osculating_near(&m.sys, m.solid, &m.x) {
                     m.points.push(self.seam_point(&m.sys, &y));
                     return Flow::End(SeamEnd::CurvatureLimit {
                         segment: m.triplet[i],
@@ -213,27 +213,32 @@ impl Tracer<'_> {
             .is_some_and(|k| k > 0.0 && k.is_finite() && 1.0 / k <= x[3] + self.opts.accuracy)
     }
 
-    /// The ball near the seam point `m.x` that osculates one of its touched segments `i`
-    /// exactly (`r·κ = 1`, `κ` the segment's bending towards the ball, [`bending`]), when the
-    /// ball at `m.x` already nearly does (`r·κ` within [`NEAR_OSCULATION`] of 1): the seam's
+    /// The ball near the seam point `x` of `sys` (in solid `solid`) that osculates one of its
+    /// touched segments `i` exactly (`r·κ = 1`, `κ` the segment's bending towards the ball,
+    /// [`bending`]), when the ball at `x` already nearly does (`r·κ` within [`NEAR_OSCULATION`] of 1): the seam's
     /// system with the osculation equation as its last row, solved by Newton from `m.x`. It
     /// must lie within [`NEAR_OSCULATION`]·`r` of `m.x`, touch every segment on it, and be
     /// empty. (Near that ball the system is singular — the touch point on `i` moves like the
     /// square root of the centre's travel — and steps towards it fail short of it by more
     /// than the accuracy: a reflex B-spline edge on the extruder motor plate stopped at
     /// `r·κ = 0.99994`, 1.25 accuracies short.)
-    fn osculating_near(&mut self, m: &March) -> Option<(usize, DVector<f64>)> {
+    pub(super) fn osculating_near(
+        &mut self,
+        sys: &MedialSystem,
+        solid: usize,
+        x: &DVector<f64>,
+    ) -> Option<(usize, DVector<f64>)> {
         let model = self.model;
         let rk = |y: &DVector<f64>, i: usize| {
-            bending(model, m.triplet[i], slot(y, i)).map(|k| y[3] * k)
+            bending(model, sys.segments[i], slot(y, i)).map(|k| y[3] * k)
         };
         let i = (0..3)
-            .filter_map(|i| rk(&m.x, i).map(|v| (i, v)))
+            .filter_map(|i| rk(x, i).map(|v| (i, v)))
             .filter(|&(_, v)| (v - 1.0).abs() <= NEAR_OSCULATION)
             .max_by(|a, b| a.1.total_cmp(&b.1))?
             .0;
         let eval = |y: &DVector<f64>| {
-            let (f, j) = m.sys.eval(model, y)?;
+            let (f, j) = sys.eval(model, y)?;
             let n = y.len();
             let mut fa = DVector::zeros(n);
             fa.rows_mut(0, n - 1).copy_from(&f);
@@ -251,14 +256,14 @@ impl Tracer<'_> {
             }
             Some((fa, ja))
         };
-        let sol = solve(eval, m.x.clone(), &self.solve_opts());
+        let sol = solve(eval, x.clone(), &self.solve_opts());
         self.stats.newton_iterations += sol.iterations;
         let y = sol.x;
         let ok = sol.status == SolveStatus::Converged
             && y[3] > 0.0
-            && v3(&y).distance(v3(&m.x)) <= NEAR_OSCULATION * m.x[3]
-            && (0..3).all(|k| self.on_segment(m.triplet[k], slot(&y, k)))
-            && self.ball_is_empty(m.solid, &y);
+            && v3(&y).distance(v3(x)) <= NEAR_OSCULATION * x[3]
+            && (0..3).all(|k| self.on_segment(sys.segments[k], slot(&y, k)))
+            && self.ball_is_empty(solid, &y);
         ok.then_some((i, y))
     }
 
@@ -647,6 +652,13 @@ impl Tracer<'_> {
                 _ => hi = mid,
             }
         }
+        // The bisection on the centre's travel leaves the end short of the osculating ball by
+        // up to ten accuracies there (the ball's contact changes like the square root of the
+        // travel): the osculating ball itself, where it is solved for from there.
+        let last = last.map(|xm| match self.osculating_near(&m.sys, m.solid, &xm) {
+            Some((k, y)) if m.triplet[k] == m.triplet[i] => y,
+            _ => xm,
+        });
         if let Some(xm) = last {
             m.points.push(self.seam_point(&m.sys, &xm));
         }

@@ -885,3 +885,87 @@ fn steps_past_a_spheres_pole_never_land_on_the_mirror_ball() {
     }
     assert!(steps > 100, "{steps} steps near a pole");
 }
+
+/// The curvature limit solved for (`osculating_near`, where a step underflows next to it, and
+/// to polish the end that `curvature_end` bisects): on the elliptic cylinder (semi-axes 30 and
+/// 15), whose seams end where the ball osculates the elliptic wall at its vertices, every such
+/// end is the vertex's centre of curvature (x = ±22.5, r = 7.5) to 1e-6 (the bisection alone
+/// left it up to 12 accuracies short); from unknowns a little short of an end (its ball shrunk
+/// and moved back by 0.1–0.5 % of `r`, `r·κ` within 1 % of 1) the solve lands there too, with
+/// `r·κ = 1` to 1e-9; from seam points with `r·κ` farther from 1 there is none.
+#[test]
+fn a_nearly_osculating_ball_leads_to_the_exact_curvature_limit() {
+    use crate::medial::equations::MedialSystem;
+    use crate::medial::maximal::bending;
+    let (m, class, mat) = crate::testing::traced("elliptic_cylinder.step");
+    let boundary = Boundary::new(&m);
+    let opts = TraceOptions::for_model(&m);
+    let mut tracer = tracer::Tracer::new(&m, &boundary, &class, &opts);
+    let is_limit = |y: &[f64]| (y[3] - 7.5).abs() < 1e-6 && (y[0].abs() - 22.5).abs() < 1e-6;
+    let (mut ends, mut near, mut far) = (0, 0, 0);
+    for s in &mat.seams {
+        let sys = MedialSystem::new(s.segments.clone());
+        let unknowns = |p: &crate::medial::axis::SeamPoint| {
+            let mut x = nalgebra::DVector::zeros(10);
+            for c in 0..4 {
+                x[c] = p.point[c];
+            }
+            for (k, seg) in s.segments.iter().enumerate() {
+                let Element::Face(f) = *seg else {
+                    return None;
+                };
+                let uv = project_point(&m.faces[f].surface, DVec3::from_array(p.touch[k]), None)?;
+                x[4 + 2 * k] = uv.0;
+                x[5 + 2 * k] = uv.1;
+            }
+            Some(x)
+        };
+        let n = s.points.len();
+        for (end, last, before) in [(0, 0, 1), (1, n - 1, n - 2)] {
+            let SeamEnd::CurvatureLimit { segment } = s.ends[end] else {
+                continue;
+            };
+            ends += 1;
+            let tip = &s.points[last].point;
+            assert!(is_limit(tip), "seam {} ends at {tip:?}", s.id);
+            let i = s.segments.iter().position(|&e| e == segment).unwrap();
+            let rk = |x: &nalgebra::DVector<f64>| {
+                x[3] * bending(&m, segment, [x[4 + 2 * i], x[5 + 2 * i]]).unwrap()
+            };
+            let (a, b) = (
+                unknowns(&s.points[before]).unwrap(),
+                unknowns(&s.points[last]).unwrap(),
+            );
+            for w in [1e-3, 3e-3, 5e-3] {
+                // The end's ball, shrunk by the fraction w and moved back towards the point
+                // before by as much.
+                let mut x = b.clone();
+                x[3] *= 1.0 - w;
+                let back = (unknowns::v3(&a) - unknowns::v3(&b)).normalize() * w * b[3];
+                for c in 0..3 {
+                    x[c] += back[c];
+                }
+                assert!((0.99..1.0).contains(&rk(&x)), "r·κ {}", rk(&x));
+                near += 1;
+                let (k, y) = tracer
+                    .osculating_near(&sys, s.solid, &x)
+                    .unwrap_or_else(|| panic!("r·κ {}: the limit near", rk(&x)));
+                assert_eq!(s.segments[k], segment);
+                let ky = y[3] * bending(&m, segment, [y[4 + 2 * k], y[5 + 2 * k]]).unwrap();
+                assert!((ky - 1.0).abs() < 1e-9, "r·κ {ky} at the limit");
+                assert!(is_limit(y.as_slice()), "{y}");
+            }
+            for p in &s.points {
+                let x = unknowns(p).unwrap();
+                if rk(&x) < 0.99 {
+                    far += 1;
+                    assert!(tracer.osculating_near(&sys, s.solid, &x).is_none());
+                }
+            }
+        }
+    }
+    assert!(
+        ends == 4 && near > 0 && far > 0,
+        "{ends} ends, {near} near, {far} far"
+    );
+}
