@@ -215,10 +215,10 @@ impl Tracer<'_> {
 
     /// The ball near the seam point `x` of `sys` (in solid `solid`) that osculates one of its
     /// touched segments `i` exactly (`r·κ = 1`, `κ` the segment's bending towards the ball,
-    /// [`bending`]), when the ball at `x` already nearly does (`r·κ` within [`NEAR_OSCULATION`] of 1): the seam's
-    /// system with the osculation equation as its last row, solved by Newton from `m.x`. It
-    /// must lie within [`NEAR_OSCULATION`]·`r` of `m.x`, touch every segment on it, and be
-    /// empty. (Near that ball the system is singular — the touch point on `i` moves like the
+    /// [`bending`]), when the ball at `x` already nearly does (`r·κ` within
+    /// [`NEAR_OSCULATION`] of 1): the seam's system with the osculation equation as its last
+    /// row, solved by Newton from `x`. It must lie within [`NEAR_OSCULATION`]·`r` of `x`,
+    /// touch every segment on it, and be empty. (Near that ball the system is singular — the touch point on `i` moves like the
     /// square root of the centre's travel — and steps towards it fail short of it by more
     /// than the accuracy: a reflex B-spline edge on the extruder motor plate stopped at
     /// `r·κ = 0.99994`, 1.25 accuracies short.)
