@@ -275,15 +275,22 @@ impl Tracer<'_> {
             let q = crate::geom::eval_curve(&self.model.edges[e].curve, te).p;
             q.distance(ev.p) <= REACH_REL_ACCURACY * acc
         };
-        // A touch point running along a smooth edge of this face (`along`, kept on it after
-        // it was handed back and forth across) leaves where it reaches another edge at the
-        // edge's end: at that vertex the edge it runs along is as near, and is not crossed.
+        // A touch point running along an edge of this face (`along`: a smooth edge it was
+        // handed back and forth across, or a reflex edge it grazed) leaves where it reaches
+        // another edge at the edge's end: at that vertex the edge it runs along is as near,
+        // and is not crossed. An edge farther than that one (by more than the same-place
+        // distance) is not where it leaves: it leaves across the edge it runs along.
         let running_along = match self.along {
             Some((g, e)) if g == f => Some(e),
             _ => None,
         };
+        let edge_distance = |e: usize| crate::geom::nearest_on_edge(self.model, e, ev.p, None).2;
         let (e, te) = running_along
-            .and_then(|e| self.nearest_edge_of_face_except(f, ev.p, e))
+            .and_then(|e| {
+                let along = edge_distance(e);
+                self.nearest_edge_of_face_except(f, ev.p, e)
+                    .filter(|&(g, _)| edge_distance(g) <= along + SAME_PLACE_REL_ACCURACY * acc)
+            })
             .filter(reaches)
             .or_else(|| self.nearest_edge_of_face(f, ev.p).filter(reaches))
             .ok_or(OpenReason::LeftFaceAwayFromEdges { face: seg })?;
