@@ -56,10 +56,13 @@ impl Tracer<'_> {
         let h = t.dot(&(xn - x)) / t.dot(t);
         let (mut lo, mut hi) = (0.0, h);
         let mut x_lo = x.clone();
+        let mut t_lo = t.clone();
         let mut x_hi = xn.clone();
+        // Each probe steps from the last point without an intrusion, along its tangent (as
+        // in the hand-over's bisection).
         for _ in 0..12 {
             let mid = 0.5 * (lo + hi);
-            let Some((xm, _, _)) = self.step(&sys, x, t, mid) else {
+            let Some((xm, tm, _)) = self.step(&sys, &x_lo, &t_lo, mid - lo) else {
                 break;
             };
             match self.intrusion(triplet, solid, &xm) {
@@ -71,6 +74,7 @@ impl Tracer<'_> {
                 None => {
                     lo = mid;
                     x_lo = xm;
+                    t_lo = tm;
                 }
             }
         }
