@@ -57,11 +57,11 @@ const MOTOR_PLATE: &str = "22 faces whose edges lie off their surfaces by up to 
     outer one; one centre outside; one seam end open, where a touch point on the plane F92 \
     reaches the convex edge E322 (2-4 degrees) of a B-spline blend whose edges lie 3.9e-3 mm \
     off it, at vertex V255 (issue 19; the seam's other half ends there, its touch points on \
-    the blend and the plane one place by verify's separation); every degenerate curve ends located: four where the arc of \
-    contact shrinks to a point, three at vertices, one inside an oblique wall's elliptic edge; \
-    six sheet boundaries open (five where skeletal edges start, one where a rim ends at a \
-    vertex; issue 20); one sheet-mesh vertex (r 0.298) \
-    next to a B-spline round, touching it along an arc, has no second contact for OCCT (its \
+    the blend and the plane one place by verify's separation); every degenerate curve ends \
+    located: four where the arc of contact shrinks to a point, three at vertices, one inside \
+    an oblique wall's elliptic edge; six sheet boundaries open (five where skeletal edges \
+    start, one where a rim ends at a vertex; issue 20); one sheet-mesh vertex (r 0.298) next \
+    to a B-spline round, touching it along an arc, has no second contact for OCCT (its \
     extrema of the distance are not isolated)";
 
 const GAPS_ACCEPTED: &str = "a vertex 8.7e-3 mm off its curve, accepted within the file's \

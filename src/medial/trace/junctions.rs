@@ -58,8 +58,9 @@ impl Tracer<'_> {
         let mut x_lo = x.clone();
         let mut t_lo = t.clone();
         let mut x_hi = xn.clone();
-        // Each probe steps from the last point without an intrusion, along its tangent (as
-        // in the hand-over's bisection).
+        // Each probe steps from the last point without an intrusion, along its tangent: the
+        // predictor lands within the square of the bracket of the seam. (The hand-over's
+        // bisection still steps from the seam point: see docs/design.md, Junctions.)
         for _ in 0..12 {
             let mid = 0.5 * (lo + hi);
             let Some((xm, tm, _)) = self.step(&sys, &x_lo, &t_lo, mid - lo) else {
