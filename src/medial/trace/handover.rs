@@ -271,10 +271,13 @@ impl Tracer<'_> {
         if let Some(v) = self.apex_reached(f, ev.p) {
             return Ok((Element::Vertex(v), vertex_angles(ev.n)));
         }
-        let reaches = |&(e, te): &(usize, f64)| {
-            let q = crate::geom::eval_curve(&self.model.edges[e].curve, te).p;
-            q.distance(ev.p) <= REACH_REL_ACCURACY * acc
+        // The distance from the touch point to edge `e`'s point at `te` (its nearest there).
+        let away = |&(e, te): &(usize, f64)| {
+            crate::geom::eval_curve(&self.model.edges[e].curve, te)
+                .p
+                .distance(ev.p)
         };
+        let reaches = |hit: &(usize, f64)| away(hit) <= REACH_REL_ACCURACY * acc;
         // A touch point running along an edge of this face (`along`: a smooth edge it was
         // handed back and forth across, or a reflex edge it grazed) leaves where it reaches
         // another edge at the edge's end: at that vertex the edge it runs along is as near,
@@ -284,12 +287,11 @@ impl Tracer<'_> {
             Some((g, e)) if g == f => Some(e),
             _ => None,
         };
-        let edge_distance = |e: usize| crate::geom::nearest_on_edge(self.model, e, ev.p, None).2;
         let (e, te) = running_along
             .and_then(|e| {
-                let along = edge_distance(e);
+                let along = crate::geom::nearest_on_edge(self.model, e, ev.p, None).2;
                 self.nearest_edge_of_face_except(f, ev.p, e)
-                    .filter(|&(g, _)| edge_distance(g) <= along + SAME_PLACE_REL_ACCURACY * acc)
+                    .filter(|hit| away(hit) <= along + SAME_PLACE_REL_ACCURACY * acc)
             })
             .filter(reaches)
             .or_else(|| self.nearest_edge_of_face(f, ev.p).filter(reaches))
