@@ -191,7 +191,7 @@ fn parts() -> Vec<PathBuf> {
 
 /// The checks `part` fails, with how often: `verify:` from its report, `occt:` from the
 /// cross-check (with `occt`), `read` when it is not read.
-fn failures(part: &Path, out_dir: &Path, occt: bool) -> BTreeMap<String, usize> {
+pub(crate) fn failures(part: &Path, out_dir: &Path, occt: bool) -> BTreeMap<String, usize> {
     let out = matrace(
         &[
             "trace",

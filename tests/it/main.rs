@@ -9,6 +9,7 @@ mod cli;
 mod common;
 mod crosscheck;
 mod golden;
+mod idf_library;
 mod iges;
 mod reader;
 mod realworld;

@@ -23,6 +23,9 @@ pub enum Tool {
     Occt,
     /// The third-party parts in `../shared/realworld`.
     Corpus,
+    /// FreeCAD's IDF library of SMD component bodies, `/usr/share/freecad/Mod/Idf/Idflibs`
+    /// (Debian's `freecad-common`, which FreeCAD's Python modules depend on).
+    IdfLibrary,
 }
 
 impl Tool {
@@ -35,6 +38,10 @@ impl Tool {
             Tool::OpenScad => "OpenSCAD (/usr/bin/openscad; scripts/setup_tools.sh installs it)",
             Tool::Occt => "OpenCASCADE (.venv-ocp with OCP; scripts/setup_tools.sh creates it)",
             Tool::Corpus => "the third-party corpus (../shared/realworld beside the project)",
+            Tool::IdfLibrary => {
+                "FreeCAD's IDF library (/usr/share/freecad/Mod/Idf/Idflibs, Debian's \
+                 freecad-common; scripts/setup_tools.sh installs it with FreeCAD)"
+            }
         }
     }
 
@@ -54,9 +61,13 @@ impl Tool {
                     .is_ok_and(|o| o.status.success())
             }),
             Tool::Corpus => root().join("../shared/realworld").is_dir(),
+            Tool::IdfLibrary => Path::new(IDF_LIBRARY).is_dir(),
         }
     }
 }
+
+/// Where Debian's `freecad-common` puts FreeCAD's IDF library.
+pub const IDF_LIBRARY: &str = "/usr/share/freecad/Mod/Idf/Idflibs";
 
 /// The OpenCASCADE venv's Python.
 pub fn occt_python() -> PathBuf {

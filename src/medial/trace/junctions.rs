@@ -177,7 +177,7 @@ impl Tracer<'_> {
     /// file's gap there (an exporter's edge off its faces' surfaces puts a kink of that size
     /// between them). By the tolerance the two are one tangent surface or curve, whose kink
     /// sheet is not part of the medial axis.
-    fn tangent_across(
+    pub(super) fn tangent_across(
         &self,
         triplet: &[Element; 3],
         fourth: Element,
@@ -264,6 +264,39 @@ impl Tracer<'_> {
         })
     }
 
+    /// The parameters of segment `seg` at the foot of the centre `b` (near `hint` where
+    /// finite): a start for the systems that add `seg` to a seam's triplet.
+    pub(super) fn start_params(
+        &self,
+        seg: Element,
+        b: DVec3,
+        hint: [f64; 2],
+    ) -> Option<(f64, f64)> {
+        Some(match seg {
+            Element::Face(f) => {
+                let hint = hint[0].is_finite().then_some((hint[0], hint[1]));
+                let projected = project_point(&self.model.faces[f].surface, b, hint).or(hint)?;
+                // The projection onto the whole surface may land in another basin, off the
+                // face (a cone's other nappe): then start from the hint, the face's nearest
+                // point a step away.
+                match hint {
+                    Some(h) if !self.model.faces[f].domain.contains(projected) => h,
+                    _ => projected,
+                }
+            }
+            Element::Edge(e) => {
+                let hint = hint[0].is_finite().then_some(hint[0]);
+                let (te, q, d) = crate::geom::nearest_on_edge(self.model, e, b, hint);
+                let th = crate::medial::equations::edge_angle(self.model, e, te, (q - b) / d)?;
+                (te, th)
+            }
+            Element::Vertex(v) => {
+                let a = vertex_angles((self.model.vertices[v].point - b).normalize());
+                (a[0], a[1])
+            }
+        })
+    }
+
     /// Solves the 4-segment system from the seam point `x` (before the crossing), starting
     /// the fourth segment at the foot of `x` near `s4` (where the crossing was seen).
     pub(super) fn locate_junction(
@@ -273,29 +306,7 @@ impl Tracer<'_> {
         fourth: Element,
         s4: [f64; 2],
     ) -> Option<DVector<f64>> {
-        let b = v3(x);
-        let uv = match fourth {
-            Element::Face(f) => {
-                let hint = s4[0].is_finite().then_some((s4[0], s4[1]));
-                let projected = project_point(&self.model.faces[f].surface, b, hint).or(hint)?;
-                // The projection onto the whole surface may land in another basin, off the
-                // face (a cone's other nappe): then start from the hit's parameters, the
-                // face's nearest point a step away.
-                match hint {
-                    Some(h) if !self.model.faces[f].domain.contains(projected) => h,
-                    _ => projected,
-                }
-            }
-            Element::Edge(e) => {
-                let (te, q, d) = crate::geom::nearest_on_edge(self.model, e, b, Some(s4[0]));
-                let th = crate::medial::equations::edge_angle(self.model, e, te, (q - b) / d)?;
-                (te, th)
-            }
-            Element::Vertex(v) => {
-                let a = vertex_angles((self.model.vertices[v].point - b).normalize());
-                (a[0], a[1])
-            }
-        };
+        let uv = self.start_params(fourth, v3(x), s4)?;
         let mut segs = triplet.to_vec();
         segs.push(fourth);
         let sys = MedialSystem::new(segs);

@@ -9,8 +9,8 @@ use super::options::{
     MIN_STEP_REL_DIAGONAL, REACH_REL_ACCURACY, SAME_PLACE_REL_ACCURACY, STEP_GROWTH, STEP_SHRINK,
 };
 use super::tracer::Tracer;
-use super::unknowns::{new_triplet, slot, sys_point, to_chord, touches_meet, v3, Pairs};
-use crate::medial::axis::{Handover, OpenReason, SeamEnd, SeamPoint};
+use super::unknowns::{new_triplet, slot, sorted, sys_point, to_chord, touches_meet, v3, Pairs};
+use crate::medial::axis::{Handover, Node, OpenReason, SeamEnd, SeamPoint};
 use crate::medial::equations::MedialSystem;
 use crate::medial::maximal::{bending, curvature_allows};
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
@@ -63,6 +63,11 @@ fn handed_back(m: &March, i: usize, to: Element) -> bool {
     m.handovers
         .last()
         .is_some_and(|h| h.point + 1 >= m.points.len() && h.to == m.triplet[i] && h.from == to)
+}
+
+/// The centre of a seam point.
+fn centre_of(p: &SeamPoint) -> DVec3 {
+    DVec3::new(p.point[0], p.point[1], p.point[2])
 }
 
 /// Two touch points closing in on each other at a hand-over's crossing are taken to meet
@@ -521,6 +526,15 @@ impl Tracer<'_> {
                 return Flow::End(end);
             }
         }
+        // The element handed to may come closer than `r` before the crossing by less than
+        // the accuracy (the intrusion test cannot see it), next to a vertex where it meets
+        // the element left at a kink: the crossing then stands for the junction with it,
+        // which the new system cannot reach (its ball is another one).
+        if let HandOverError::Stop(OpenReason::NoSeamPointAfterHandover { from, to, .. }) = e {
+            if let Some(flow) = self.junction_with_next(m, from, to, xc) {
+                return flow;
+            }
+        }
         // Handed onto the part of the boundary another touch point is on, where the two are
         // already one place by `verify`'s separation: they meet there, the ball osculating
         // that part of the boundary (the new system is singular, its solve fails) — the
@@ -556,6 +570,79 @@ impl Tracer<'_> {
             HandOverError::Osculates(seg) => SeamEnd::CurvatureLimit { segment: seg },
             HandOverError::Stop(why) => SeamEnd::Open(why),
         })
+    }
+
+    /// The junction of the seam with `to`, the element its touch point on `from` was handed
+    /// to at the crossing `xc` without a seam point: the 4-segment system with `to` solved
+    /// from there — from the element the touch point was on just before, when `from` is a
+    /// vertex it was handed to at the last point (where two reflex edges meet at a kink
+    /// towards the ball, both touch the balls near the vertex: the junction is where they
+    /// are at one distance, and the seam ran past it to the vertex). The march ends at that
+    /// junction, or passes on where `to` continues the element (see `tangent_across`);
+    /// points past the junction are dropped.
+    fn junction_with_next(
+        &mut self,
+        m: &mut March,
+        from: Element,
+        to: Element,
+        xc: &DVector<f64>,
+    ) -> Option<Flow> {
+        let i = m.triplet.iter().position(|&s| s == from)?;
+        if m.triplet.contains(&to) {
+            return None;
+        }
+        let b = v3(xc);
+        let (triplet, x, undo) = match (from, m.handovers.last()) {
+            (Element::Vertex(_), Some(h)) if h.to == from && h.point + 1 >= m.points.len() => {
+                let prev = h.from;
+                if prev == to || m.triplet.contains(&prev) {
+                    return None;
+                }
+                let s = self.start_params(prev, b, [f64::NAN; 2])?;
+                let mut x = xc.clone();
+                x[4 + 2 * i] = s.0;
+                x[5 + 2 * i] = s.1;
+                (new_triplet(&m.triplet, i, prev), x, true)
+            }
+            (Element::Vertex(_), _) => return None,
+            _ => (m.triplet, xc.clone(), false),
+        };
+        let s4 = self.start_params(to, b, [f64::NAN; 2])?;
+        let jx = self
+            .locate_junction(&triplet, &x, to, [s4.0, s4.1])
+            .filter(|jx| self.ball_is_empty(m.solid, jx))?;
+        if undo {
+            m.handovers.pop();
+        }
+        // Back to the junction: the points past it (along the seam) are dropped.
+        let (j, dir) = (v3(&jx), v3(&m.t));
+        while m.points.len() > 1 && (centre_of(&m.points[m.points.len() - 1]) - j).dot(dir) > 0.0 {
+            m.points.pop();
+        }
+        let kept = m.points.len();
+        m.handovers.retain(|h| h.point < kept);
+        m.triplet = triplet;
+        m.sys = MedialSystem::new(triplet.to_vec());
+        if let Some(k) = self.tangent_across(&triplet, to, &jx) {
+            let mut xnew = jx.rows(0, 10).into_owned();
+            xnew[4 + 2 * k] = jx[10];
+            xnew[5 + 2 * k] = jx[11];
+            m.x = jx.rows(0, 10).into_owned();
+            m.handovers.push(Handover {
+                point: m.points.len(),
+                from: triplet[k],
+                to,
+            });
+            return Some(self.switch_to(m, k, to, xnew));
+        }
+        let id = self.add_junction(&triplet, to, &jx);
+        if let Some(a) = self.arrivals.get_mut(id) {
+            a.push(-dir.normalize());
+        }
+        self.visited.insert((sorted(triplet), Node::Junction(id)));
+        m.points
+            .push(self.seam_point(&m.sys, &jx.rows(0, 10).into_owned()));
+        Some(Flow::End(SeamEnd::Junction(id)))
     }
 
     /// True when, at the crossing `xc`, a touch point on `from` (the one being handed on) and

@@ -1,0 +1,192 @@
+//! FreeCAD's IDF library of SMD component bodies (`/usr/share/freecad/Mod/Idf/Idflibs`,
+//! Debian's `freecad-common`, installed with FreeCAD by `scripts/setup_tools.sh`): 28
+//! third-party STEP parts the tracer was not written for — written by OpenCASCADE 6.3, their
+//! outlines B-spline curves with small kinks, lettering embossed 0.04 mm on their tops —
+//! each traced with `--verify` (no OCCT cross-check: `crosscheck.rs` does that on the
+//! corpus). A held-out check in miniature: the parts are not tuned for, and the list below
+//! says where each stands.
+//!
+//! [`EXPECTED`] lists every part that does not pass, with each failing check and how often
+//! (`verify:seam_ends` counts open seam ends), or `read` for a part that is not read. The
+//! test fails when a part fails otherwise: the list is kept exact, so a change that opens or
+//! closes a seam end on these parts shows here. Without the library the test is skipped
+//! loudly (under CI, a failure: `tools.rs`).
+
+use crate::crosscheck::failures;
+use crate::tools::{Tool, IDF_LIBRARY};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// Parts known not to pass, with their failing checks. Where they stand (issue 19 is open
+/// seam ends, issue 20 the graph's checks: `junction_seams`, `sheets_closed`, `euler`,
+/// `degenerate_ends`, `convex_vertices`):
+/// - open seam ends (`seam_ends`): on MSOP_10 where the balls under its leads meet faces
+///   with no junction on the segments (20) and reach convex edges (20); elsewhere hand-overs
+///   from a vertex to the next edge of a kinked outline whose ball is another one (the
+///   junction with that edge is not found where a vertex on the outline's other side is
+///   touched too), and two touch points coinciding after a hand-over on the TSM headers;
+/// - `touch_on_boundary` on CAP_50SGV (a touch point 0.1 mm off a face's boundary) and
+///   `separated` on SOT_96: issue 19's, not yet looked at;
+/// - `read`: five parts whose shells are open (an edge used by one face) or whose loop
+///   points lie 3.3e-3 mm off their planes, which the reader refuses with the entity named.
+const EXPECTED: &[(&str, &[(&str, usize)])] = &[
+    (
+        "0603_SMD.stp",
+        &[("verify:junction_seams", 6), ("verify:sheets_closed", 18)],
+    ),
+    (
+        "0805_SMD.stp",
+        &[
+            ("verify:junction_seams", 1),
+            ("verify:seam_ends", 5),
+            ("verify:sheets_closed", 3),
+        ],
+    ),
+    (
+        "1206_SMD.stp",
+        &[
+            ("verify:junction_seams", 10),
+            ("verify:seam_ends", 4),
+            ("verify:sheets_closed", 30),
+        ],
+    ),
+    ("1210_SMD.stp", &[("verify:sheets_closed", 16)]),
+    (
+        "1812_SMD.stp",
+        &[
+            ("verify:junction_seams", 1),
+            ("verify:seam_ends", 3),
+            ("verify:sheets_closed", 3),
+        ],
+    ),
+    (
+        "2225_SMD.stp",
+        &[("verify:junction_seams", 2), ("verify:sheets_closed", 10)],
+    ),
+    (
+        "CAP_50SGV_8_10.stp",
+        &[("verify:sheets_closed", 4), ("verify:touch_on_boundary", 9)],
+    ),
+    (
+        "EPL22_6_16.stp",
+        &[("verify:seam_ends", 2), ("verify:sheets_closed", 4)],
+    ),
+    (
+        "I22_2_5_16.stp",
+        &[("verify:degenerate_ends", 5), ("verify:sheets_closed", 8)],
+    ),
+    (
+        "I22_2_5_16withEPL22_6_16.stp",
+        &[("verify:degenerate_ends", 5), ("verify:sheets_closed", 16)],
+    ),
+    (
+        "MSOP_10.stp",
+        &[
+            ("verify:convex_vertices", 19),
+            ("verify:seam_ends", 40),
+            ("verify:sheets_closed", 22),
+        ],
+    ),
+    ("RLF_7030.stp", &[("verify:euler", 1)]),
+    ("SMB_DO_214AA.stp", &[("read", 1)]),
+    ("SMC_DO_214AB.stp", &[("read", 1)]),
+    ("SOD_323.stp", &[("read", 1)]),
+    ("SOT23.stp", &[("read", 1)]),
+    ("SOT404.stp", &[("read", 1)]),
+    (
+        "SOT428_DPAK.stp",
+        &[("verify:euler", 1), ("verify:junction_seams", 1)],
+    ),
+    (
+        "SOT_96.stp",
+        &[("verify:degenerate_ends", 7), ("verify:separated", 84)],
+    ),
+    ("TCMT1107_4.stp", &[("verify:junction_seams", 6)]),
+    (
+        "TSM_103_01_L_DV_A.stp",
+        &[
+            ("verify:junction_seams", 12),
+            ("verify:seam_ends", 2),
+            ("verify:sheets_closed", 160),
+        ],
+    ),
+    (
+        "TSM_104_01_L_DV_A.stp",
+        &[
+            ("verify:junction_seams", 16),
+            ("verify:seam_ends", 1),
+            ("verify:sheets_closed", 210),
+        ],
+    ),
+    (
+        "VC0603_SMD.stp",
+        &[("verify:junction_seams", 6), ("verify:sheets_closed", 18)],
+    ),
+];
+
+/// The library's STEP files.
+fn parts() -> Vec<PathBuf> {
+    let mut parts: Vec<PathBuf> = std::fs::read_dir(IDF_LIBRARY)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| matches!(e.to_ascii_lowercase().as_str(), "step" | "stp"))
+        })
+        .collect();
+    parts.sort();
+    parts
+}
+
+#[test]
+fn every_idf_library_part_fails_only_as_listed() {
+    const TEST: &str = "idf_library::every_idf_library_part_fails_only_as_listed";
+    if !crate::tools::require(TEST, &[Tool::IdfLibrary]) {
+        return;
+    }
+    let parts = parts();
+    assert!(parts.len() >= 25, "only {} parts found", parts.len());
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let results = std::sync::Mutex::new(vec![None; parts.len()]);
+    std::thread::scope(|scope| {
+        for _ in 0..2 {
+            scope.spawn(|| loop {
+                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let Some(part) = parts.get(i) else { break };
+                let dir = tempfile::tempdir().unwrap();
+                let failed = failures(part, dir.path(), false);
+                results.lock().unwrap()[i] = Some(failed);
+            });
+        }
+    });
+    let mut problems = vec![];
+    for (part, failed) in parts.iter().zip(results.into_inner().unwrap()) {
+        let name = part.file_name().unwrap().to_str().unwrap();
+        let failed = failed.expect("every part checked");
+        let want: BTreeMap<String, usize> = EXPECTED
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, checks)| checks.iter().map(|(k, n)| (k.to_string(), *n)).collect())
+            .unwrap_or_default();
+        if failed != want {
+            problems.push(format!(
+                "(\"{name}\", &{:?}) — listed as {want:?}",
+                failed
+                    .iter()
+                    .map(|(k, n)| (k.as_str(), *n))
+                    .collect::<Vec<_>>()
+            ));
+        }
+    }
+    for (name, _) in EXPECTED {
+        if !parts.iter().any(|p| p.file_name().unwrap() == *name) {
+            problems.push(format!("{name} is listed but not found"));
+        }
+    }
+    assert!(
+        problems.is_empty(),
+        "IDF library parts that fail otherwise than listed (entries as they would be now):\n{}",
+        problems.join("\n")
+    );
+}
