@@ -1222,6 +1222,23 @@ def boss_against_a_taller_boss():
     return plate.fuse(low).fuse(tall).removeSplitter()
 
 
+@part("flange_on_a_shaft",
+      "A disc r=4, 4 thick (z 0 to 4) with a shaft r=2, 6 long, standing on its top face. "
+      "The disc's radius less its half-thickness is the shaft's radius.",
+      PI * (16 * 4 + 4 * 6),
+      "The disc's balls of radius 2 touching both its faces and its rim are centred on the "
+      "circle of radius 2 at z = 2, and touch the top face exactly on the shaft's foot "
+      "circle (a reflex edge): the seam seeded there on the top face hands its touch point "
+      "onto that circle at once and goes round on it, so it closes where its ball comes "
+      "back, not where its elements do (before, it went round to the point budget, 20,000 "
+      "points each way: 40,072 points), and it is the circle's seam seeded on another "
+      "sheet: one seam, traced once. The Euler characteristic is not yet the solid's "
+      "(issue 20: the shaft's and the disc's degenerate curves are not joined to the "
+      "sheets).")
+def flange_on_a_shaft():
+    return Part.makeCylinder(4, 4).fuse(Part.makeCylinder(2, 6, V(0, 0, 4))).removeSplitter()
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

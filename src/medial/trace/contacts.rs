@@ -19,7 +19,7 @@ use super::queue::{named, runs_along};
 use super::through::{ball_on, ON_SEAM_REL_ACCURACY};
 use super::tracer::Tracer;
 use crate::geom::distance::nearest_on_edge;
-use crate::medial::axis::{Node, Seam, SeamPoint};
+use crate::medial::axis::{Node, Seam, SeamEnd, SeamPoint};
 use crate::medial::verify::separation;
 use crate::medial::verify::unresolved_points;
 use crate::model::Element;
@@ -54,8 +54,9 @@ impl Tracer<'_> {
     /// contacts are added); or, wherever it ends, every ball of each on the other and
     /// touching the same places (the same curve of balls from a non-generic junction found
     /// twice, or on triplets that differ only in which of two contacts at one place they
-    /// name). The one naming more, or else the one without an open end, or else the first,
-    /// is kept. Renumbers the rest; returns how many were dropped.
+    /// name). Closed seams, which meet no node, are compared with each other the second way.
+    /// The one naming more, or else the one without an open end, or else the first, is kept.
+    /// Renumbers the rest; returns how many were dropped.
     pub(super) fn drop_repeated_seams(&mut self) -> usize {
         let mut at_node: HashMap<Node, Vec<usize>> = HashMap::new();
         for (k, s) in self.seams.iter().enumerate() {
@@ -94,9 +95,23 @@ impl Tracer<'_> {
             named_again || (on(sa, sb) && on(sb, sa) && same_places(sa, sb, self.opts.accuracy))
         };
         let mut drop = vec![false; self.seams.len()];
-        let mut groups: Vec<&Vec<usize>> = at_node.values().filter(|g| g.len() > 1).collect();
+        let mut groups: Vec<Vec<usize>> = at_node.into_values().filter(|g| g.len() > 1).collect();
+        // Closed seams meet no node: they are compared with each other (a seam seeded on a
+        // face at its reflex edge, handed onto that edge at once, is the edge's seam traced
+        // from the seed of another of its sheets).
+        let closed: Vec<usize> = (0..self.seams.len())
+            .filter(|&k| {
+                self.seams[k]
+                    .ends
+                    .iter()
+                    .all(|e| matches!(e, SeamEnd::Closed))
+            })
+            .collect();
+        if closed.len() > 1 {
+            groups.push(closed);
+        }
         groups.sort();
-        for group in groups {
+        for group in &groups {
             for &b in group {
                 if drop[b] {
                     continue;

@@ -291,11 +291,14 @@ impl Tracer<'_> {
         ))
     }
 
-    /// Back at the seed: a closed seam. (Only on the elements it started with: the seed's
-    /// parameters are theirs.)
+    /// Back at the seed: a closed seam. The ball decides (its centre and radius), not the
+    /// elements: a seed next to an edge may hand its touch point onto that edge at once and
+    /// never back (a reflex circle's seam round a Motor-c part's boss went round 680 times,
+    /// to the point budget, on the circle and not the face it started on). The seed's ball is
+    /// the last point, on the elements touched now.
     fn close_at_seed(&mut self, m: &mut March, xn: &DVector<f64>) -> Option<SeamEnd> {
         let acc = self.opts.accuracy;
-        let xs = m.close_at.filter(|_| m.triplet == m.first)?;
+        let xs = m.close_at?;
         let step = v3(xn).distance(v3(&m.x));
         let back = m.travel > 3.0 * step
             && to_chord(v3(xs), v3(&m.x), v3(xn)) <= 0.05 * step + SAME_PLACE_REL_ACCURACY * acc
@@ -303,7 +306,16 @@ impl Tracer<'_> {
         if !back {
             return None;
         }
-        m.points.push(self.seam_point(&m.sys, xs));
+        // The seed's ball, on the elements touched now (their parameters at its touch
+        // points), so the seam's last point is its first.
+        let mut y = xs.clone();
+        for k in (0..3).filter(|&k| m.triplet[k] != m.first[k]) {
+            let hint = slot(&m.x, k);
+            let s = self.start_params(m.triplet[k], v3(xs), hint)?;
+            y[4 + 2 * k] = s.0;
+            y[5 + 2 * k] = s.1;
+        }
+        m.points.push(self.seam_point(&m.sys, &y));
         Some(SeamEnd::Closed)
     }
 
