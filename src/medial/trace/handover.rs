@@ -317,7 +317,12 @@ impl Tracer<'_> {
                 } else {
                     edge.faces[0]
                 };
-                let uv = project_point(&self.model.faces[g].surface, ev.p, None)
+                // From the edge's samples on the next face: a projection from nothing
+                // searches the whole surface (most of the trace's time on a NURBS part).
+                let uv = self
+                    .edge_face_normal(e, g, te, ev.p)
+                    .map(|(uv, _)| (uv[0], uv[1]))
+                    .or_else(|| project_point(&self.model.faces[g].surface, ev.p, None))
                     .ok_or(OpenReason::NotFoundOnFace { face: g })?;
                 Ok((Element::Face(g), [uv.0, uv.1]))
             }

@@ -282,6 +282,20 @@ impl<'a> Tracer<'a> {
                 }
             }
         }
+        // The point is on the face (up to the file's gap there): a foot farther than that
+        // came from a hint in another basin (a cone's samples at its seam, half a turn
+        // round: Newton went to the other nappe, 2 mm away, on the Prusa adapter), and the
+        // whole surface is searched instead.
+        let off = |uv: (f64, f64)| {
+            crate::geom::eval_face(&self.model.faces[f], uv.0, uv.1)
+                .p
+                .distance(p)
+        };
+        if off(uv) > SAME_PLACE_REL_ACCURACY * self.opts.accuracy + self.face_gap[f] {
+            if let Some(found) = project_point(surface, p, None).filter(|&g| off(g) < off(uv)) {
+                uv = found;
+            }
+        }
         let n = Element::Face(f).eval(self.model, [uv.0, uv.1])?.n;
         Some(([uv.0, uv.1], n))
     }
