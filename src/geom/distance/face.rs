@@ -165,6 +165,28 @@ pub(super) fn face_nearest(
             take(foot.filter(critical), &mut best_d, &mut best);
         }
     }
+    // A periodic face without a closed form (a surface of revolution) seen from near its
+    // axis: the nearest cell may lie on the far side, half a turn from the foot, where the
+    // descent stops in another basin (OCCT's Bottom sample: 2.9 mm from a point on the face).
+    // Descend from half a turn round the start too, and keep that foot when it is nearer and
+    // inside the trim.
+    if plane.is_none() && closed_form.is_none() {
+        if let Some((uv, _, _)) = interior {
+            let d = &face.domain;
+            let turned = [
+                d.u_period.map(|per| (uv.0 + 0.5 * per, uv.1)),
+                d.v_period.map(|per| (uv.0, uv.1 + 0.5 * per)),
+            ];
+            for s in turned.into_iter().flatten() {
+                // Our descent, which never climbs (truck's search from there went 41 mm off
+                // along the profile's extension).
+                let uv = descend_wrapped(&face.surface, p, s, closed);
+                let x = crate::geom::surface_point(&face.surface, uv.0, uv.1);
+                let foot = (uv, x, x.distance(p));
+                take(Some(foot).filter(critical), &mut best_d, &mut best);
+            }
+        }
+    }
     // Boundary candidates.
     let edge_best = nearest_edge(model, fi, p, &mut best_d, &cache);
     let pole_best = nearest_pole(model, face, p, &mut best_d);
