@@ -13,6 +13,11 @@ Run with Debian's python (not freecadcmd, not the pyenv python):
   0.2 mm from the next: the flat flanks' normals hardly turn, their parameter lines do. Cells
   as long as a turn seed the descent on the neighbouring turn (before the fix, half the points
   of the flanks were found 5e-3 to 0.2 mm away).
+- `necked_vase.step`: a B-spline profile through (10, 0), (0.3, 2), (0.3, 4), (10, 6), (10, 40)
+  (radius, height) revolved about z: a surface of revolution with a neck 0.3 mm from its
+  axis. Seen from a point of its flare the nearest cell may lie across the axis, where the
+  descent stops in another basin (before the fix, 74 of 576 points of the face were found up to
+  26 mm away; OCCT's Bottom sample had such a face).
 
 Each part is built with FreeCAD's Part module, checked (valid, one closed solid), written as
 AP214 STEP, and listed in OUTDIR/manifest.json. Deterministic up to the STEP header's
@@ -37,9 +42,22 @@ def coil():
     return Part.Wire(helix).makePipeShell([square], True, True)
 
 
+def necked_vase():
+    pts = [V(10, 0, 0), V(0.3, 0, 2), V(0.3, 0, 4), V(10, 0, 6), V(10, 0, 40)]
+    profile = Part.BSplineCurve()
+    profile.interpolate(pts)
+    wire = Part.Wire([profile.toShape(), Part.LineSegment(pts[-1], V(0, 0, 40)).toShape(),
+                      Part.LineSegment(V(0, 0, 40), V(0, 0, 0)).toShape(),
+                      Part.LineSegment(V(0, 0, 0), pts[0]).toShape()])
+    return Part.Face(wire).revolve(V(0, 0, 0), V(0, 0, 1), 360)
+
+
 PARTS = [
     ("coil", coil, "A square wire 0.4 mm wide wound 10 turns round a 3 mm radius at a 0.6 mm "
      "pitch: four B-spline faces that wind round ten times, each turn 0.2 mm from the next."),
+    ("necked_vase", necked_vase, "A B-spline profile through (r, z) = (10, 0), (0.3, 2), "
+     "(0.3, 4), (10, 6), (10, 40) revolved about z: a surface of revolution with a neck "
+     "0.3 mm from its axis, and its two end discs."),
 ]
 
 

@@ -166,24 +166,35 @@ pub(super) fn face_nearest(
         }
     }
     // A periodic face without a closed form (a surface of revolution) seen from near its
-    // axis: the nearest cell may lie on the far side, half a turn from the foot, where the
-    // descent stops in another basin (OCCT's Bottom sample: 2.9 mm from a point on the face).
-    // Descend from half a turn round the start too, and keep that foot when it is nearer and
-    // inside the trim.
+    // axis: the nearest cell may lie across the axis, where the descent stops in another
+    // basin (OCCT's Bottom sample: a point on the face was found 2.9 mm from it). The foot
+    // of a surface of revolution lies in the plane through the axis and the point: descend
+    // from there too (the point's azimuth and half a turn from it, at the profile's nearest
+    // samples), and from half a turn round the first foot on other periodic faces; keep a
+    // foot that is nearer and inside the trim.
     if plane.is_none() && closed_form.is_none() {
         if let Some((uv, _, _)) = interior {
             let d = &face.domain;
-            let turned = [
+            let mut starts: Vec<(f64, f64)> = [
                 d.u_period.map(|per| (uv.0 + 0.5 * per, uv.1)),
                 d.v_period.map(|per| (uv.0, uv.1 + 0.5 * per)),
-            ];
-            for s in turned.into_iter().flatten() {
-                // Our descent, which never climbs (truck's search from there went 41 mm off
-                // along the profile's extension).
+            ]
+            .into_iter()
+            .flatten()
+            .collect();
+            if crate::geom::surface_kind(&face.surface) == "revolution" {
+                starts.extend(azimuth_starts(face, p));
+            }
+            for s in starts {
+                // Our descent, which never climbs (truck's search from half a turn round
+                // went 41 mm off along the profile's extension).
                 let uv = descend_wrapped(&face.surface, p, s, closed);
                 let x = crate::geom::surface_point(&face.surface, uv.0, uv.1);
-                let foot = (uv, x, x.distance(p));
-                take(Some(foot).filter(critical), &mut best_d, &mut best);
+                take(
+                    Some((uv, x, x.distance(p))).filter(critical),
+                    &mut best_d,
+                    &mut best,
+                );
             }
         }
     }
@@ -206,6 +217,80 @@ pub(super) fn face_nearest(
         ));
     }
     best
+}
+
+/// Samples of a surface of revolution's profile searched for starts in [`azimuth_starts`],
+/// and how many of their local minima start a descent.
+const PROFILE_SAMPLES: usize = 64;
+const PROFILE_MINIMA: usize = 3;
+
+/// Starts for the descent to the foot of `p` on the surface of revolution of `face`: in the
+/// plane through its axis and `p` (the angle of `p` about the axis and half a turn from it),
+/// at the profile's samples nearest `p` in each (its local minima). The axis and the angle's origin and sense
+/// come from three points of one parallel (the angle is the periodic parameter, linear in
+/// the turn); none where the face has no periodic direction or that parallel is a point.
+fn azimuth_starts(face: &Face, p: DVec3) -> Vec<(f64, f64)> {
+    let d = &face.domain;
+    let (angle_is_u, (w0, w1)) = match (d.u_period, d.v_period) {
+        (Some(_), None) => (true, d.v),
+        (None, Some(_)) => (false, d.u),
+        _ => return vec![],
+    };
+    let at = |angle: f64, w: f64| {
+        if angle_is_u {
+            crate::geom::surface_point(&face.surface, angle, w)
+        } else {
+            crate::geom::surface_point(&face.surface, w, angle)
+        }
+    };
+    let quarter = std::f64::consts::FRAC_PI_2;
+    // The parallel through the middle of the profile's range, or failing that a quarter of
+    // the way along (a profile may touch the axis).
+    let frame = [0.5, 0.25, 0.75].into_iter().find_map(|f| {
+        let w = w0 + f * (w1 - w0);
+        let (a, b, c) = (at(0.0, w), at(quarter, w), at(2.0 * quarter, w));
+        let centre = 0.5 * (a + c);
+        let (e1, e2) = (a - centre, b - centre);
+        let rho2 = e1.length_squared();
+        (rho2 > 1e-18 * (1.0 + centre.length_squared())
+            && (e2.length_squared() - rho2).abs() <= 1e-6 * rho2
+            && e1.dot(e2).abs() <= 1e-6 * rho2)
+            .then_some((centre, e1, e2))
+    });
+    let Some((centre, e1, e2)) = frame else {
+        return vec![];
+    };
+    let axis = e1.cross(e2).normalize();
+    let q = p - centre;
+    let q = q - axis * q.dot(axis);
+    if q.length_squared() == 0.0 {
+        return vec![];
+    }
+    let theta = q.dot(e2).atan2(q.dot(e1));
+    let mut out = vec![];
+    for angle in [theta, theta + 2.0 * quarter] {
+        // The profile's local minima of the distance, nearest first (a B-spline profile's
+        // parameter may run fast over one span: the nearest sample is not always in the
+        // foot's basin).
+        let samples: Vec<(f64, f64)> = (0..=PROFILE_SAMPLES)
+            .map(|k| w0 + (w1 - w0) * k as f64 / PROFILE_SAMPLES as f64)
+            .map(|w| (w, at(angle, w).distance(p)))
+            .collect();
+        let mut minima: Vec<(f64, f64)> = (0..samples.len())
+            .filter(|&k| {
+                let here = samples[k].1;
+                here.is_finite()
+                    && (k == 0 || samples[k - 1].1 >= here)
+                    && (k + 1 == samples.len() || samples[k + 1].1 >= here)
+            })
+            .map(|k| samples[k])
+            .collect();
+        minima.sort_by(|a, b| a.1.total_cmp(&b.1));
+        for (w, _) in minima.into_iter().take(PROFILE_MINIMA) {
+            out.push(if angle_is_u { (angle, w) } else { (w, angle) });
+        }
+    }
+    out
 }
 
 /// True when `uv` is on the border of `face`'s parameter domain in a direction that does not
