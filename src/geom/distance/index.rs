@@ -29,6 +29,7 @@
 //! samples, so `dist(p, edge) ≥ min_i ‖p − C(tᵢ)‖ − max_i Lᵢ/2`.
 
 use super::edge::{edge_sample_count, edge_sample_t, wraps_around};
+use super::face::Profile;
 use super::normal::{loop_points, nearest_loop_point, normal_near, vertex_normals};
 use crate::geom::bbox::Aabb;
 use crate::geom::bvh::{box_distance_squared, union, Bvh};
@@ -110,6 +111,8 @@ pub(super) struct FaceCache {
     pub(super) closed: (bool, bool),
     /// The foot in closed form of a cylinder, cone or sphere (`None` for other surfaces).
     pub(super) closed_form: Option<ClosedForm>,
+    /// A surface of revolution's axis and profile samples (`None` for other surfaces).
+    pub(super) profile: Option<Profile>,
     pub(super) cells: Range<u32>,
     /// The cells in blocks, into `Boundary::blocks`.
     pub(super) blocks: Range<u32>,
@@ -350,6 +353,7 @@ impl Boundary {
                 c @ (ClosedForm::RevolvedLine { .. } | ClosedForm::Sphere { .. }) => Some(c),
                 ClosedForm::Plane { .. } | ClosedForm::None => None,
             },
+            profile: Profile::new(face),
             cells: cells_start..cells_end,
             blocks: blocks_start..self.blocks.len() as u32,
             edges,
