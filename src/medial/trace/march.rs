@@ -307,15 +307,21 @@ impl Tracer<'_> {
             return None;
         }
         // The seed's ball, on the elements touched now (their parameters at its touch
-        // points), so the seam's last point is its first.
-        let mut y = xs.clone();
+        // points), so the seam's last point is its first (where a parameter is not found, the
+        // seam closes from its last point).
+        let mut y = Some(xs.clone());
         for k in (0..3).filter(|&k| m.triplet[k] != m.first[k]) {
-            let hint = slot(&m.x, k);
-            let s = self.start_params(m.triplet[k], v3(xs), hint)?;
-            y[4 + 2 * k] = s.0;
-            y[5 + 2 * k] = s.1;
+            let s = self.start_params(m.triplet[k], v3(xs), slot(&m.x, k));
+            if let (Some(y), Some(s)) = (y.as_mut(), s) {
+                y[4 + 2 * k] = s.0;
+                y[5 + 2 * k] = s.1;
+            } else {
+                y = None;
+            }
         }
-        m.points.push(self.seam_point(&m.sys, &y));
+        if let Some(y) = y {
+            m.points.push(self.seam_point(&m.sys, &y));
+        }
         Some(SeamEnd::Closed)
     }
 
