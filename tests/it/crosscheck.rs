@@ -280,15 +280,9 @@ pub(crate) fn failures(part: &Path, out_dir: &Path, occt: bool) -> BTreeMap<Stri
     failed
 }
 
-#[test]
-fn every_part_traces_completely_and_passes_the_opencascade_crosscheck() {
-    const TEST: &str =
-        "crosscheck::every_part_traces_completely_and_passes_the_opencascade_crosscheck";
-    let corpus = crate::tools::require(&format!("{TEST} (on the corpus)"), &[Tool::Corpus]);
-    let occt = crate::tools::require(&format!("{TEST} (OCCT half)"), &[Tool::Occt]);
-    let parts = parts();
-    assert!(parts.len() >= 25, "only {} parts found", parts.len());
-    // Two workers (the OCCT check is single-threaded Python).
+/// [`failures`] of every part of `parts`, two at a time (the OCCT check is single-threaded
+/// Python), in their order.
+pub(crate) fn failures_of_all(parts: &[PathBuf], occt: bool) -> Vec<BTreeMap<String, usize>> {
     let next = std::sync::atomic::AtomicUsize::new(0);
     let results = std::sync::Mutex::new(vec![None; parts.len()]);
     std::thread::scope(|scope| {
@@ -302,11 +296,32 @@ fn every_part_traces_completely_and_passes_the_opencascade_crosscheck() {
             });
         }
     });
-    let results = results.into_inner().unwrap();
+    results
+        .into_inner()
+        .unwrap()
+        .into_iter()
+        .map(|f| f.expect("every part checked"))
+        .collect()
+}
+
+/// The start of a list entry for part `name` failing `failed`, as it would be now.
+pub(crate) fn entry_now(name: &str, failed: &BTreeMap<String, usize>) -> String {
+    let checks: Vec<(&str, usize)> = failed.iter().map(|(k, n)| (k.as_str(), *n)).collect();
+    format!("(\"{name}\", &{checks:?}")
+}
+
+#[test]
+fn every_part_traces_completely_and_passes_the_opencascade_crosscheck() {
+    const TEST: &str =
+        "crosscheck::every_part_traces_completely_and_passes_the_opencascade_crosscheck";
+    let corpus = crate::tools::require(&format!("{TEST} (on the corpus)"), &[Tool::Corpus]);
+    let occt = crate::tools::require(&format!("{TEST} (OCCT half)"), &[Tool::Occt]);
+    let parts = parts();
+    assert!(parts.len() >= 25, "only {} parts found", parts.len());
+    let results = failures_of_all(&parts, occt);
     let mut problems = vec![];
     for (part, failed) in parts.iter().zip(results) {
         let name = part.file_name().unwrap().to_str().unwrap();
-        let failed = failed.expect("every part checked");
         let entry = EXPECTED_FAILURES.iter().find(|(n, _, _)| *n == name);
         let mut want: BTreeMap<String, usize> = entry
             .map(|(_, checks, _)| checks.iter().map(|(k, n)| (k.to_string(), *n)).collect())
@@ -316,11 +331,8 @@ fn every_part_traces_completely_and_passes_the_opencascade_crosscheck() {
         }
         if failed != want {
             problems.push(format!(
-                "(\"{name}\", &{:?}, ...) — listed as {want:?}",
-                failed
-                    .iter()
-                    .map(|(k, n)| (k.as_str(), *n))
-                    .collect::<Vec<_>>()
+                "{}, ...) — listed as {want:?}",
+                entry_now(name, &failed)
             ));
         }
     }

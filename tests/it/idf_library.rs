@@ -12,7 +12,7 @@
 //! closes a seam end on these parts shows here. Without the library the test is skipped
 //! loudly (under CI, a failure: `tools.rs`).
 
-use crate::crosscheck::failures;
+use crate::crosscheck::{entry_now, failures_of_all};
 use crate::tools::{Tool, IDF_LIBRARY};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -147,23 +147,9 @@ fn every_idf_library_part_fails_only_as_listed() {
     }
     let parts = parts();
     assert!(parts.len() >= 25, "only {} parts found", parts.len());
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let results = std::sync::Mutex::new(vec![None; parts.len()]);
-    std::thread::scope(|scope| {
-        for _ in 0..2 {
-            scope.spawn(|| loop {
-                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                let Some(part) = parts.get(i) else { break };
-                let dir = tempfile::tempdir().unwrap();
-                let failed = failures(part, dir.path(), false);
-                results.lock().unwrap()[i] = Some(failed);
-            });
-        }
-    });
     let mut problems = vec![];
-    for (part, failed) in parts.iter().zip(results.into_inner().unwrap()) {
+    for (part, failed) in parts.iter().zip(failures_of_all(&parts, false)) {
         let name = part.file_name().unwrap().to_str().unwrap();
-        let failed = failed.expect("every part checked");
         let want: BTreeMap<String, usize> = EXPECTED
             .iter()
             .find(|(n, _)| *n == name)
@@ -171,11 +157,8 @@ fn every_idf_library_part_fails_only_as_listed() {
             .unwrap_or_default();
         if failed != want {
             problems.push(format!(
-                "(\"{name}\", &{:?}) — listed as {want:?}",
-                failed
-                    .iter()
-                    .map(|(k, n)| (k.as_str(), *n))
-                    .collect::<Vec<_>>()
+                "{}) — listed as {want:?}",
+                entry_now(name, &failed)
             ));
         }
     }
