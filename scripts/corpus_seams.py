@@ -4,7 +4,9 @@
 third-party parts in `../shared/realworld` and its `more/`, each through
 `matrace trace PART -o OUT/<folder>__<file> --verify`, JOBS at a time.
 
-    scripts/corpus_seams.py run BIN OUT [JOBS]   trace every part with the binary BIN
+    scripts/corpus_seams.py run BIN OUT [JOBS] [DIR...]
+                                                 trace every part with the binary BIN (and the
+                                                 STEP and IGES files of each DIR)
     scripts/corpus_seams.py show OUT             the table again from OUT's reports
     scripts/corpus_seams.py diff A B             parts whose exit status, open ends or seam
                                                  count differ between two runs
@@ -30,9 +32,9 @@ FOLDERS = ["samples", "samples/trace", "samples/iges", "samples/distance",
 EXTENSIONS = ("step", "stp", "STEP", "STP", "igs", "iges", "IGS", "IGES")
 
 
-def parts():
+def parts(extra=()):
     found = set()
-    for folder in FOLDERS:
+    for folder in FOLDERS + list(extra):
         for ext in EXTENSIONS:
             found.update(glob.glob(os.path.join(ROOT, folder, "*." + ext)))
     return sorted(found)
@@ -102,7 +104,7 @@ def main(argv):
         jobs = int(argv[3]) if len(argv) > 3 else 1
         binary = os.path.abspath(argv[1])
         with ThreadPoolExecutor(jobs) as pool:
-            list(pool.map(trace, [(binary, argv[2], p) for p in parts()]))
+            list(pool.map(trace, [(binary, argv[2], p) for p in parts(argv[4:])]))
         show(argv[2])
     elif len(argv) == 2 and argv[0] == "show":
         show(argv[1])
