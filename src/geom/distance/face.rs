@@ -26,6 +26,7 @@ use super::edge::{
 use super::hit::FaceHit;
 use super::index::{range, Boundary};
 use super::normal::{face_normal, surface_params};
+use super::revolution::Profile;
 use crate::geom::bvh::box_distance_squared;
 use crate::geom::eval::eval_surface;
 use crate::geom::project::{clamp_ranges, plane_frame, project_plane, ClosedForm};
@@ -165,54 +166,17 @@ pub(super) fn face_nearest(
             take(foot.filter(critical), &mut best_d, &mut best);
         }
     }
-    // A periodic face without a closed form (a surface of revolution) seen from near its
-    // axis: the nearest cell may lie across the axis, where the descent stops in another
-    // basin (OCCT's Bottom sample: a point on the face was found 2.9 mm from it). The foot
-    // of a surface of revolution lies in the plane through the axis and the point: descend
-    // from there too (the point's azimuth and half a turn from it, at the profile's nearest
-    // samples), and from half a turn round the first foot on other periodic faces; keep a
-    // foot that is nearer and inside the trim.
-    if plane.is_none() && closed_form.is_none() {
-        if let Some((uv, _, d_int)) = interior {
-            let d = &face.domain;
-            let mut starts: Vec<((f64, f64), f64)> = [
-                d.u_period.map(|per| (uv.0 + 0.5 * per, uv.1)),
-                d.v_period.map(|per| (uv.0, uv.1 + 0.5 * per)),
-            ]
-            .into_iter()
-            .flatten()
-            .map(|s| {
-                (
-                    s,
-                    crate::geom::surface_point(&face.surface, s.0, s.1).distance(p),
-                )
-            })
-            .collect();
-            let owned;
-            let profile = match &cache {
-                Some(c) => c.boundary.faces[fi].profile.as_ref(),
-                None => {
-                    owned = Profile::new(face);
-                    owned.as_ref()
-                }
-            };
-            if let Some(profile) = profile {
-                starts.extend(profile.starts(p));
+    if let (Some(foot), None, None) = (interior, plane, closed_form) {
+        let owned;
+        let profile = match &cache {
+            Some(c) => c.boundary.faces[fi].profile.as_ref(),
+            None => {
+                owned = Profile::new(face);
+                owned.as_ref()
             }
-            // Only from a start that may lead nearer than the first foot: every point of the
-            // surface is at least as far as its nearest, so where the first foot is that, few
-            // descents run.
-            for (s, _) in starts.into_iter().filter(|&(_, ds)| ds < d_int) {
-                // Our descent, which never climbs (truck's search from half a turn round
-                // went 41 mm off along the profile's extension).
-                let uv = descend_wrapped(&face.surface, p, s, closed);
-                let x = crate::geom::surface_point(&face.surface, uv.0, uv.1);
-                take(
-                    Some((uv, x, x.distance(p))).filter(critical),
-                    &mut best_d,
-                    &mut best,
-                );
-            }
+        };
+        for foot in other_basin_feet(face, p, foot, closed, profile) {
+            take(Some(foot).filter(critical), &mut best_d, &mut best);
         }
     }
     // Boundary candidates.
@@ -236,135 +200,48 @@ pub(super) fn face_nearest(
     best
 }
 
-/// Samples of a surface of revolution's profile searched for starts in [`Profile::starts`],
-/// and how many of their local minima start a descent.
-const PROFILE_SAMPLES: usize = 64;
-const PROFILE_MINIMA: usize = 3;
-
-/// A surface of revolution as its axis and its profile's samples in cylindrical coordinates,
-/// for the starts of the descent to a foot ([`Profile::starts`]); the [`Boundary`] caches it.
-#[derive(Clone, Debug)]
-pub(super) struct Profile {
-    /// Whether the angle is the `u` parameter (else `v`).
-    angle_is_u: bool,
-    centre: DVec3,
-    /// Unit vectors: the axis, and the directions of the angles 0 and a quarter turn.
-    axis: DVec3,
-    e1: DVec3,
-    e2: DVec3,
-    /// Per sample: the profile parameter, and its point's height along the axis, distance
-    /// from it and azimuth at angle 0.
-    samples: Vec<(f64, f64, f64, f64)>,
-    /// The longest chord between neighbouring samples (in a plane through the axis): the
-    /// foot is within half of it of a sample.
-    spacing: f64,
-}
-
-impl Profile {
-    /// The profile of `face`'s surface of revolution; `None` where the face has not exactly
-    /// one periodic direction or no parallel is a proper circle. The axis, and the angle's
-    /// origin and sense, come from three points of one parallel (the angle is the periodic
-    /// parameter, linear in the turn).
-    pub(super) fn new(face: &Face) -> Option<Profile> {
-        if crate::geom::surface_kind(&face.surface) != "revolution" {
-            return None;
-        }
-        let d = &face.domain;
-        let (angle_is_u, (w0, w1)) = match (d.u_period, d.v_period) {
-            (Some(_), None) => (true, d.v),
-            (None, Some(_)) => (false, d.u),
-            _ => return None,
-        };
-        let at = |angle: f64, w: f64| {
-            if angle_is_u {
-                crate::geom::surface_point(&face.surface, angle, w)
-            } else {
-                crate::geom::surface_point(&face.surface, w, angle)
-            }
-        };
-        let quarter = std::f64::consts::FRAC_PI_2;
-        // The parallel through the middle of the profile's range, or failing that a quarter
-        // of the way along (a profile may touch the axis).
-        let (centre, e1, e2) = [0.5, 0.25, 0.75].into_iter().find_map(|f| {
-            let w = w0 + f * (w1 - w0);
-            let (a, b, c) = (at(0.0, w), at(quarter, w), at(2.0 * quarter, w));
-            let centre = 0.5 * (a + c);
-            let (e1, e2) = (a - centre, b - centre);
-            let rho2 = e1.length_squared();
-            (rho2 > 1e-18 * (1.0 + centre.length_squared())
-                && (e2.length_squared() - rho2).abs() <= 1e-6 * rho2
-                && e1.dot(e2).abs() <= 1e-6 * rho2)
-                .then(|| (centre, e1.normalize(), e2.normalize()))
-        })?;
-        let axis = e1.cross(e2);
-        let samples = (0..=PROFILE_SAMPLES)
-            .map(|k| w0 + (w1 - w0) * k as f64 / PROFILE_SAMPLES as f64)
-            .filter_map(|w| {
-                let q = at(0.0, w) - centre;
-                let h = q.dot(axis);
-                let radial = q - axis * h;
-                let az = radial.dot(e2).atan2(radial.dot(e1));
-                q.is_finite().then_some((w, h, radial.length(), az))
-            })
-            .collect::<Vec<_>>();
-        let spacing = samples
-            .windows(2)
-            .map(|w| ((w[1].1 - w[0].1).powi(2) + (w[1].2 - w[0].2).powi(2)).sqrt())
-            .fold(0.0, f64::max);
-        Some(Profile {
-            angle_is_u,
-            centre,
-            axis,
-            e1,
-            e2,
-            samples,
-            spacing,
+/// Feet of `p` on a periodic face without a closed form (a surface of revolution) in other
+/// basins than `first`'s. Seen from near its axis, the nearest cell may lie across the axis,
+/// where the descent stops in another basin (OCCT's Bottom sample: a point on the face was
+/// found 2.9 mm from it). The foot of a surface of revolution lies in the plane through the
+/// axis and the point: descents from there (the point's azimuth and half a turn from it, at
+/// the profile's nearest samples: [`Profile::starts`]), and from half a turn round `first` on
+/// every periodic face. Only from a start that may lead nearer than `first`: every point of
+/// the surface is at least as far as its nearest, so where `first` is that, few run.
+fn other_basin_feet(
+    face: &Face,
+    p: DVec3,
+    first: Foot,
+    closed: (bool, bool),
+    profile: Option<&Profile>,
+) -> Vec<Foot> {
+    let ((u, v), _, d_first) = first;
+    let d = &face.domain;
+    let mut starts: Vec<((f64, f64), f64)> = [
+        d.u_period.map(|per| (u + 0.5 * per, v)),
+        d.v_period.map(|per| (u, v + 0.5 * per)),
+    ]
+    .into_iter()
+    .flatten()
+    .map(|s| {
+        let x = crate::geom::surface_point(&face.surface, s.0, s.1);
+        (s, x.distance(p))
+    })
+    .collect();
+    if let Some(profile) = profile {
+        starts.extend(profile.starts(p));
+    }
+    starts
+        .into_iter()
+        .filter(|&(_, ds)| ds < d_first)
+        .map(|(s, _)| {
+            // Our descent, which never climbs (truck's search from half a turn round went
+            // 41 mm off along a profile's extension).
+            let uv = descend_wrapped(&face.surface, p, s, closed);
+            let x = crate::geom::surface_point(&face.surface, uv.0, uv.1);
+            (uv, x, x.distance(p))
         })
-    }
-
-    /// Starts for the descent to the foot of `p`, each with the least distance to `p` a foot
-    /// from there may have (the sample's, less half the samples' spacing): in the
-    /// plane through the axis and `p` (on `p`'s side and across the axis), at the profile's
-    /// samples nearest `p` there (their local minima, nearest first: a B-spline profile's
-    /// parameter may run fast over one span, so the nearest sample is not always in the
-    /// foot's basin).
-    pub(super) fn starts(&self, p: DVec3) -> Vec<((f64, f64), f64)> {
-        let q = p - self.centre;
-        let h = q.dot(self.axis);
-        let radial = q - self.axis * h;
-        let (r, theta) = (
-            radial.length(),
-            radial.dot(self.e2).atan2(radial.dot(self.e1)),
-        );
-        let mut out = vec![];
-        for (side, turn) in [(1.0, 0.0), (-1.0, std::f64::consts::PI)] {
-            // Squared distance from p to the sample turned into p's half-plane (or across).
-            let dist: Vec<f64> = self
-                .samples
-                .iter()
-                .map(|&(_, hs, rs, _)| (h - hs).powi(2) + (r - side * rs).powi(2))
-                .collect();
-            let mut minima: Vec<usize> = (0..dist.len())
-                .filter(|&k| {
-                    (k == 0 || dist[k - 1] >= dist[k])
-                        && (k + 1 == dist.len() || dist[k + 1] >= dist[k])
-                })
-                .collect();
-            minima.sort_by(|&a, &b| dist[a].total_cmp(&dist[b]));
-            for k in minima.into_iter().take(PROFILE_MINIMA) {
-                let (w, _, _, az) = self.samples[k];
-                let angle = theta + turn - az;
-                let uv = if self.angle_is_u {
-                    (angle, w)
-                } else {
-                    (w, angle)
-                };
-                // Less half the spacing: a nearer foot has a sample within that of it.
-                out.push((uv, dist[k].sqrt() - 0.5 * self.spacing));
-            }
-        }
-        out
-    }
+        .collect()
 }
 
 /// True when `uv` is on the border of `face`'s parameter domain in a direction that does not

@@ -29,8 +29,8 @@
 //! samples, so `dist(p, edge) ≥ min_i ‖p − C(tᵢ)‖ − max_i Lᵢ/2`.
 
 use super::edge::{edge_sample_count, edge_sample_t, wraps_around};
-use super::face::Profile;
 use super::normal::{loop_points, nearest_loop_point, normal_near, vertex_normals};
+use super::revolution::Profile;
 use crate::geom::bbox::Aabb;
 use crate::geom::bvh::{box_distance_squared, union, Bvh};
 use crate::geom::eval::{eval_curve, eval_surface};

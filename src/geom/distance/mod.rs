@@ -37,6 +37,7 @@ mod index;
 mod inside;
 mod normal;
 mod query;
+mod revolution;
 
 pub use edge::{
     nearest_on_edge, MAX_DESCENT_HALVINGS, MAX_DESCENT_ITER, MAX_EDGE_SAMPLES, MIN_EDGE_SAMPLES,
