@@ -6,6 +6,8 @@
 //! - `edge.rs`: the nearest point of an edge ([`nearest_on_edge`]);
 //! - `face.rs`: the nearest point of a trimmed face ([`nearest_on_face`]), from a foot point
 //!   on its surface ([`descend`] on B-spline and NURBS patches), its edges and its poles;
+//! - `revolution.rs`: a surface of revolution's axis and profile samples, from which the
+//!   search for a foot also starts in the plane through the axis and the point;
 //! - `index.rs`: the boundary prepared for many queries ([`Boundary`]): cells with boxes over
 //!   every curved face, edge samples with a cover radius, the faces' trim grids and a
 //!   bounding-volume hierarchy over the faces;
@@ -24,8 +26,9 @@
 //!   farther).
 //! - The nearest point is only as global as the seeds: a face's foot point comes from the
 //!   nearest cell centre (or the caller's hint), so a second, nearer basin of the distance
-//!   inside the same face that no cell centre is closest to is missed. Tested against dense
-//!   brute force on every face of every sample and of the real-world corpus.
+//!   inside the same face that no cell centre is closest to is missed (on a surface of
+//!   revolution the plane through the axis and the point is searched too). Tested against
+//!   dense brute force on every face of every sample and of the real-world corpus.
 //! - Point-in-solid has the limits of its theorem (see `inside.rs`).
 //!
 //! All distances are in model units (millimetres).
