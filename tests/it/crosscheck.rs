@@ -187,6 +187,11 @@ fn parts() -> Vec<PathBuf> {
         dirs.push(d.join("more"));
         dirs.push(d);
     }
+    step_files(&dirs)
+}
+
+/// The STEP files (`.step`, `.stp`, any case) directly in the folders `dirs`, sorted.
+pub(crate) fn step_files(dirs: &[PathBuf]) -> Vec<PathBuf> {
     let mut parts: Vec<PathBuf> = dirs
         .iter()
         .flat_map(|d| std::fs::read_dir(d).unwrap())

@@ -12,7 +12,7 @@
 //! closes a seam end on these parts shows here. Without the library the test is skipped
 //! loudly (under CI, a failure: `tools.rs`).
 
-use crate::crosscheck::{entry_now, failures_of_all};
+use crate::crosscheck::{entry_now, failures_of_all, step_files};
 use crate::tools::{Tool, IDF_LIBRARY};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -126,17 +126,7 @@ const EXPECTED: &[(&str, &[(&str, usize)])] = &[
 
 /// The library's STEP files.
 fn parts() -> Vec<PathBuf> {
-    let mut parts: Vec<PathBuf> = std::fs::read_dir(IDF_LIBRARY)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| {
-            p.extension()
-                .and_then(|e| e.to_str())
-                .is_some_and(|e| matches!(e.to_ascii_lowercase().as_str(), "step" | "stp"))
-        })
-        .collect();
-    parts.sort();
-    parts
+    step_files(&[PathBuf::from(IDF_LIBRARY)])
 }
 
 #[test]

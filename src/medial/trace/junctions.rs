@@ -154,19 +154,33 @@ impl Tracer<'_> {
             let why = OpenReason::NoJunction { element: fourth };
             return Some(Meeting::End(SeamEnd::Open(why), None));
         };
+        Some(self.meeting_at(triplet, fourth, jx, t))
+    }
+
+    /// What a seam on `triplet` arriving along `t` meets at `jx`, the 4-segment system's
+    /// solution with `fourth`: the touch point passes onto `fourth` where that continues a
+    /// touched segment ([`Self::tangent_across`]); otherwise the junction, recorded (with the
+    /// direction the seam arrived from, and the seam's triplet there as traced).
+    pub(super) fn meeting_at(
+        &mut self,
+        triplet: &[Element; 3],
+        fourth: Element,
+        jx: DVector<f64>,
+        t: &DVector<f64>,
+    ) -> Meeting {
         if let Some(i) = self.tangent_across(triplet, fourth, &jx) {
-            return Some(Meeting::Across {
+            return Meeting::Across {
                 i,
                 to: fourth,
                 x: jx,
-            });
+            };
         }
         let id = self.add_junction(triplet, fourth, &jx);
         if let Some(a) = self.arrivals.get_mut(id) {
             a.push(-v3(t).normalize());
         }
         self.visited.insert((sorted(*triplet), Node::Junction(id)));
-        Some(Meeting::End(SeamEnd::Junction(id), Some(jx)))
+        Meeting::End(SeamEnd::Junction(id), Some(jx))
     }
 
     /// Which touched segment of `triplet` the fourth segment of the junction point `jx` is
@@ -177,7 +191,7 @@ impl Tracer<'_> {
     /// file's gap there (an exporter's edge off its faces' surfaces puts a kink of that size
     /// between them). By the tolerance the two are one tangent surface or curve, whose kink
     /// sheet is not part of the medial axis.
-    pub(super) fn tangent_across(
+    fn tangent_across(
         &self,
         triplet: &[Element; 3],
         fourth: Element,

@@ -9,8 +9,8 @@ use super::options::{
     MIN_STEP_REL_DIAGONAL, REACH_REL_ACCURACY, SAME_PLACE_REL_ACCURACY, STEP_GROWTH, STEP_SHRINK,
 };
 use super::tracer::Tracer;
-use super::unknowns::{new_triplet, slot, sorted, sys_point, to_chord, touches_meet, v3, Pairs};
-use crate::medial::axis::{Handover, Node, OpenReason, SeamEnd, SeamPoint};
+use super::unknowns::{new_triplet, slot, sys_point, to_chord, touches_meet, v3, Pairs};
+use crate::medial::axis::{Handover, OpenReason, SeamEnd, SeamPoint};
 use crate::medial::equations::MedialSystem;
 use crate::medial::maximal::{bending, curvature_allows};
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
@@ -641,26 +641,9 @@ impl Tracer<'_> {
         m.handovers.retain(|h| h.point < kept);
         m.triplet = triplet;
         m.sys = MedialSystem::new(triplet.to_vec());
-        if let Some(k) = self.tangent_across(&triplet, to, &jx) {
-            let mut xnew = jx.rows(0, 10).into_owned();
-            xnew[4 + 2 * k] = jx[10];
-            xnew[5 + 2 * k] = jx[11];
-            m.x = jx.rows(0, 10).into_owned();
-            m.handovers.push(Handover {
-                point: m.points.len(),
-                from: triplet[k],
-                to,
-            });
-            return Some(self.switch_to(m, k, to, xnew));
-        }
-        let id = self.add_junction(&triplet, to, &jx);
-        if let Some(a) = self.arrivals.get_mut(id) {
-            a.push(-dir.normalize());
-        }
-        self.visited.insert((sorted(triplet), Node::Junction(id)));
-        m.points
-            .push(self.seam_point(&m.sys, &jx.rows(0, 10).into_owned()));
-        Some(Flow::End(SeamEnd::Junction(id)))
+        m.x = jx.rows(0, 10).into_owned();
+        let meeting = self.meeting_at(&triplet, to, jx, &m.t);
+        Some(self.go_on_from(m, meeting))
     }
 
     /// True when, at the crossing `xc`, a touch point on `from` (the one being handed on) and
@@ -700,13 +683,20 @@ impl Tracer<'_> {
     /// touched face or edge, the touch point passes onto it there instead, and the march
     /// goes on.
     fn junction_end(&mut self, m: &mut March, to: &DVector<f64>) -> Option<Flow> {
-        let (i, to, x) = match self.junction_between(&m.triplet, m.solid, &m.x, to, &m.t)? {
+        let meeting = self.junction_between(&m.triplet, m.solid, &m.x, to, &m.t)?;
+        Some(self.go_on_from(m, meeting))
+    }
+
+    /// The march at what it met: its end (at the junction's point, when located), or on,
+    /// with the touch point passed onto the segment that continues a touched one.
+    fn go_on_from(&mut self, m: &mut March, meeting: Meeting) -> Flow {
+        let (i, to, x) = match meeting {
             Meeting::End(end, jx) => {
                 if let Some(jx) = jx {
                     m.points
                         .push(self.seam_point(&m.sys, &jx.rows(0, 10).into_owned()));
                 }
-                return Some(Flow::End(end));
+                return Flow::End(end);
             }
             Meeting::Across { i, to, x } => (i, to, x),
         };
@@ -719,7 +709,7 @@ impl Tracer<'_> {
             from: m.triplet[i],
             to,
         });
-        Some(self.switch_to(m, i, to, xnew))
+        self.switch_to(m, i, to, xnew)
     }
 
     /// The curvature criterion at `xn`: the ball must not poke through a touched face. Where
