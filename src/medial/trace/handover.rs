@@ -622,15 +622,15 @@ impl Tracer<'_> {
         let bend = 1.0 / (1.0 - xc[3] * bend).max(0.1);
         let (slide, sink) = (xc[3] * kink.sin() * bend, xc[3] * (1.0 - kink.cos()));
         // Where the file's edge between the two follows one surface and not the other, the
-        // ball moves by up to that gap as it passes from one to the other.
+        // ball moves by up to that gap as it passes from one to the other, and its foot on
+        // the new segment by as much again times the same factor.
         let file_gap = self.element_gap(seg).max(self.element_gap(to));
         let same = sol.status == SolveStatus::Converged
             && v3(&sol.x).distance(v3(&xc)) <= 2.0 * acc + 10.0 * gap + sink + file_gap
             && sys_point(self.model, to, slot(&sol.x, i)).is_some_and(|q| {
                 let d = q.distance(p);
-                d <= 2.0 * acc + 2.0 * gap + file_gap
-                    || (d <= 2.0 * acc + 2.0 * gap + file_gap + slide
-                        && self.on_segment(to, slot(&sol.x, i)))
+                let off = 2.0 * acc + 2.0 * gap + file_gap * bend;
+                d <= off || (d <= off + slide && self.on_segment(to, slot(&sol.x, i)))
             });
         if !same {
             return Err(HandOverError::Stop(OpenReason::NoSeamPointAfterHandover {

@@ -332,7 +332,8 @@ impl<'a> Tracer<'a> {
         if let (Element::Face(f), Some((g, e))) = (seg, self.along) {
             if f == g && !self.on_segment(seg, to) {
                 return seg.eval(self.model, to).is_some_and(|ev| {
-                    crate::geom::nearest_on_edge(self.model, e, ev.p, None).2 <= self.opts.accuracy
+                    crate::geom::nearest_on_edge(self.model, e, ev.p, None).2
+                        <= self.opts.accuracy + self.face_gap[f]
                 });
             }
         }
