@@ -283,10 +283,7 @@ impl Tracer<'_> {
         // another edge at the edge's end: at that vertex the edge it runs along is as near,
         // and is not crossed. An edge farther than that one (by more than the same-place
         // distance) is not where it leaves: it leaves across the edge it runs along.
-        let running_along = match self.along {
-            Some((g, e)) if g == f => Some(e),
-            _ => None,
-        };
+        let running_along = self.edges_run_along(f).last();
         let (e, te) = running_along
             .and_then(|e| {
                 let along = crate::geom::nearest_on_edge(self.model, e, ev.p, None).2;

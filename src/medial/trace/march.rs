@@ -126,13 +126,13 @@ impl Tracer<'_> {
             handovers: vec![],
             in_place: 0,
         };
-        self.along = None;
+        self.along.clear();
         let end = loop {
             if let Flow::End(end) = self.march_step(&mut m) {
                 break end;
             }
         };
-        self.along = None;
+        self.along.clear();
         Run {
             points: m.points,
             end,
@@ -372,10 +372,11 @@ impl Tracer<'_> {
                 // one it is at: the halves of a split cylinder share two). Stay on this face,
                 // counting points within the accuracy past that edge as on it; where it
                 // leaves the face, it leaves across another edge (`next_from_face`).
-                if let (Element::Face(f), Element::Face(g), None) = (from, to, self.along) {
+                if let (Element::Face(f), Element::Face(g)) = (from, to) {
                     let at = self.touches(&m.triplet, xc)[i];
-                    if let Some(e) = at.and_then(|p| self.smooth_edge_between_near(f, g, p)) {
-                        self.along = Some((f, e));
+                    let e = at.and_then(|p| self.smooth_edge_between_near(f, g, p));
+                    if let Some(e) = e.filter(|&e| !self.along.contains(&(f, e))) {
+                        self.along.push((f, e));
                         return Flow::Next;
                     }
                 }
@@ -383,9 +384,9 @@ impl Tracer<'_> {
                 // point's path on the face grazes the edge (a boss's foot circle tangent to
                 // it). Back on the face, points within the accuracy of that edge count as on
                 // the face.
-                if let (Element::Edge(e), Element::Face(f), None) = (from, to, self.along) {
-                    if self.model.edges[e].faces.contains(&f) {
-                        self.along = Some((f, e));
+                if let (Element::Edge(e), Element::Face(f)) = (from, to) {
+                    if self.model.edges[e].faces.contains(&f) && !self.along.contains(&(f, e)) {
+                        self.along.push((f, e));
                         m.handovers.push(Handover {
                             point: m.points.len(),
                             from,

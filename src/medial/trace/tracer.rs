@@ -61,7 +61,7 @@ pub(super) struct Tracer<'a> {
     pub(super) stats: TraceStats,
     /// In the current march: a face and a smooth edge of it along which a touch point runs
     /// (see [`Tracer::stays_on`]).
-    pub(super) along: Option<(usize, usize)>,
+    pub(super) along: Vec<(usize, usize)>,
     /// Each face's gap ([`crate::model::Face::gap_mm`]) where it is more than the accuracy,
     /// else 0 (see [`Tracer::on_boundary_within_gap`]).
     pub(super) face_gap: Vec<f64>,
@@ -119,7 +119,7 @@ impl<'a> Tracer<'a> {
             traced_between: HashMap::new(),
             queue: VecDeque::new(),
             stats: TraceStats::default(),
-            along: None,
+            along: Vec::new(),
             face_gap,
             any_gap,
             apexes: super::apex::apexes(model, SAME_PLACE_REL_ACCURACY * opts.accuracy),
@@ -325,15 +325,26 @@ impl<'a> Tracer<'a> {
         (in_range, in_arc)
     }
 
+    /// The edges of face `f` along which a touch point on it runs in the current march.
+    pub(super) fn edges_run_along(&self, f: usize) -> impl Iterator<Item = usize> + '_ {
+        self.along
+            .iter()
+            .filter(move |&&(g, _)| g == f)
+            .map(|&(_, e)| e)
+    }
+
     /// True when a touch point moving from parameters `from` to `to` stays on segment `seg`:
     /// `to` is on it, and on a face the path between did not cross a trimming loop (a step
     /// over a hole lands on the face again).
     pub(super) fn stays_on(&self, seg: Element, from: [f64; 2], to: [f64; 2]) -> bool {
-        if let (Element::Face(f), Some((g, e))) = (seg, self.along) {
-            if f == g && !self.on_segment(seg, to) {
+        if let Element::Face(f) = seg {
+            let edges: Vec<usize> = self.edges_run_along(f).collect();
+            if !edges.is_empty() && !self.on_segment(seg, to) {
                 return seg.eval(self.model, to).is_some_and(|ev| {
-                    crate::geom::nearest_on_edge(self.model, e, ev.p, None).2
-                        <= self.opts.accuracy + self.face_gap[f]
+                    edges.iter().any(|&e| {
+                        crate::geom::nearest_on_edge(self.model, e, ev.p, None).2
+                            <= self.opts.accuracy + self.face_gap[f]
+                    })
                 });
             }
         }
