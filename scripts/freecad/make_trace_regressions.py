@@ -41,7 +41,8 @@ tangent plane at its vertex: its sheet ends there along a free edge), and a bar 
 edge ends against a block's wall, square and skew (the rim above the round ends at the vertex
 where the round is tangent to the top: a free edge again), and a boss whose top rim ends against a
 taller boss's wall (a rim between two reflex edges to one face: a free edge along that face's
-normal).
+normal), and a box with two cavities and a shelf twice as thick as its walls (junctions at the
+shelf faces' corners).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -1238,6 +1239,56 @@ def boss_against_a_taller_boss():
 def flange_on_a_shaft():
     return Part.makeCylinder(4, 4).fuse(Part.makeCylinder(2, 6, V(0, 0, 4))).removeSplitter()
 
+
+
+PLANE_ORIGIN = (50.0, 68.0, 101.0)
+
+
+def plane_origins_off_faces(text):
+    """Writes every PLANE's placement point at the projection of PLANE_ORIGIN on it, its
+    axes unchanged (the same planes; OCCT's sample refrigerator places its planes so): the
+    faces' corners then fall on either side of their trim tests by rounding."""
+    import re
+    ents = dict(re.findall(r"^(#\d+) = (.*);$", text, re.M))
+
+    def coords(ref, kind):
+        m = re.match(kind + r"\('',\(([^)]*)\)\)", ents[ref])
+        return [float(x) for x in m.group(1).split(",")]
+
+    for pl in [ref for ref, e in ents.items() if e.startswith("PLANE(")]:
+        ax = re.match(r"PLANE\('',(#\d+)\)", ents[pl]).group(1)
+        loc, axis, _ = re.match(r"AXIS2_PLACEMENT_3D\('',(#\d+),(#\d+),(#\d+)\)",
+                                ents[ax]).groups()
+        d, p = coords(axis, "DIRECTION"), coords(loc, "CARTESIAN_POINT")
+        v = [PLANE_ORIGIN[k] - p[k] for k in range(3)]
+        dn = sum(v[k] * d[k] for k in range(3))
+        q = ",".join(f"{p[k] + v[k] - dn * d[k]:.12f}" for k in range(3))
+        text = re.sub(rf"^{loc} = CARTESIAN_POINT\('',\([^)]*\)\);$",
+                      f"{loc} = CARTESIAN_POINT('',({q}));", text, count=1, flags=re.M)
+    return text
+
+
+@part("shelf_twice_the_walls",
+      "A box 46x70x148 with two cavities open at x = 46, one above the other (x 2 to 46, "
+      "y 2 to 68; z 7 to 101 and 105 to 146): walls 2 thick at the back and the sides, and "
+      "a shelf between the cavities 4 thick, twice the walls (as OCCT's sample "
+      "refrigerator). Every plane is written with its placement point at the projection of "
+      "(50, 68, 101) on it, as that sample's are.",
+      46 * 70 * 148 - 44 * 66 * (94 + 41),
+      "Where the shelf meets the back wall and a side wall, the balls of the seams between "
+      "the back, the side and one face of the shelf grow to r = 2 at the shelf's mid-plane, "
+      "where they touch the back and the side inside and both faces of the shelf exactly at "
+      "their corners (the cavities' corner vertices): the junction is on those faces' "
+      "borders, and the seams end there. Before, a corner computed 7e-15 mm outside its "
+      "face's trim test was refused, and a seam ended open (a touch point oscillating "
+      "between the shelf face and its corner vertex; on the sample refrigerator four ended "
+      "open, no junction on the segments).",
+      edit=plane_origins_off_faces)
+def shelf_twice_the_walls():
+    box = Part.makeBox(46, 70, 148)
+    for z, h in ((7, 94), (105, 41)):
+        box = box.cut(Part.makeBox(44, 66, h, V(2, 2, z)))
+    return box.removeSplitter()
 
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))

@@ -341,9 +341,26 @@ impl Tracer<'_> {
         }
         // Every touch point must lie on its face: a ball touching a face's extension beyond
         // its edges is not a junction (the event there involves an edge or a vertex).
-        let on_faces = (0..4).all(|i| self.on_segment(sys.segments[i], slot(&sol.x, i)));
-        // Two touch points on one face must be two places, not the same one found twice.
+        // On its border to the accuracy counts as on it: a junction at a face's corner (a
+        // shelf as thick as twice its walls: the ball touches the shelf's two faces at their
+        // corners, the walls' faces inside) is on the closed face, whatever side of the trim
+        // polygon the corner falls on. Not where another touch point is there too (the
+        // face's edge or a face across it, touched at that place: one contact, not two).
         let r = sol.x[3];
+        let at: Vec<Option<DVec3>> = (0..4)
+            .map(|i| sys_point(self.model, sys.segments[i], slot(&sol.x, i)))
+            .collect();
+        let alone = |i: usize| {
+            let sep = separation(r, self.opts.accuracy);
+            at[i].is_some_and(|p| {
+                (0..4).all(|k| k == i || at[k].is_none_or(|q| q.distance(p) > sep))
+            })
+        };
+        let on_faces = (0..4).all(|i| {
+            let (seg, s) = (sys.segments[i], slot(&sol.x, i));
+            self.on_segment(seg, s) || (self.on_face_border(seg, s) && alone(i))
+        });
+        // Two touch points on one face must be two places, not the same one found twice.
         let distinct = !touches_meet(
             self.model,
             &sys.segments,

@@ -480,6 +480,22 @@ impl<'a> Tracer<'a> {
         }
     }
 
+    /// True when the point at `s` of face `seg` is on one of the face's edges to the
+    /// accuracy (on the border of the closed face, whichever side of its trim test).
+    pub(super) fn on_face_border(&self, seg: Element, s: [f64; 2]) -> bool {
+        let Element::Face(f) = seg else {
+            return false;
+        };
+        sys_point(self.model, seg, s).is_some_and(|p| {
+            self.nearest_edge_of_face(f, p).is_some_and(|(e, te)| {
+                crate::geom::eval_curve(&self.model.edges[e].curve, te)
+                    .p
+                    .distance(p)
+                    <= self.opts.accuracy
+            })
+        })
+    }
+
     /// True when the point at `s` of face `seg`, outside its trim, is past a convex edge of it
     /// (which no touch point crosses) but on the boundary within the file's gap there
     /// ([`Self::on_boundary_within_gap`]): the touch point stays on the face's surface.
