@@ -657,7 +657,9 @@ impl Tracer<'_> {
     /// or, closing in on each other since the last point `x`, within
     /// [`MERGING_SEPARATIONS`] of it: the centre is then within about the square of that
     /// many accuracies of where they meet (the separation `√(8·r·a)` is the distance of two
-    /// touch points whose ball is `a` from its curvature limit).
+    /// touch points whose ball is `a` from its curvature limit). In a file with gaps `a` is
+    /// the accuracy plus the gap about `from` and `to`: an edge or vertex written off its
+    /// neighbours by the gap puts a kink of about that size between them.
     fn merges_at_crossing(
         &self,
         triplet: &[Element; 3],
