@@ -127,6 +127,7 @@ impl Tracer<'_> {
             in_place: 0,
         };
         self.along.clear();
+        self.at_start = true;
         let end = loop {
             if let Flow::End(end) = self.march_step(&mut m) {
                 break end;
@@ -199,6 +200,7 @@ impl Tracer<'_> {
             return Flow::End(end);
         }
         m.points.push(self.seam_point(&m.sys, &xn));
+        self.at_start = false;
         m.in_place = 0;
         m.travel += v3(&xn).distance(v3(&m.x));
         m.x = xn;

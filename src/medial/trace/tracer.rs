@@ -62,6 +62,8 @@ pub(super) struct Tracer<'a> {
     /// In the current march: a face and a smooth edge of it along which a touch point runs
     /// (see [`Tracer::stays_on`]).
     pub(super) along: Vec<(usize, usize)>,
+    /// In the current march: no ordinary step taken yet (the march is at its first ball).
+    pub(super) at_start: bool,
     /// Each face's gap ([`crate::model::Face::gap_mm`]) where it is more than the accuracy,
     /// else 0 (see [`Tracer::on_boundary_within_gap`]).
     pub(super) face_gap: Vec<f64>,
@@ -120,6 +122,7 @@ impl<'a> Tracer<'a> {
             queue: VecDeque::new(),
             stats: TraceStats::default(),
             along: Vec::new(),
+            at_start: false,
             face_gap,
             any_gap,
             apexes: super::apex::apexes(model, SAME_PLACE_REL_ACCURACY * opts.accuracy),
@@ -347,6 +350,16 @@ impl<'a> Tracer<'a> {
                     })
                 });
             }
+            // From a march's first ball (a junction at the face's corner), a touch point
+            // that runs along the face's border (on its edges to the accuracy at both ends
+            // of the step) stays on the closed face.
+            if self.at_start
+                && !self.on_segment(seg, to)
+                && self.on_face_border(seg, from)
+                && self.on_face_border(seg, to)
+            {
+                return true;
+            }
         }
         self.on_segment(seg, to)
             && match seg {
@@ -480,8 +493,9 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// True when the point at `s` of face `seg` is on one of the face's edges to the
-    /// accuracy (on the border of the closed face, whichever side of its trim test).
+    /// True when the point at `s` of face `seg` is on one of the face's edges to a tenth of
+    /// the accuracy (on the border of the closed face, whichever side of its trim test; well
+    /// within the accuracy `verify` holds a touch point to the boundary).
     pub(super) fn on_face_border(&self, seg: Element, s: [f64; 2]) -> bool {
         let Element::Face(f) = seg else {
             return false;
@@ -491,7 +505,7 @@ impl<'a> Tracer<'a> {
                 crate::geom::eval_curve(&self.model.edges[e].curve, te)
                     .p
                     .distance(p)
-                    <= self.opts.accuracy
+                    <= 0.1 * self.opts.accuracy
             })
         })
     }
