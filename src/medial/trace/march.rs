@@ -372,8 +372,9 @@ impl Tracer<'_> {
             None => {
                 // Two faces across a smooth edge: the touch point runs along the edge (the
                 // one it is at: the halves of a split cylinder share two). Stay on this face,
-                // counting points within the accuracy past that edge as on it; where it
-                // leaves the face, it leaves across another edge (`next_from_face`).
+                // counting points within the accuracy (plus the face's gap) past that edge as
+                // on it; where it leaves the face, it leaves across another edge
+                // (`next_from_face`).
                 if let (Element::Face(f), Element::Face(g)) = (from, to) {
                     let at = self.touches(&m.triplet, xc)[i];
                     let e = at.and_then(|p| self.smooth_edge_between_near(f, g, p));

@@ -59,8 +59,8 @@ pub(super) struct Tracer<'a> {
     pub(super) visited: HashSet<([Element; 3], Node)>,
     pub(super) queue: VecDeque<Start>,
     pub(super) stats: TraceStats,
-    /// In the current march: a face and a smooth edge of it along which a touch point runs
-    /// (see [`Tracer::stays_on`]).
+    /// In the current march: the faces and edges of theirs along which touch points run, a
+    /// smooth edge or a reflex edge they graze (see [`Tracer::stays_on`]).
     pub(super) along: Vec<(usize, usize)>,
     /// In the current march: no ordinary step taken yet (the march is at its first ball).
     pub(super) at_start: bool,
@@ -351,8 +351,8 @@ impl<'a> Tracer<'a> {
                 });
             }
             // From a march's first ball (a junction at the face's corner), a touch point
-            // that runs along the face's border (on its edges to the accuracy at both ends
-            // of the step) stays on the closed face.
+            // that runs along the face's border (on its edges at both ends of the step, see
+            // `on_face_border`) stays on the closed face.
             if self.at_start
                 && !self.on_segment(seg, to)
                 && self.on_face_border(seg, from)
