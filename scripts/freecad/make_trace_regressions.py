@@ -69,15 +69,12 @@ MADE_BY = "scripts/freecad/make_trace_regressions.py"
 PARTS = []
 
 
-def part(name, description, volume, mat_note, volume_rel=1e-9, edit=None, open_ends=0):
+def part(name, description, volume, mat_note, volume_rel=1e-9, edit=None):
     """`edit`: a function of the written STEP text returning the text to keep (a defect an
-    exporter writes that FreeCAD would not). `open_ends`: the seam ends the tracer still
-    leaves open on the part (a known failure, said in `mat_note`; 0 is what is known of its
-    medial axis)."""
+    exporter writes that FreeCAD would not)."""
     def deco(fn):
         PARTS.append(dict(name=name, description=description, volume=volume,
-                          mat_note=mat_note, build=fn, volume_rel=volume_rel, edit=edit,
-                          open_ends=open_ends))
+                          mat_note=mat_note, build=fn, volume_rel=volume_rel, edit=edit))
         return fn
     return deco
 
@@ -356,11 +353,10 @@ def shallow_roof():
     return Part.Face(Part.makePolygon(pts)).extrude(V(0, 30, 0))
 
 
-def move_planes(text, name, offset, uncertainty):
+def shift_plane_points(text, offset):
     """Moves the placement point of every PLANE for which `offset(direction, point)` gives a
-    displacement (not None) by it, leaving the face's edges where they are, and declares the
-    length uncertainty `uncertainty` (a STEP real), as exporters whose edges follow one face
-    and not the other do. Exactly one plane must move."""
+    displacement (not None) by it, its axes and the faces' edges left as they are; returns
+    the text and how many planes moved."""
     import re
     ents = dict(re.findall(r"^(#\d+) = (.*);$", text, re.M))
 
@@ -381,6 +377,15 @@ def move_planes(text, name, offset, uncertainty):
         text = re.sub(rf"^{loc} = CARTESIAN_POINT\('',\([^)]*\)\);$",
                       f"{loc} = CARTESIAN_POINT('',({q}));", text, count=1, flags=re.M)
         moved += 1
+    return text, moved
+
+
+def move_planes(text, name, offset, uncertainty):
+    """Moves one PLANE off its face's edges by `offset` (see `shift_plane_points`) and
+    declares the length uncertainty `uncertainty` (a STEP real), as exporters whose edges
+    follow one face and not the other do. Exactly one plane must move."""
+    import re
+    text, moved = shift_plane_points(text, offset)
     if moved != 1:
         raise SystemExit(f"{name}: {moved} planes found to move, not 1")
     return re.sub(r"UNCERTAINTY_MEASURE_WITH_UNIT\(LENGTH_MEASURE\([^)]*\)",
@@ -1244,7 +1249,6 @@ def flange_on_a_shaft():
     return Part.makeCylinder(4, 4).fuse(Part.makeCylinder(2, 6, V(0, 0, 4))).removeSplitter()
 
 
-
 PLANE_ORIGIN = (50.0, 68.0, 101.0)
 
 
@@ -1252,24 +1256,12 @@ def plane_origins_off_faces(text):
     """Writes every PLANE's placement point at the projection of PLANE_ORIGIN on it, its
     axes unchanged (the same planes; OCCT's sample refrigerator places its planes so): the
     faces' corners then fall on either side of their trim tests by rounding."""
-    import re
-    ents = dict(re.findall(r"^(#\d+) = (.*);$", text, re.M))
-
-    def coords(ref, kind):
-        m = re.match(kind + r"\('',\(([^)]*)\)\)", ents[ref])
-        return [float(x) for x in m.group(1).split(",")]
-
-    for pl in [ref for ref, e in ents.items() if e.startswith("PLANE(")]:
-        ax = re.match(r"PLANE\('',(#\d+)\)", ents[pl]).group(1)
-        loc, axis, _ = re.match(r"AXIS2_PLACEMENT_3D\('',(#\d+),(#\d+),(#\d+)\)",
-                                ents[ax]).groups()
-        d, p = coords(axis, "DIRECTION"), coords(loc, "CARTESIAN_POINT")
+    def offset(d, p):
         v = [PLANE_ORIGIN[k] - p[k] for k in range(3)]
         dn = sum(v[k] * d[k] for k in range(3))
-        q = ",".join(f"{p[k] + v[k] - dn * d[k]:.12f}" for k in range(3))
-        text = re.sub(rf"^{loc} = CARTESIAN_POINT\('',\([^)]*\)\);$",
-                      f"{loc} = CARTESIAN_POINT('',({q}));", text, count=1, flags=re.M)
-    return text
+        return [v[k] - dn * d[k] for k in range(3)]
+
+    return shift_plane_points(text, offset)[0]
 
 
 @part("shelf_twice_the_walls",
@@ -1313,6 +1305,7 @@ def shelf_flush_with_the_back_wall():
         box = box.cut(Part.makeBox(28, 36, 21, V(0, 2, z)))
     return box.removeSplitter()
 
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)
@@ -1331,7 +1324,7 @@ def main():
         entry = L.write_regression_part(
             out, p["name"], solid, MADE_BY, p["description"],
             {"volume_exact": p["volume"] is not None,
-             "mat": {"open_ends": p["open_ends"], "note": p["mat_note"]}})
+             "mat": {"open_ends": 0, "note": p["mat_note"]}})
         if p["edit"] is not None:
             path = os.path.join(out, p["name"] + ".step")
             with open(path) as f:

@@ -72,8 +72,8 @@ const GAPS_ACCEPTED: &str = "a vertex 8.7e-3 mm off its curve, accepted within t
     along the axis of the 0.2 mm round F6/F7 (r 0.19996, r·κ 0.978 at its touch points on the \
     round) hands a touch point from F7 to the cone F9 across an edge classified smooth, where \
     the two meet at 2.35 degrees: the ball touches F9 8e-3 mm past the edge; a free edge at a \
-    vertex no longer than the gap about it is not drawn; where the 0.2 mm round F6 meets F4, F10 and F12, balls of \
-    r ≈ 0.2 touch F6 up to three times (its axis, found since the descent leaves a saddle of \
+    vertex no longer than the gap about it is not drawn; where the 0.2 mm round F6 meets F4, \
+    F10 and F12, balls of r ≈ 0.2 touch F6 up to three times (its axis, found since the descent leaves a saddle of \
     the distance: the nearest point on F6 was missed before): one junction there with five \
     contacts leaves four sheet boundaries open beside the four elsewhere (`sheets_closed`, \
     issue 20; a seam from it along F4 and F6 twice returns to it, ending at F6's curvature \

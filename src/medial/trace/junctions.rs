@@ -341,11 +341,11 @@ impl Tracer<'_> {
         }
         // Every touch point must lie on its face: a ball touching a face's extension beyond
         // its edges is not a junction (the event there involves an edge or a vertex).
-        // On its border (to a tenth of the accuracy) counts as on it: a junction at a face's corner (a
-        // shelf as thick as twice its walls: the ball touches the shelf's two faces at their
-        // corners, the walls' faces inside) is on the closed face, whatever side of the trim
-        // polygon the corner falls on. Not where another touch point is there too (the
-        // face's edge or a face across it, touched at that place: one contact, not two).
+        // On its border (to a tenth of the accuracy) counts as on it: a junction at a face's
+        // corner (a shelf as thick as twice its walls: the ball touches the shelf's two faces
+        // at their corners, the walls' faces inside) is on the closed face, whatever side of
+        // the trim polygon the corner falls on. Not where another touch point is there too
+        // (the face's edge or a face across it, touched at that place: one contact, not two).
         let r = sol.x[3];
         let at: Vec<Option<DVec3>> = (0..4)
             .map(|i| sys_point(self.model, sys.segments[i], slot(&sol.x, i)))

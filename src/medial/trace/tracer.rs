@@ -340,37 +340,32 @@ impl<'a> Tracer<'a> {
     /// `to` is on it, and on a face the path between did not cross a trimming loop (a step
     /// over a hole lands on the face again).
     pub(super) fn stays_on(&self, seg: Element, from: [f64; 2], to: [f64; 2]) -> bool {
-        if let Element::Face(f) = seg {
-            let edges: Vec<usize> = self.edges_run_along(f).collect();
-            if !edges.is_empty() && !self.on_segment(seg, to) {
-                return seg.eval(self.model, to).is_some_and(|ev| {
-                    edges.iter().any(|&e| {
-                        crate::geom::nearest_on_edge(self.model, e, ev.p, None).2
-                            <= self.opts.accuracy + self.face_gap[f]
-                    })
-                });
+        let on = self.on_segment(seg, to);
+        match seg {
+            Element::Face(f) if !on => {
+                // Off the face's trim: still on it next to an edge it runs along (to the
+                // accuracy plus the face's gap), or, from a march's first ball (a junction at
+                // the face's corner), running along its border (on its edges at both ends of
+                // the step, see `on_face_border`).
+                let mut along = self.edges_run_along(f).peekable();
+                if along.peek().is_some() {
+                    return seg.eval(self.model, to).is_some_and(|ev| {
+                        along.any(|e| {
+                            crate::geom::nearest_on_edge(self.model, e, ev.p, None).2
+                                <= self.opts.accuracy + self.face_gap[f]
+                        })
+                    });
+                }
+                self.at_start && self.on_face_border(seg, from) && self.on_face_border(seg, to)
             }
-            // From a march's first ball (a junction at the face's corner), a touch point
-            // that runs along the face's border (on its edges at both ends of the step, see
-            // `on_face_border`) stays on the closed face.
-            if self.at_start
-                && !self.on_segment(seg, to)
-                && self.on_face_border(seg, from)
-                && self.on_face_border(seg, to)
-            {
-                return true;
-            }
+            Element::Face(f) => !crate::geom::trim::path_crosses_loops(
+                &self.model.faces[f],
+                &self.loop_chunks[f],
+                glam::DVec2::from(from),
+                glam::DVec2::from(to),
+            ),
+            _ => on,
         }
-        self.on_segment(seg, to)
-            && match seg {
-                Element::Face(f) => !crate::geom::trim::path_crosses_loops(
-                    &self.model.faces[f],
-                    &self.loop_chunks[f],
-                    glam::DVec2::from(from),
-                    glam::DVec2::from(to),
-                ),
-                _ => true,
-            }
     }
 
     /// The angle by which edge `g` turns away from edge `e` at their shared vertex `v`:
