@@ -234,6 +234,31 @@ fn reference_cycle() {
     );
 }
 
+/// A cycle through entities nothing reads is no reason to refuse the part: a CAx-IF file
+/// written by Datakit/Open CASCADE holds a material density as `REPRESENTATION('density',
+/// (#3381),#1454)`, its own item. The part is read, with a warning naming the entity.
+#[test]
+fn reference_cycle_nothing_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = box_text();
+    let end = text.rfind("ENDSEC;").unwrap();
+    let patched = format!(
+        "{}#999998 = REPRESENTATION('density',(#999998),#999997);\n\
+         #999997 = REPRESENTATION_CONTEXT('','');\n{}",
+        &text[..end],
+        &text[end..]
+    );
+    let file = write(dir.path(), "density.step", patched.as_bytes());
+    let out = matrace(&["inspect", file.to_str().unwrap()], dir.path());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "stderr: {err}");
+    assert!(
+        err.contains("#999998 REPRESENTATION")
+            && err.contains("reference cycle through entities the reader does not use"),
+        "stderr: {err}"
+    );
+}
+
 #[test]
 fn a_directory() {
     let dir = tempfile::tempdir().unwrap();

@@ -12,9 +12,11 @@ use std::path::Path;
 use truck_stepio::r#in::ruststep::ast::{EntityInstance, Name, Parameter};
 
 /// Runs every check (reference cycles first, then B-spline degrees, then knots): the first
-/// offender is an error naming its entity.
-pub fn check_records(path: &Path, recs: &Records) -> Result<()> {
-    if let Some((id, entity, reason)) = check_acyclic(recs) {
+/// offender is an error naming its entity. Returns the reference cycles that nothing reads
+/// through (see [`check_acyclic`]), by one entity of each, for a warning.
+pub fn check_records(path: &Path, recs: &Records) -> Result<Vec<u64>> {
+    let (found, unread_cycles) = check_acyclic(recs);
+    if let Some((id, entity, reason)) = found {
         return Err(entity_err(path, id, entity, reason));
     }
     if let Some((id, entity, reason)) = check_bspline_degrees(recs) {
@@ -26,7 +28,7 @@ pub fn check_records(path: &Path, recs: &Records) -> Result<()> {
     if let Some((id, entity, reason)) = check_radii(recs) {
         return Err(entity_err(path, id, entity, reason));
     }
-    Ok(())
+    Ok(unread_cycles)
 }
 
 /// The radii and semi-axes of the analytic curves and surfaces, by entity: (name, parameter
@@ -287,9 +289,19 @@ fn multiplicities(p: &Parameter) -> Option<(i128, i64)> {
     }
 }
 
-/// Finds a reference to an id that does not exist, or a reference cycle. Returns
-/// `(id, entity, reason)`.
-pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
+/// Finds a reference to an id that does not exist, or a reference cycle that a reader would
+/// follow round: `(id, entity, reason)`, with the entities (one of each) of the cycles that
+/// nothing follows.
+///
+/// A cycle is an error when each of its entities is one truck reads (whose conversion
+/// recurses through references: it would overflow its stack), a complex instance or a point
+/// (truck reads them all), or a definitional representation's context. A cycle through
+/// anything else is never followed round — the reader's own walks of the topology, the
+/// assembly and the placements go a fixed depth or are bounded — and is harmless: a
+/// Datakit/Open CASCADE file of the CAx-IF (`dm1-oc-214`) has `#3381 =
+/// REPRESENTATION('density',(#3381),#1454)`, a material property whose items hold itself,
+/// and was refused for it.
+pub fn check_acyclic(records: &Records) -> (Option<(u64, String, String)>, Vec<u64>) {
     /// Pushes the entity references of `inst`; the first reference to something else (a
     /// constant `#NAME` or a value instance `@3`, on which truck panics) is returned.
     fn refs_of(item: &Item, out: &mut Vec<u64>) -> Option<String> {
@@ -339,19 +351,33 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
         first.push(flat.len());
     }
     let refs = |pos: usize| &flat[first[pos]..first[pos + 1]];
+    let contexts = super::truck::definitional_contexts(records);
+    let followed: Vec<bool> = records
+        .items_by_position()
+        .iter()
+        .map(|item| match item {
+            Item::Instance(EntityInstance::Simple { id, record }) => {
+                super::truck::truck_reads(&record.name) || contexts.contains(id)
+            }
+            Item::Instance(EntityInstance::Complex { .. }) | Item::Point(_) => true,
+        })
+        .collect();
+    let mut unread_cycles = Vec::new();
     // Iterative three-colour depth-first search. Colours are kept by file position (dense);
     // the children still to visit of every node on the path share one stack.
     let mut state = vec![0u8; n]; // 0 = new, 1 = on the path, 2 = done
     let mut path: Vec<(u64, usize, usize)> = Vec::new(); // (id, position, children start)
     let mut pending: Vec<u64> = Vec::new();
     for root in records.ids_in_order() {
-        let (pos, _) = records.get_indexed(root)?;
+        let Some((pos, _)) = records.get_indexed(root) else {
+            return (None, unread_cycles);
+        };
         if state[pos] != 0 {
             continue;
         }
         state[pos] = 1;
         if let Some(name) = other.get(&pos) {
-            return unsupported(root, name.clone());
+            return (unsupported(root, name.clone()), unread_cycles);
         }
         path.push((root, pos, pending.len()));
         pending.extend_from_slice(refs(pos));
@@ -363,25 +389,27 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
             }
             let child = pending.pop().expect("a pending child");
             let Some((cpos, _)) = records.get_indexed(child) else {
-                return Some((
-                    id,
-                    records.name(id),
-                    format!("refers to #{child}, which the file does not define"),
-                ));
+                let why = format!("refers to #{child}, which the file does not define");
+                return (Some((id, records.name(id), why)), unread_cycles);
             };
             match state[cpos] {
                 2 => {}
                 1 => {
-                    return Some((
-                        child,
-                        records.name(child),
-                        format!("reference cycle through #{id}"),
-                    ))
+                    // The cycle: the path from `child` to here.
+                    let from = path
+                        .iter()
+                        .rposition(|&(_, p, _)| p == cpos)
+                        .expect("a node on the path");
+                    if path[from..].iter().all(|&(_, p, _)| followed[p]) {
+                        let why = format!("reference cycle through #{id}");
+                        return (Some((child, records.name(child), why)), unread_cycles);
+                    }
+                    unread_cycles.push(child);
                 }
                 _ => {
                     state[cpos] = 1;
                     if let Some(name) = other.get(&cpos) {
-                        return unsupported(child, name.clone());
+                        return (unsupported(child, name.clone()), unread_cycles);
                     }
                     path.push((child, cpos, pending.len()));
                     pending.extend_from_slice(refs(cpos));
@@ -389,5 +417,5 @@ pub fn check_acyclic(records: &Records) -> Option<(u64, String, String)> {
             }
         }
     }
-    None
+    (None, unread_cycles)
 }

@@ -65,7 +65,7 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
              unknown",
         ));
     }
-    checks::check_records(path, &recs)?;
+    let unread_cycles = checks::check_records(path, &recs)?;
     let (mut table, undecodable) = table::fill_table(&exchange.data, &recs);
     truck::cone_angles_in_radians(&mut table, &recs);
     let src = Source {
@@ -82,6 +82,15 @@ pub fn read_model_from_bytes(path: &Path, bytes: &[u8]) -> Result<Model> {
             format!("byte {at}"),
             "not UTF-8: strings with bytes outside ASCII",
             "strings decoded as Latin-1",
+        );
+    }
+    if let Some(&id) = unread_cycles.first() {
+        src.warn_many(
+            "cycle",
+            id,
+            unread_cycles.len(),
+            "reference cycle through entities the reader does not use",
+            "ignored",
         );
     }
     if let Some((id, length)) = directions.first {
