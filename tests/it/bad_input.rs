@@ -103,6 +103,22 @@ fn truncated_inside_an_entity_with_end_marker() {
     );
 }
 
+/// An assembly whose parts are in files of their own (AP214 external references, as CATIA V5
+/// writes them): the error names those files.
+#[test]
+fn step_assembly_of_external_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\n\
+        FILE_NAME('x','',(''),(''),'','','');\nFILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\n\
+        DATA;\n#1=DOCUMENT_TYPE('geometry');\n\
+        #2=DOCUMENT_FILE('FOOT_FRONT_000.stp','','',#1,'',$);\n\
+        #3=DOCUMENT_FILE('FOOT_BACK_000.stp','','',#1,'',$);\nENDSEC;\nEND-ISO-10303-21;\n";
+    rejects(
+        &write(dir.path(), "foot.step", text.as_bytes()),
+        "its parts are in other files it refers to (FOOT_FRONT_000.stp, FOOT_BACK_000.stp)",
+    );
+}
+
 #[test]
 fn step_without_a_solid() {
     let dir = tempfile::tempdir().unwrap();

@@ -53,8 +53,24 @@ pub fn build_solids(src: &Source) -> Result<Model> {
             .ids_in_order()
             .filter(|id| recs.is(*id, "OPEN_SHELL") || recs.is(*id, "CLOSED_SHELL"))
             .count();
+        // An assembly whose parts are in files of their own (AP214's external references:
+        // a `DOCUMENT_FILE` named for each, as CATIA V5 writes an assembly's parts): say so
+        // and name them, for the user to read those files.
+        let external: Vec<String> = recs
+            .ids_in_order()
+            .filter_map(|id| recs.simple(id))
+            .filter(|r| r.name == "DOCUMENT_FILE")
+            .filter_map(|r| params(r).first().map(as_string))
+            .filter(|name| !name.trim().is_empty())
+            .collect();
         let what = if shells > 0 {
             format!("no solid (MANIFOLD_SOLID_BREP or BREP_WITH_VOIDS); {shells} shell(s) not part of a solid")
+        } else if !external.is_empty() {
+            format!(
+                "no solid (MANIFOLD_SOLID_BREP or BREP_WITH_VOIDS) in the file: its parts are \
+                 in other files it refers to ({}), which are not read; read those files",
+                external.join(", ")
+            )
         } else {
             "no solid (MANIFOLD_SOLID_BREP or BREP_WITH_VOIDS) in the file".to_string()
         };
