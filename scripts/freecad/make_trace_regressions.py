@@ -1306,6 +1306,64 @@ def shelf_flush_with_the_back_wall():
     return box.removeSplitter()
 
 
+@part("plate_through_a_split_hub",
+      "A hub r=36 along x from x=-68 to 0, its wall written as two half cylinders split at "
+      "its top and bottom (as CATIA writes the CAx-IF's tail turbine), through which a plate "
+      "2 mm thick (x -40..40, y -50..50) passes.",
+      None,
+      "The plate cuts a notch 2 mm tall into each half cylinder. The seams of the hub's back, "
+      "its wall and an edge where the plate meets the hub's front run with a touch point "
+      "round a half cylinder in steps longer than the notch, its parameters a period past the "
+      "face's (handed over between the halves at the bottom). The trim path test now shifts "
+      "a step on a periodic face by whole periods onto the loops; it was not made at all, a "
+      "step over the notch went unseen, and four seams ended open (no junction with the "
+      "plate's other edge at the front). The geometric test is a unit test on this part "
+      "(geom::trim::path).")
+def plate_through_a_split_hub():
+    s = Part.makeBox(80, 100, 2, V(-40, -50, -1))
+    for a in (0, 180):
+        half = Part.makeCylinder(36, 68, V(-68, 0, 0), V(1, 0, 0), 180)
+        half.rotate(V(0, 0, 0), V(1, 0, 0), a)
+        s = s.fuse(half)
+    # No removeSplitter: it would merge the halves into one cylinder.
+    return s
+
+
+PLATE_END_GAP = 2e-3
+
+
+def plate_ends_off_their_edges(text):
+    """Moves the two planes of the plate's ends at x = -40 by PLATE_END_GAP along x, their
+    edges left on the hub's wall and the plate's faces, and declares an uncertainty of
+    0.01 mm (the CAx-IF's tail turbine has its plate's end 2e-3 mm off its edges)."""
+    import re
+
+    def offset(d, p):
+        if abs(abs(d[0]) - 1) < 1e-9 and abs(p[0] + 40) < 1e-6:
+            return [PLATE_END_GAP, 0.0, 0.0]
+        return None
+
+    text, moved = shift_plane_points(text, offset)
+    if moved != 2:
+        raise SystemExit(f"plate_ends_off_their_edges: {moved} planes moved, not 2")
+    return re.sub(r"UNCERTAINTY_MEASURE_WITH_UNIT\(LENGTH_MEASURE\([^)]*\)",
+                  "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-02)", text)
+
+
+@part("plate_end_off_its_edges_in_a_split_hub",
+      "plate_through_a_split_hub with the planes of the plate's two ends (x = -40) written "
+      "2e-3 mm off their edges, and an uncertainty of 0.01 mm declared.",
+      None,
+      "Where the plate's end meets the hub's wall, the seam of the end's arc edge, the "
+      "plate's top edge along the wall and the hub's back runs until both touch points "
+      "meet at their shared vertex: a pinch. With the end's arc 2e-3 mm off the vertex, the "
+      "touch point on the arc was handed to the wall and back without the seam moving, and "
+      "two seams ended open (oscillates); now the pinch at that vertex ends them.",
+      edit=plate_ends_off_their_edges)
+def plate_end_off_its_edges_in_a_split_hub():
+    return plate_through_a_split_hub()
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

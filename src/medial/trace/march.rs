@@ -398,6 +398,12 @@ impl Tracer<'_> {
                         return self.switch_to(m, i, to, xnew);
                     }
                 }
+                // Two touch points meeting at the vertex the touch point is handed about at
+                // (a reflex edge and another element ending there): a pinch.
+                if let Some((end, y)) = self.pinch(&m.sys, &m.triplet, xc) {
+                    m.points.push(self.seam_point(&m.sys, &y));
+                    return Flow::End(end);
+                }
                 Flow::End(SeamEnd::Open(OpenReason::Oscillates { from, to }))
             }
         }
