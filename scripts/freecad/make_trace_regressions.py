@@ -1364,6 +1364,28 @@ def plate_end_off_its_edges_in_a_split_hub():
     return plate_through_a_split_hub()
 
 
+@part("slot_over_a_split_hub",
+      "A hub r=36 along x from x=-80 to 0 written as two half cylinders split at its top and "
+      "bottom, a plate 2 mm thick (x -40..40, y -50..50) through it, and a slot 3 mm wide, "
+      "20 long and 6 deep (x -56.6..-36.6) cut in the hub's top.",
+      None,
+      "A closed seam (the ball touching the hub's back, its wall and an edge of the slot, "
+      "round through ten hand-overs) is seeded and must close where it comes back to its "
+      "seed. Its radius changes along it about 0.6 times as fast as the centre moves, and "
+      "the seed lies anywhere on a step: the closing test compared the seed's radius with "
+      "the step's end (0.9 mm off) instead of the chord's point beside the seed (1e-3 mm), "
+      "and the seam went round 99 times to the point budget (40,368 points, both ends "
+      "open); now 442 points in all, no end open.")
+def slot_over_a_split_hub():
+    s = Part.makeBox(80, 100, 2, V(-40, -50, -1))
+    for a in (0, 180):
+        half = Part.makeCylinder(36, 80, V(-80, 0, 0), V(1, 0, 0), 180)
+        half.rotate(V(0, 0, 0), V(1, 0, 0), a)
+        s = s.fuse(half)
+    # No removeSplitter: it would merge the halves into one cylinder.
+    return s.cut(Part.makeBox(20, 3, 10, V(-56.6, -1.5, 30)))
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

@@ -188,6 +188,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
         SPLIT_HUB,
     ),
     (
+        "slot_over_a_split_hub.step",
+        &[("verify:sheets_closed", 8)],
+        SPLIT_HUB,
+    ),
+    (
         "flange_on_a_shaft.step",
         &[("verify:euler", 1)],
         FLANGE_ON_A_SHAFT,

@@ -9,7 +9,9 @@ use super::options::{
     MIN_STEP_REL_DIAGONAL, REACH_REL_ACCURACY, SAME_PLACE_REL_ACCURACY, STEP_GROWTH, STEP_SHRINK,
 };
 use super::tracer::Tracer;
-use super::unknowns::{new_triplet, slot, sys_point, to_chord, touches_meet, v3, Pairs};
+use super::unknowns::{
+    along_chord, new_triplet, slot, sys_point, to_chord, touches_meet, v3, Pairs,
+};
 use crate::classify::EdgeKind;
 use crate::medial::axis::{Handover, OpenReason, SeamEnd, SeamPoint};
 use crate::medial::equations::MedialSystem;
@@ -303,9 +305,15 @@ impl Tracer<'_> {
         let acc = self.opts.accuracy;
         let xs = m.close_at?;
         let step = v3(xn).distance(v3(&m.x));
+        // The radius is compared where the chord passes the seed's centre: r may change along
+        // the seam as fast as the centre moves, and the seed lies anywhere on the step (a seam
+        // round a hub under a slot passed its seed 0.9 mm of radius from the step's end, 1e-3
+        // mm from its chord, and went round 99 times to the point budget).
+        let along = along_chord(v3(xs), v3(&m.x), v3(xn));
+        let r_there = m.x[3] + along * (xn[3] - m.x[3]);
         let back = m.travel > 3.0 * step
             && to_chord(v3(xs), v3(&m.x), v3(xn)) <= 0.05 * step + SAME_PLACE_REL_ACCURACY * acc
-            && (xs[3] - xn[3]).abs() <= 0.05 * step + SAME_PLACE_REL_ACCURACY * acc;
+            && (xs[3] - r_there).abs() <= 0.05 * step + SAME_PLACE_REL_ACCURACY * acc;
         if !back {
             return None;
         }
