@@ -1306,6 +1306,18 @@ def shelf_flush_with_the_back_wall():
     return box.removeSplitter()
 
 
+def plate_through_split_hub(length):
+    """A hub r=36 along x from x=-length to 0, written as two half cylinders split at its top
+    and bottom, fused with a plate 2 mm thick (x -40..40, y -50..50) through it."""
+    s = Part.makeBox(80, 100, 2, V(-40, -50, -1))
+    for a in (0, 180):
+        half = Part.makeCylinder(36, length, V(-length, 0, 0), V(1, 0, 0), 180)
+        half.rotate(V(0, 0, 0), V(1, 0, 0), a)
+        s = s.fuse(half)
+    # No removeSplitter: it would merge the halves into one cylinder.
+    return s
+
+
 @part("plate_through_a_split_hub",
       "A hub r=36 along x from x=-68 to 0, its wall written as two half cylinders split at "
       "its top and bottom (as CATIA writes the CAx-IF's tail turbine), through which a plate "
@@ -1320,13 +1332,7 @@ def shelf_flush_with_the_back_wall():
       "plate's other edge at the front). The geometric test is a unit test on this part "
       "(geom::trim::path).")
 def plate_through_a_split_hub():
-    s = Part.makeBox(80, 100, 2, V(-40, -50, -1))
-    for a in (0, 180):
-        half = Part.makeCylinder(36, 68, V(-68, 0, 0), V(1, 0, 0), 180)
-        half.rotate(V(0, 0, 0), V(1, 0, 0), a)
-        s = s.fuse(half)
-    # No removeSplitter: it would merge the halves into one cylinder.
-    return s
+    return plate_through_split_hub(68)
 
 
 PLATE_END_GAP = 2e-3
@@ -1377,13 +1383,7 @@ def plate_end_off_its_edges_in_a_split_hub():
       "and the seam went round 99 times to the point budget (40,368 points, both ends "
       "open); now 442 points in all, no end open.")
 def slot_over_a_split_hub():
-    s = Part.makeBox(80, 100, 2, V(-40, -50, -1))
-    for a in (0, 180):
-        half = Part.makeCylinder(36, 80, V(-80, 0, 0), V(1, 0, 0), 180)
-        half.rotate(V(0, 0, 0), V(1, 0, 0), a)
-        s = s.fuse(half)
-    # No removeSplitter: it would merge the halves into one cylinder.
-    return s.cut(Part.makeBox(20, 3, 10, V(-56.6, -1.5, 30)))
+    return plate_through_split_hub(80).cut(Part.makeBox(20, 3, 10, V(-56.6, -1.5, 30)))
 
 
 def main():
