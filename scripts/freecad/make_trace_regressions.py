@@ -1386,6 +1386,28 @@ def slot_over_a_split_hub():
     return plate_through_split_hub(80).cut(Part.makeBox(20, 3, 10, V(-56.6, -1.5, 30)))
 
 
+@part("pad_doubling_a_tube_wall",
+      "A sector of a tube along x (r 72 to 73, x -20..20, z >= 60) with a flat pad 5 wide "
+      "(x 5..20) on its top whose face is the plane z = 74, tangent to r = 74: the wall is "
+      "2 thick under the pad's middle, 1 beside it, and the pad's end (x = 5) steps down by "
+      "1 to the tube's outer face (as the CAx-IF's s1 main body front, from UG through "
+      "Theorem's translator).",
+      None,
+      "Under the pad the wall's half thickness equals the step's height: the balls touching "
+      "the pad's face, the tube's inner face and the pad's end touch the end at its foot, the "
+      "arc r = 73, tangentially, once (under the pad's middle, where the wall is thinnest). "
+      "A step's chord there dips across the arc by its sagitta: the touch point was handed "
+      "onto the arc and back, and two seams ended open (oscillates). Now a touch point that "
+      "runs along that arc shortens its step until the chord stays within the accuracy of it, "
+      "and the seam runs on through the graze: no end open, both checkers pass.")
+def pad_doubling_a_tube_wall():
+    outer = Part.makeCylinder(73, 40, V(-20, 0, 0), V(1, 0, 0))
+    inner = Part.makeCylinder(72, 40, V(-20, 0, 0), V(1, 0, 0))
+    tube = outer.cut(inner).common(Part.makeBox(40, 60, 80, V(-20, -30, 60)))
+    pad = Part.makeBox(15, 5, 3, V(5, -2.5, 71)).cut(inner)
+    return tube.fuse(pad).removeSplitter()
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

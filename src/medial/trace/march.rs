@@ -192,6 +192,15 @@ impl Tracer<'_> {
             !self.stays_on(m.triplet[i], slot(&m.x, i), slot(&xn, i))
                 && !self.beyond_convex_edge_within_gap(m.triplet[i], slot(&xn, i))
         }) {
+            // A touch point on a face grazing an edge it runs along, whose step ends on the
+            // face but whose chord crosses the edge's arc (see `grazes_edge_run_along`): the
+            // step is too long to tell a graze from a jump; shorter, the chord dips less.
+            if self.grazing_step(m.triplet[i], slot(&xn, i))
+                && 0.5 * m.h >= MIN_STEP_REL_DIAGONAL * diag
+            {
+                m.h *= 0.5;
+                return Flow::Next;
+            }
             return self.cross_over(m, i);
         }
         // Another part of the boundary closer than r: a junction between x and xn.

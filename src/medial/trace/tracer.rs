@@ -16,6 +16,9 @@ use glam::DVec3;
 use nalgebra::DVector;
 use std::collections::{HashMap, HashSet, VecDeque};
 
+/// Points along a step's UV path at which [`Tracer::grazes_edge_run_along`] looks.
+const GRAZE_SAMPLES: usize = 16;
+
 /// Where a seam starts.
 pub(super) struct Start {
     pub(super) triplet: [Element; 3],
@@ -358,14 +361,55 @@ impl<'a> Tracer<'a> {
                 }
                 self.at_start && self.on_face_border(seg, from) && self.on_face_border(seg, to)
             }
-            Element::Face(f) => !crate::geom::trim::path_crosses_loops(
-                &self.model.faces[f],
-                &self.loop_chunks[f],
-                glam::DVec2::from(from),
-                glam::DVec2::from(to),
-            ),
+            Element::Face(f) => {
+                !crate::geom::trim::path_crosses_loops(
+                    &self.model.faces[f],
+                    &self.loop_chunks[f],
+                    glam::DVec2::from(from),
+                    glam::DVec2::from(to),
+                ) || self.grazes_edge_run_along(f, from, to)
+            }
             _ => on,
         }
+    }
+
+    /// True when a touch point's step on segment `seg` ends at `to` on the face, next to an
+    /// edge the touch point runs along: a step that then left the face crossed its loops
+    /// twice, which may be its chord dipping across that edge's arc.
+    pub(super) fn grazing_step(&self, seg: Element, to: [f64; 2]) -> bool {
+        match seg {
+            Element::Face(f) => {
+                self.edges_run_along(f).next().is_some() && self.on_segment(seg, to)
+            }
+            _ => false,
+        }
+    }
+
+    /// True when the UV path from `from` to `to` on face `f`, which crosses its loops twice,
+    /// only grazes an edge the touch point runs along (handed onto it and straight back): at
+    /// each of [`GRAZE_SAMPLES`] points along it the face's point is inside the trim or
+    /// within the accuracy plus the face's gap of such an edge. A touch point's path that
+    /// touches a curved reflex edge from the outside of its curve (a wall 2 thick, stepped
+    /// down by 1 at a face whose foot is an arc: the mid-surface's balls touch the step at
+    /// that arc, once, tangentially) is a chord that dips inside the arc by its sagitta, and
+    /// crosses the arc's polygon twice without leaving the face.
+    pub(super) fn grazes_edge_run_along(&self, f: usize, from: [f64; 2], to: [f64; 2]) -> bool {
+        if self.edges_run_along(f).next().is_none() {
+            return false;
+        }
+        let tol = self.opts.accuracy + self.face_gap[f];
+        (1..GRAZE_SAMPLES).all(|k| {
+            let t = k as f64 / GRAZE_SAMPLES as f64;
+            let s = [
+                from[0] + t * (to[0] - from[0]),
+                from[1] + t * (to[1] - from[1]),
+            ];
+            self.on_segment(Element::Face(f), s)
+                || sys_point(self.model, Element::Face(f), s).is_some_and(|p| {
+                    self.edges_run_along(f)
+                        .any(|e| crate::geom::nearest_on_edge(self.model, e, p, None).2 <= tol)
+                })
+        })
     }
 
     /// The angle by which edge `g` turns away from edge `e` at their shared vertex `v`:
