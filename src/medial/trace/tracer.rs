@@ -393,7 +393,7 @@ impl<'a> Tracer<'a> {
     /// down by 1 at a face whose foot is an arc: the mid-surface's balls touch the step at
     /// that arc, once, tangentially) is a chord that dips inside the arc by its sagitta, and
     /// crosses the arc's polygon twice without leaving the face.
-    pub(super) fn grazes_edge_run_along(&self, f: usize, from: [f64; 2], to: [f64; 2]) -> bool {
+    fn grazes_edge_run_along(&self, f: usize, from: [f64; 2], to: [f64; 2]) -> bool {
         if self.edges_run_along(f).next().is_none() {
             return false;
         }
