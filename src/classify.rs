@@ -294,9 +294,59 @@ fn classify_vertices(model: &Model, edges: &[EdgeClass]) -> Vec<VertexKind> {
         .collect()
 }
 
+/// How near (degrees) to 0° or 360° every sample of an edge's dihedral angle must be for
+/// [`folds`] to call its faces folded back onto each other.
+pub const FOLD_DEG: f64 = 1e-2;
+
+/// The edges whose faces fold back onto each other along their whole length — interior angle
+/// 0° (a fin of no thickness) or 360° (a slit of no width), to [`FOLD_DEG`] — as one warning
+/// naming the first: no valid solid has them, and the medial axis there is degenerate (the
+/// IDF library's MSOP-10: each lead's outline runs up one bend, 0.011 mm back down a face and
+/// up the next bend, a fold on all ten leads, and 40 seams ended open with nothing said).
+pub fn folds(model: &Model, class: &Classification) -> Option<crate::model::ReadWarning> {
+    let folded: Vec<usize> = (0..class.edges.len())
+        .filter(|&e| {
+            let (lo, hi) = class.edges[e].angle_range_deg;
+            !class.edges[e].samples.is_empty() && (hi <= FOLD_DEG || lo >= 360.0 - FOLD_DEG)
+        })
+        .collect();
+    let &first = folded.first()?;
+    Some(crate::model::ReadWarning {
+        kind: "fold",
+        entity: format!("edge E{first} (entity {})", model.edges[first].source_id),
+        count: folded.len(),
+        problem: "the edge's faces fold back onto each other (interior angle 0 or 360 \
+                  degrees: a fin of no thickness or a slit of no width; the solid is not \
+                  valid there)"
+            .into(),
+        action: "traced as it is: the medial axis about the edge is degenerate and seams \
+                 may end open there"
+            .into(),
+        largest_gap_mm: None,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An edge whose samples all have an interior angle of 360 (or 0) degrees is a fold, one
+    /// warning naming it; the box's right angles are none.
+    #[test]
+    fn an_edge_folded_back_is_warned_of() {
+        let (model, mut class) = crate::testing::classified("box.step");
+        assert!(folds(&model, &class).is_none());
+        for (e, deg) in [(3, 360.0), (5, 0.0)] {
+            class.edges[e].angle_range_deg = (deg, deg);
+        }
+        let w = folds(&model, &class).expect("a fold");
+        assert_eq!((w.kind, w.count), ("fold", 2));
+        assert!(w.entity.starts_with("edge E3 "), "{}", w.entity);
+        // Nearly folded is not folded.
+        class.edges[3].angle_range_deg = (359.9, 360.0);
+        class.edges[5].angle_range_deg = (0.0, 0.1);
+        assert!(folds(&model, &class).is_none());
+    }
 
     /// One point of an edge has the kind its samples have: on the L-bracket (convex and
     /// reflex edges) and the filleted box (smooth ones), `edge_kind_at` agrees with every

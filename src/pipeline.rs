@@ -282,6 +282,10 @@ fn write_outputs(
         .input
         .warnings
         .extend(crate::model::warnings::gaps_beyond(model, tol.accuracy));
+    report
+        .input
+        .warnings
+        .extend(crate::classify::folds(model, class));
     let mut written = vec![];
     // The seams as B-splines in STEP, beside the part (optionally with it).
     let fit_opts = crate::fit::FitOptions { tol: tol.fit };

@@ -12,7 +12,9 @@ use serde::Serialize;
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ReadWarning {
     /// A short key for what was done: `unused`, `direction`, `gap`, `text`, `void`,
-    /// `orientation`, `assembly`, `surface_model`, `range`, `sewn`.
+    /// `orientation`, `assembly`, `surface_model`, `range`, `sewn`, `cycle` (a reference cycle
+    /// through entities nothing reads), `fold` (faces folded back onto each other at an edge,
+    /// found when classifying).
     pub kind: &'static str,
     /// The first entity concerned, as `#41 EDGE_CURVE` (STEP) or `DE 17 (126)` (IGES), or
     /// the file when no one entity is to blame.
