@@ -299,10 +299,11 @@ fn classify_vertices(model: &Model, edges: &[EdgeClass]) -> Vec<VertexKind> {
 pub const FOLD_DEG: f64 = 1e-2;
 
 /// The edges whose faces fold back onto each other along their whole length — interior angle
-/// 0° (a fin of no thickness) or 360° (a slit of no width), to [`FOLD_DEG`] — as one warning
-/// naming the first: no valid solid has them, and the medial axis there is degenerate (the
-/// IDF library's MSOP-10: each lead's outline runs up one bend, 0.011 mm back down a face and
-/// up the next bend, a fold on all ten leads, and 40 seams ended open with nothing said).
+/// 0° (a fin of no thickness) or 360° (a cusp of no width into the solid: a cylinder lying
+/// tangent on a plane), to [`FOLD_DEG`] — as one warning naming the first: the medial axis
+/// there is degenerate (the IDF library's MSOP-10: each lead's outline runs up one bend,
+/// 0.011 mm back down a face and up the next bend, a fold on all ten leads, and 40 seams ended
+/// open with nothing said; OCCT's sink sample has one cusp).
 pub fn folds(model: &Model, class: &Classification) -> Option<crate::model::ReadWarning> {
     let folded: Vec<usize> = (0..class.edges.len())
         .filter(|&e| {
@@ -315,12 +316,12 @@ pub fn folds(model: &Model, class: &Classification) -> Option<crate::model::Read
         kind: "fold",
         entity: format!("edge E{first} (entity {})", model.edges[first].source_id),
         count: folded.len(),
-        problem: "the edge's faces fold back onto each other (interior angle 0 or 360 \
-                  degrees: a fin of no thickness or a slit of no width; the solid is not \
-                  valid there)"
+        problem: "the edge's faces meet tangentially, folded back onto each other \
+                  (interior angle 0 or 360 degrees: a fin of no thickness, or a cusp of no \
+                  width into the solid)"
             .into(),
-        action: "traced as it is: the medial axis about the edge is degenerate and seams \
-                 may end open there"
+        action: "traced as it is: the medial axis about the edge is degenerate (r goes to \
+                 0 along it) and seams may end open there"
             .into(),
         largest_gap_mm: None,
     })
