@@ -66,37 +66,30 @@ pub fn path_crosses_loops(face: &Face, chunks: &LoopChunks, a: DVec2, b: DVec2) 
     }
     let (lo, hi) = (a.min(b), a.max(b));
     // The whole periods `k` by which the path's extent [lo, hi] shifted overlaps the loops'
-    // [clo, chi]; just 0 when not periodic.
+    // [clo, chi]; just 0 when not periodic; `None` (nothing tested) for an absurd span.
     let shifts = |period: Option<f64>, lo: f64, hi: f64, clo: f64, chi: f64| match period {
         Some(p) if p > 0.0 && p.is_finite() => {
             let first = ((clo - hi) / p).ceil();
             let last = ((chi - lo) / p).floor();
             // A path is shorter than a period, and loops span a few at most.
-            if !(first.is_finite() && last.is_finite()) || last - first > 4.0 {
-                0.0..=-1.0
-            } else {
-                first..=last
-            }
+            (first.is_finite() && last.is_finite() && last - first <= 4.0)
+                .then_some(first as i64..=last as i64)
         }
-        _ => 0.0..=0.0,
+        _ => Some(0..=0),
     };
-    let (su, sv) = (
+    let (Some(su), Some(sv)) = (
         shifts(face.domain.u_period, lo.x, hi.x, chunks.lo.x, chunks.hi.x),
         shifts(face.domain.v_period, lo.y, hi.y, chunks.lo.y, chunks.hi.y),
-    );
-    let steps = |r: std::ops::RangeInclusive<f64>| {
-        let (first, last) = (*r.start(), *r.end());
-        (0..)
-            .map(move |k| first + k as f64)
-            .take_while(move |&k| k <= last)
+    ) else {
+        return false;
     };
     let (pu, pv) = (
         face.domain.u_period.unwrap_or(0.0),
         face.domain.v_period.unwrap_or(0.0),
     );
-    steps(su).any(|ku| {
-        steps(sv.clone()).any(|kv| {
-            let shift = DVec2::new(ku * pu, kv * pv);
+    su.into_iter().any(|ku| {
+        sv.clone().any(|kv| {
+            let shift = DVec2::new(ku as f64 * pu, kv as f64 * pv);
             crosses_twice(face, chunks, a + shift, b + shift)
         })
     })

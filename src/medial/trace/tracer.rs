@@ -350,14 +350,8 @@ impl<'a> Tracer<'a> {
                 // accuracy plus the face's gap), or, from a march's first ball (a junction at
                 // the face's corner), running along its border (on its edges at both ends of
                 // the step, see `on_face_border`).
-                let mut along = self.edges_run_along(f).peekable();
-                if along.peek().is_some() {
-                    return seg.eval(self.model, to).is_some_and(|ev| {
-                        along.any(|e| {
-                            crate::geom::nearest_on_edge(self.model, e, ev.p, None).2
-                                <= self.opts.accuracy + self.face_gap[f]
-                        })
-                    });
+                if self.edges_run_along(f).next().is_some() {
+                    return self.by_edge_run_along(f, to);
                 }
                 self.at_start && self.on_face_border(seg, from) && self.on_face_border(seg, to)
             }
@@ -397,18 +391,23 @@ impl<'a> Tracer<'a> {
         if self.edges_run_along(f).next().is_none() {
             return false;
         }
-        let tol = self.opts.accuracy + self.face_gap[f];
         (1..GRAZE_SAMPLES).all(|k| {
             let t = k as f64 / GRAZE_SAMPLES as f64;
             let s = [
                 from[0] + t * (to[0] - from[0]),
                 from[1] + t * (to[1] - from[1]),
             ];
-            self.on_segment(Element::Face(f), s)
-                || sys_point(self.model, Element::Face(f), s).is_some_and(|p| {
-                    self.edges_run_along(f)
-                        .any(|e| crate::geom::nearest_on_edge(self.model, e, p, None).2 <= tol)
-                })
+            self.on_segment(Element::Face(f), s) || self.by_edge_run_along(f, s)
+        })
+    }
+
+    /// True when face `f`'s point at parameters `s` is within the accuracy plus the face's
+    /// gap of an edge a touch point runs along on it ([`Self::edges_run_along`]).
+    fn by_edge_run_along(&self, f: usize, s: [f64; 2]) -> bool {
+        let tol = self.opts.accuracy + self.face_gap[f];
+        sys_point(self.model, Element::Face(f), s).is_some_and(|p| {
+            self.edges_run_along(f)
+                .any(|e| crate::geom::nearest_on_edge(self.model, e, p, None).2 <= tol)
         })
     }
 
