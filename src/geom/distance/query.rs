@@ -46,14 +46,30 @@ impl Boundary {
         p: DVec3,
         keep: impl Fn(usize) -> bool,
     ) -> Option<(usize, FaceHit)> {
+        self.nearest_face_within(model, p, f64::INFINITY, keep)
+    }
+
+    /// [`Boundary::nearest_face_where`] when it is nearer than `bound`, `None` otherwise: the
+    /// same hit, found without evaluating the faces that cannot come that near (the question
+    /// "does anything come closer than r" visits only those).
+    pub fn nearest_face_within(
+        &self,
+        model: &Model,
+        p: DVec3,
+        bound: f64,
+        keep: impl Fn(usize) -> bool,
+    ) -> Option<(usize, FaceHit)> {
         debug_assert_eq!(
             model.faces.len(),
             self.faces.len(),
             "Boundary built for another model"
         );
+        if bound.is_nan() || bound <= 0.0 {
+            return None;
+        }
         let mut best: Option<(usize, FaceHit)> = None;
-        let mut best_d = f64::INFINITY;
-        self.bvh.branch_and_bound(p, f64::INFINITY, |fi, _| {
+        let mut best_d = bound;
+        self.bvh.branch_and_bound(p, bound * bound, |fi, _| {
             if !keep(fi) {
                 return best_d * best_d;
             }
@@ -209,6 +225,41 @@ mod tests {
             "{} vs {exact}",
             hit.distance
         );
+    }
+
+    /// The bounded query gives the unbounded one's hit when that is nearer than the bound,
+    /// and nothing otherwise (nor for a bound of zero, negative or NaN), at random points in
+    /// and about the elliptic bar.
+    #[test]
+    fn a_bounded_query_is_the_nearest_hit_or_nothing() {
+        let model =
+            crate::ingest::read_model(&crate::testing::sample_path("trace/elliptic_bar.step"))
+                .unwrap();
+        let b = Boundary::new(&model);
+        let mut rng = Lcg(7);
+        let (mut near, mut far) = (0, 0);
+        for _ in 0..300 {
+            let p = rng.in_box(DVec3::new(-25.0, -15.0, -4.0), DVec3::new(25.0, 15.0, 20.0));
+            let (f, hit) = b.nearest_face(&model, p).unwrap();
+            let bound = hit.distance * (0.5 + rng.next());
+            match b.nearest_face_within(&model, p, bound, |_| true) {
+                Some((g, h)) => {
+                    near += 1;
+                    assert!(hit.distance < bound, "{p}: {h:?} beyond {bound}");
+                    assert_eq!(g, f, "{p}");
+                    assert_eq!(h.distance, hit.distance, "{p}");
+                    assert_eq!(h.point, hit.point, "{p}");
+                }
+                None => {
+                    far += 1;
+                    assert!(hit.distance >= bound, "{p}: {hit:?} within {bound}");
+                }
+            }
+            for bad in [0.0, -1.0, f64::NAN] {
+                assert!(b.nearest_face_within(&model, p, bad, |_| true).is_none());
+            }
+        }
+        assert!(near > 50 && far > 50, "{near} near, {far} far");
     }
 
     /// Points just off an ellipse's major axis, between its two centres of curvature at the

@@ -256,10 +256,7 @@ impl Tracer<'_> {
         y: &DVector<f64>,
     ) -> Option<(usize, FaceHit)> {
         let r = y[3];
-        let (f, hit) = self.nearest_in(solid, v3(y))?;
-        if hit.distance >= r - self.opts.accuracy {
-            return None;
-        }
+        let (f, hit) = self.nearest_in_within(solid, v3(y), r - self.opts.accuracy)?;
         let far = (0..3).all(|i| {
             triplet[i] != Element::Face(f)
                 || sys_point(self.model, triplet[i], slot(y, i))

@@ -206,6 +206,17 @@ impl<'a> Tracer<'a> {
             .nearest_face_where(self.model, p, |g| self.face_solid[g] == solid)
     }
 
+    /// [`Self::nearest_in`] when it is nearer than `bound`.
+    pub(super) fn nearest_in_within(
+        &self,
+        solid: usize,
+        p: DVec3,
+        bound: f64,
+    ) -> Option<(usize, FaceHit)> {
+        self.boundary
+            .nearest_face_within(self.model, p, bound, |g| self.face_solid[g] == solid)
+    }
+
     /// True when nothing of solid `solid`'s boundary is nearer the centre of ball `x`
     /// (unknowns `[B, r, …]`) than `r`, to the accuracy `verify` holds every ball to: plus
     /// the file's gap about the face found nearest (see [`Self::gap_about`]), as there.
