@@ -53,33 +53,47 @@ pub fn solve(
     x0: DVector<f64>,
     opts: &SolveOptions,
 ) -> Solution {
+    solve_keeping_jacobian(eval, x0, opts).0
+}
+
+/// [`solve`], with the Jacobian `eval` gave at the returned point (`None` where it could not
+/// evaluate there): a caller that needs it there (the seam's tangent at a converged point)
+/// need not evaluate the system again.
+pub fn solve_keeping_jacobian(
+    eval: impl Fn(&DVector<f64>) -> Option<(DVector<f64>, DMatrix<f64>)>,
+    x0: DVector<f64>,
+    opts: &SolveOptions,
+) -> (Solution, Option<DMatrix<f64>>) {
     let mut x = x0;
     let Some((mut f, mut j)) = eval(&x) else {
-        return Solution {
+        let sol = Solution {
             residual: f64::INFINITY,
             x,
             status: SolveStatus::Singular,
             iterations: 0,
         };
+        return (sol, None);
     };
     let norm = |f: &DVector<f64>| f.amax();
     for it in 0..opts.max_iter {
         let r = norm(&f);
         if r <= opts.tol {
-            return Solution {
+            let sol = Solution {
                 x,
                 status: SolveStatus::Converged,
                 iterations: it,
                 residual: r,
             };
+            return (sol, Some(j));
         }
         let Some(step) = newton_step(&j, &f) else {
-            return Solution {
+            let sol = Solution {
                 x,
                 status: SolveStatus::Singular,
                 iterations: it,
                 residual: r,
             };
+            return (sol, Some(j));
         };
         let mut t = 1.0;
         let mut accepted = false;
@@ -97,16 +111,17 @@ pub fn solve(
             t *= 0.5;
         }
         if !accepted {
-            return Solution {
+            let sol = Solution {
                 x,
                 status: SolveStatus::Singular,
                 iterations: it,
                 residual: r,
             };
+            return (sol, Some(j));
         }
     }
     let r = norm(&f);
-    Solution {
+    let sol = Solution {
         x,
         status: if r <= opts.tol {
             SolveStatus::Converged
@@ -115,7 +130,8 @@ pub fn solve(
         },
         iterations: opts.max_iter,
         residual: r,
-    }
+    };
+    (sol, Some(j))
 }
 
 /// The Newton step: `J⁻¹·(−F)` for square `J`, the minimum-norm `−J⁺·F` otherwise.
@@ -248,6 +264,41 @@ mod tests {
                 &sol.x.as_slice()[..3]
             );
         }
+    }
+
+    /// The Jacobian kept is the one at the point returned, equal to the bit to evaluating
+    /// there again (the tracer takes the seam's tangent from it), on a cylinder where it
+    /// changes from one iterate to the next; and there is none where the system cannot be
+    /// evaluated at the start.
+    #[test]
+    fn the_jacobian_kept_is_the_one_at_the_returned_point() {
+        let m = sample("cylinder.step");
+        let bottom = face_with_normal(&m, glam::DVec3::NEG_Z);
+        let wall = (0..m.faces.len())
+            .find(|&f| crate::geom::surface_kind(&m.faces[f].surface) != "plane")
+            .expect("curved wall");
+        let sys = MedialSystem::new(vec![Element::Face(wall), Element::Face(bottom)]);
+        let x = start(&m, &sys, [3.0, 2.0, 5.0], 4.0, |i| {
+            if i == 0 {
+                (0.3, 0.2)
+            } else {
+                (0.5, 0.5)
+            }
+        });
+        let opts = SolveOptions {
+            tol: 1e-12,
+            max_iter: 30,
+        };
+        let (sol, j) = solve_keeping_jacobian(|y| sys.eval(&m, y), x.clone(), &opts);
+        assert_eq!(sol.status, SolveStatus::Converged, "{sol:?}");
+        assert!(sol.iterations > 1, "{sol:?}");
+        let (_, again) = sys.eval(&m, &sol.x).unwrap();
+        assert_eq!(j.unwrap(), again);
+        let (_, at_start) = sys.eval(&m, &x).unwrap();
+        assert_ne!(at_start, again, "the Jacobian changes along the way");
+        let (none, j) = solve_keeping_jacobian(|_| None, x, &opts);
+        assert_eq!(none.status, SolveStatus::Singular);
+        assert!(j.is_none());
     }
 
     /// A sheet point on a curved face (2 segments, 6 equations, 8 unknowns): the cylinder

@@ -16,7 +16,7 @@ use crate::classify::EdgeKind;
 use crate::medial::axis::{Handover, OpenReason, SeamEnd, SeamPoint};
 use crate::medial::equations::MedialSystem;
 use crate::medial::maximal::{bending, curvature_allows};
-use crate::medial::solver::{solve, SolveOptions, SolveStatus};
+use crate::medial::solver::{solve, solve_keeping_jacobian, SolveOptions, SolveStatus};
 use crate::model::Element;
 use glam::DVec3;
 use nalgebra::{DMatrix, DVector};
@@ -935,7 +935,7 @@ impl Tracer<'_> {
         let mut row = DVector::zeros(t.len());
         row.rows_mut(0, 3).copy_from(&t.rows(0, 3));
         let c = row.dot(&pred);
-        let sol = solve(
+        let (sol, jacobian) = solve_keeping_jacobian(
             |y| sys.eval_with_row(self.model, y, &row, c),
             pred,
             &self.solve_opts(),
@@ -957,7 +957,12 @@ impl Tracer<'_> {
         if self.touch_runs_round_an_edge(sys, x, &sol.x) {
             return None;
         }
-        let tn = self.tangent(sys, &sol.x, t)?;
+        // The system's rows of the corrector's last Jacobian are the ones at the landed
+        // point: the tangent there needs no new evaluation.
+        let tn = match jacobian {
+            Some(j) => tangent_from(j, t)?,
+            None => self.tangent(sys, &sol.x, t)?,
+        };
         let turn = v3(t).angle_between(v3(&tn));
         (turn <= MAX_TURN_RAD).then_some((sol.x, tn, sol.iterations))
     }
@@ -1023,11 +1028,7 @@ impl Tracer<'_> {
         dir: &DVector<f64>,
     ) -> Option<DVector<f64>> {
         let (_, a) = sys.eval_with_row(self.model, x, dir, 0.0)?;
-        let mut rhs = DVector::zeros(x.len());
-        rhs[x.len() - 1] = 1.0;
-        let z = a.lu().solve(&rhs)?;
-        let zb = DVec3::new(z[0], z[1], z[2]).length();
-        (zb.is_finite() && zb > 0.0).then(|| z / zb)
+        tangent_from(a, dir)
     }
 
     /// Lands a seam point that reached `r ≈ 0` exactly on `r = 0` (the corrector may have
@@ -1057,4 +1058,20 @@ impl Tracer<'_> {
                 va.total_cmp(&self.model.vertices[c].point.distance(b))
             })
     }
+}
+
+/// The seam's unit tangent (centre part of unit length) from the Jacobian `a` of a seam
+/// system with an added row (its last), that row replaced by `dir`: the null direction of
+/// the system's rows, oriented along `dir`.
+fn tangent_from(mut a: DMatrix<f64>, dir: &DVector<f64>) -> Option<DVector<f64>> {
+    let n = a.nrows();
+    if n == 0 || a.ncols() != n || dir.len() != n {
+        return None;
+    }
+    a.row_mut(n - 1).copy_from(&dir.transpose());
+    let mut rhs = DVector::zeros(n);
+    rhs[n - 1] = 1.0;
+    let z = a.lu().solve(&rhs)?;
+    let zb = DVec3::new(z[0], z[1], z[2]).length();
+    (zb.is_finite() && zb > 0.0).then(|| z / zb)
 }
