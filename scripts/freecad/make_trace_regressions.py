@@ -1408,6 +1408,66 @@ def pad_doubling_a_tube_wall():
     return tube.fuse(pad).removeSplitter()
 
 
+def bottle_thread(radius, height):
+    """The threading of OCCT's tutorial bottle on a neck of `radius` and `height` from z = 0:
+    the loft between two wires on the cylinders 0.99 and 1.05 times the radius, each half an
+    ellipse in the cylinder's (angle, z) parameters (major 2 pi along (2 pi, height / 4) from
+    (2 pi, height / 2), minor height / 10 and a quarter of that) closed by its major axis."""
+    V2 = L.FreeCAD.Base.Vector2d
+    c1, c2 = Part.Cylinder(), Part.Cylinder()
+    c1.Radius, c2.Radius = radius * 0.99, radius * 1.05
+    centre = V2(2 * PI, height / 2)
+    d = V2(2 * PI, height / 4)
+    n = math.hypot(d.x, d.y)
+    along, across = V2(d.x / n, d.y / n), V2(-d.y / n, d.x / n)
+    major = 2 * PI
+
+    def ellipse(minor):
+        return Part.Geom2d.Ellipse2d(centre + V2(along.x * major, along.y * major),
+                                     centre + V2(across.x * minor, across.y * minor), centre)
+    e1, e2 = ellipse(height / 10), ellipse(height / 40)
+    axis = Part.Geom2d.Line2dSegment(e1.value(0), e1.value(PI))
+    wires = [Part.Wire([Part.Geom2d.ArcOfEllipse2d(e, 0, PI).toShape(c), axis.toShape(c)])
+             for e, c in ((e1, c1), (e2, c2))]
+    return Part.makeLoft(wires, True)
+
+
+@part("threaded_bottle",
+      "OCCT's tutorial bottle made in FreeCAD by the tutorial's steps (MakeBottle with width "
+      "70, height 50, thickness 30): the profile's two arcs and segments extruded 50, every "
+      "edge filleted 2.5, a neck r 7.5 and 5 high fused on top, hollowed to a wall 0.6 thick "
+      "through the neck's top, and the threading fused on the neck.",
+      None,
+      "Along the thread the balls touch the neck's inner wall and the thread's two feet on "
+      "the neck's outer wall, the wall being 0.6 thick: r = 0.3 + (half the thread's width at "
+      "its foot)^2 / 1.2, down to 0.3 at the thread's ends, where the feet meet at a vertex. "
+      "There the outer wall beyond the end comes in (closer than r by a hair, within the "
+      "polygon's stray of the feet's loop: a coarse_trim warning) just as the touch points on "
+      "the feet meet: the seam ended open (no junction with the outer wall; on OCCT's own "
+      "sample bottle the steps shrank to nothing before the end instead). Now both ends are "
+      "pinches at the thread's ends.")
+def threaded_bottle():
+    w, h, t = 70.0, 50.0, 30.0
+    p1, p2, p3 = V(-w / 2, 0, 0), V(-w / 2, -t / 4, 0), V(0, -t / 2, 0)
+    p4, p5 = V(w / 2, -t / 4, 0), V(w / 2, 0, 0)
+    half = Part.Wire([Part.LineSegment(p1, p2).toShape(), Part.Arc(p2, p3, p4).toShape(),
+                      Part.LineSegment(p4, p5).toShape()])
+    turn = L.FreeCAD.Matrix()
+    turn.rotateZ(PI)
+    other = half.copy()
+    other.transformShape(turn)
+    body = Part.Face(Part.Wire([half, other])).extrude(V(0, 0, h))
+    body = body.makeFillet(t / 12, body.Edges)
+    radius, height = t / 4, h / 10
+    body = body.fuse(Part.makeCylinder(radius, height, V(0, 0, h)))
+    top = max((f for f in body.Faces if isinstance(f.Surface, Part.Plane)),
+              key=lambda f: f.Surface.Position.z)
+    body = body.makeThickness([top], -t / 50, 1e-3)
+    thread = bottle_thread(radius, height)
+    thread.translate(V(0, 0, h))
+    return body.fuse(thread).removeSplitter()
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

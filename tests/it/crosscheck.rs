@@ -111,6 +111,14 @@ const SPLIT_HUB: &str = "no seam ends open and every ball passes both checkers; 
     plate leaves the hub, the sheets of the plate's faces and the hub's wall end along skeletal \
     edges whose balls are not yet joined to the sheets' boundaries (issue 20)";
 
+const THREADED_BOTTLE: &str = "no seam ends open (the seam along the thread's feet ends in a \
+    pinch at each of the thread's ends) and every seam ball passes both checkers; the bottle's \
+    wall, 0.6 thick, has as its medial axis one sheet, the mid-surface, bounded by rims and no \
+    seam: 26 faces are touched by no traced ball (`faces_touched`, in both: a sheet bounded by \
+    no seam is not traced, issue 20), six sheet boundaries open at the thread's ends \
+    (`sheets_closed`, issue 20), and one sheet-mesh ball by the thread's 34-degree crest \
+    (r 0.047) has no second contact for OCCT";
+
 /// Parts known not to pass: every failing check with its count, and why.
 type Expected = (&'static str, &'static [(&'static str, usize)], &'static str);
 const SHRUNK_ARC_UNJOINED: &str = "no seam ends open and every ball passes both checkers; the \
@@ -191,6 +199,16 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "slot_over_a_split_hub.step",
         &[("verify:sheets_closed", 8)],
         SPLIT_HUB,
+    ),
+    (
+        "threaded_bottle.step",
+        &[
+            ("occt:faces_touched", 26),
+            ("occt:mesh_contacts", 1),
+            ("verify:faces_touched", 26),
+            ("verify:sheets_closed", 6),
+        ],
+        THREADED_BOTTLE,
     ),
     (
         "flange_on_a_shaft.step",

@@ -151,6 +151,13 @@ impl Tracer<'_> {
             if self.within_gap(solid, xn) {
                 return None;
             }
+            // Two touch points at a vertex both their elements reach, where the part met
+            // comes in: the seam reaches a pinch there (a rib's tip on a wall half as thick
+            // as the ball is wide, where the wall's face beyond the tip comes in exactly as
+            // the touch points on the rib's feet meet at it: OCCT's sample bottle's thread).
+            if let Some((end, y)) = self.pinch(&sys, triplet, x) {
+                return Some(Meeting::End(end, Some(y)));
+            }
             let why = OpenReason::NoJunction { element: fourth };
             return Some(Meeting::End(SeamEnd::Open(why), None));
         };
