@@ -119,6 +119,11 @@ const THREADED_BOTTLE: &str = "no seam ends open (the seam along the thread's fe
     (`sheets_closed`, issue 20), and one sheet-mesh ball by the thread's 34-degree crest \
     (r 0.047) has no second contact for OCCT";
 
+const ELLIPTIC_BOSS: &str = "no seam ends open and every ball passes both checkers: the seams \
+    whose touch points on the boss's two half walls (or half feet) meet at the ends of the \
+    major axis end at that curvature limit; the sheet between the two half feet ends along \
+    skeletal edges at those vertices, not yet joined to its boundary (`sheets_closed`, issue 20)";
+
 /// Parts known not to pass: every failing check with its count, and why.
 type Expected = (&'static str, &'static [(&'static str, usize)], &'static str);
 const SHRUNK_ARC_UNJOINED: &str = "no seam ends open and every ball passes both checkers; the \
@@ -209,6 +214,16 @@ const EXPECTED_FAILURES: &[Expected] = &[
             ("verify:sheets_closed", 6),
         ],
         THREADED_BOTTLE,
+    ),
+    (
+        "elliptic_boss_in_halves.step",
+        &[("verify:sheets_closed", 2)],
+        ELLIPTIC_BOSS,
+    ),
+    (
+        "elliptic_boss_in_halves_nurbs.step",
+        &[("verify:sheets_closed", 2)],
+        ELLIPTIC_BOSS,
     ),
     (
         "flange_on_a_shaft.step",

@@ -807,6 +807,26 @@ impl Tracer<'_> {
                 m.points.push(self.seam_point(&m.sys, &y));
                 return Some(end);
             }
+            // Two touch points on elements of one tangent-continuous group (B-spline edges
+            // running on from each other at a vertex, as on OCCT's sample sink) meet: the
+            // ball osculates that group's curve or surface there, its curvature limit, as
+            // where two touch points on one element meet (see `merged_end`).
+            let at = self.touches(&m.triplet, xn);
+            let merged = [(0, 1), (0, 2), (1, 2)].into_iter().find(|&(i, k)| {
+                m.triplet[i] != m.triplet[k]
+                    && self.groups.of(m.triplet[i]) == self.groups.of(m.triplet[k])
+                    && matches!((at[i], at[k]), (Some(a), Some(b))
+                        if a.distance(b) <= MERGED_TOUCH_REL_RADIUS * xn[3])
+            });
+            if let Some((i, k)) = merged {
+                m.points.push(self.seam_point(&m.sys, xn));
+                // The curve or surface that curves: not a vertex joining two edges.
+                let segment = match m.triplet[i] {
+                    Element::Vertex(_) => m.triplet[k],
+                    e => e,
+                };
+                return Some(SeamEnd::CurvatureLimit { segment });
+            }
             return Some(SeamEnd::Open(OpenReason::TouchPointsCoincide));
         }
         let i = self.poked(&m.triplet, &before, xn)?;
