@@ -176,9 +176,10 @@ impl Tracer<'_> {
                         segment: m.triplet[i],
                     });
                 }
-                // Two touch points closing in on a vertex both their elements reach (two
-                // reflex edges running into a crease): the system turns singular as they
-                // meet, and the steps shrink to nothing before it; they meet at a pinch.
+                // Two touch points closing in on a vertex both their elements reach (a rib's
+                // two feet running into its tip: OCCT's sample bottle's thread): the system
+                // turns singular as they meet, and the steps may shrink to nothing before
+                // it; they meet at a pinch.
                 if let Some((end, y)) = self.pinch(&m.sys, &m.triplet, &m.x) {
                     m.points.push(self.seam_point(&m.sys, &y));
                     return Flow::End(end);
