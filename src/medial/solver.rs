@@ -266,6 +266,29 @@ mod tests {
         }
     }
 
+    /// The sheet system of the cylinder's curved wall (of `cylinder.step` or its NURBS twin)
+    /// and its bottom, started at B = (3, 2, 5), r = 4, off the solution.
+    fn wall_and_bottom(m: &crate::model::Model) -> (MedialSystem, DVector<f64>) {
+        let bottom = face_with_normal(m, glam::DVec3::NEG_Z);
+        let wall = (0..m.faces.len())
+            .find(|&f| {
+                !matches!(
+                    crate::geom::surface_kind(&m.faces[f].surface),
+                    "plane" | "bspline"
+                )
+            })
+            .expect("curved wall");
+        let sys = MedialSystem::new(vec![Element::Face(wall), Element::Face(bottom)]);
+        let x = start(m, &sys, [3.0, 2.0, 5.0], 4.0, |i| {
+            if i == 0 {
+                (0.3, 0.2)
+            } else {
+                (0.5, 0.5)
+            }
+        });
+        (sys, x)
+    }
+
     /// The Jacobian kept is the one at the point returned, equal to the bit to evaluating
     /// there again (the tracer takes the seam's tangent from it), on a cylinder where it
     /// changes from one iterate to the next; and there is none where the system cannot be
@@ -273,18 +296,7 @@ mod tests {
     #[test]
     fn the_jacobian_kept_is_the_one_at_the_returned_point() {
         let m = sample("cylinder.step");
-        let bottom = face_with_normal(&m, glam::DVec3::NEG_Z);
-        let wall = (0..m.faces.len())
-            .find(|&f| crate::geom::surface_kind(&m.faces[f].surface) != "plane")
-            .expect("curved wall");
-        let sys = MedialSystem::new(vec![Element::Face(wall), Element::Face(bottom)]);
-        let x = start(&m, &sys, [3.0, 2.0, 5.0], 4.0, |i| {
-            if i == 0 {
-                (0.3, 0.2)
-            } else {
-                (0.5, 0.5)
-            }
-        });
+        let (sys, x) = wall_and_bottom(&m);
         let opts = SolveOptions {
             tol: 1e-12,
             max_iter: 30,
@@ -308,23 +320,7 @@ mod tests {
     fn sheet_point_between_cylinder_wall_and_bottom() {
         for file in ["cylinder.step", "cylinder_nurbs.step"] {
             let m = sample(file);
-            let bottom = face_with_normal(&m, glam::DVec3::NEG_Z);
-            let wall = (0..m.faces.len())
-                .find(|&f| {
-                    !matches!(
-                        crate::geom::surface_kind(&m.faces[f].surface),
-                        "plane" | "bspline"
-                    )
-                })
-                .expect("curved wall");
-            let sys = MedialSystem::new(vec![Element::Face(wall), Element::Face(bottom)]);
-            let x = start(&m, &sys, [3.0, 2.0, 5.0], 4.0, |i| {
-                if i == 0 {
-                    (0.3, 0.2)
-                } else {
-                    (0.5, 0.5)
-                }
-            });
+            let (sys, x) = wall_and_bottom(&m);
             let sol = solve_tight(&m, &sys, x);
             assert_eq!(sol.status, SolveStatus::Converged, "{file}: {sol:?}");
             let (bx, by, bz, r) = (sol.x[0], sol.x[1], sol.x[2], sol.x[3]);
