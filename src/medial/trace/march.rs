@@ -180,8 +180,8 @@ impl Tracer<'_> {
                 // two feet running into its tip: OCCT's sample bottle's thread): the system
                 // turns singular as they meet, and the steps may shrink to nothing before
                 // it; they meet at a pinch.
-                if let Some((end, y)) = self.pinch(&m.sys, &m.triplet, &m.x) {
-                    m.points.push(self.seam_point(&m.sys, &y));
+                let x = m.x.clone();
+                if let Some(end) = self.end_in_pinch(m, &x) {
                     return Flow::End(end);
                 }
                 return Flow::End(SeamEnd::Open(OpenReason::StepSizeUnderflow));
@@ -230,6 +230,14 @@ impl Tracer<'_> {
             m.h * STEP_SHRINK
         };
         Flow::Next
+    }
+
+    /// The pinch at the seam point `x` of the march ([`Self::pinch`]), when there is one:
+    /// its ball is the march's last point, and the end is returned.
+    fn end_in_pinch(&mut self, m: &mut March, x: &DVector<f64>) -> Option<SeamEnd> {
+        let (end, y) = self.pinch(&m.sys, &m.triplet, x)?;
+        m.points.push(self.seam_point(&m.sys, &y));
+        Some(end)
     }
 
     /// True when the ball of seam point `x` osculates its `i`-th segment to the accuracy:
@@ -425,8 +433,7 @@ impl Tracer<'_> {
                 }
                 // Two touch points meeting at the vertex the touch point is handed about at
                 // (a reflex edge and another element ending there): a pinch.
-                if let Some((end, y)) = self.pinch(&m.sys, &m.triplet, xc) {
-                    m.points.push(self.seam_point(&m.sys, &y));
+                if let Some(end) = self.end_in_pinch(m, xc) {
                     return Flow::End(end);
                 }
                 Flow::End(SeamEnd::Open(OpenReason::Oscillates { from, to }))
@@ -461,8 +468,7 @@ impl Tracer<'_> {
                     })
             });
             if others_reach {
-                if let Some((end, y)) = self.pinch(&m.sys, &m.triplet, crossing) {
-                    m.points.push(self.seam_point(&m.sys, &y));
+                if let Some(end) = self.end_in_pinch(m, crossing) {
                     return Flow::End(end);
                 }
             }
@@ -503,22 +509,16 @@ impl Tracer<'_> {
             // of a wall's end face, where a fillet along the wall runs into that end), the
             // meeting is located exactly there: a pinch, where the sheet's skeletal edge to
             // the vertex starts. The crossing is only as near as the hand-over's step.
-            Some(_) => match self.pinch(&m.sys, &m.triplet, crossing) {
-                Some((end, y)) => {
-                    m.points.push(self.seam_point(&m.sys, &y));
-                    end
-                }
+            Some(_) => match self.end_in_pinch(m, crossing) {
+                Some(end) => end,
                 None => {
                     m.points.push(self.seam_point(&m.sys, crossing));
                     SeamEnd::CurvatureLimit { segment: to }
                 }
             },
             // Elsewhere they meet at the vertex the touch point was handed over at: a pinch.
-            None => match self.pinch(&m.sys, &m.triplet, crossing) {
-                Some((end, y)) => {
-                    m.points.push(self.seam_point(&m.sys, &y));
-                    end
-                }
+            None => match self.end_in_pinch(m, crossing) {
+                Some(end) => end,
                 None => SeamEnd::Open(OpenReason::CoincideAfterHandover {
                     from: m.triplet[i],
                     to,
@@ -575,8 +575,7 @@ impl Tracer<'_> {
         }
         // Where two touch points meet at a vertex, the seam ends at that pinch.
         if let HandOverError::Stop(_) = e {
-            if let Some((end, y)) = self.pinch(&m.sys, &m.triplet, xc) {
-                m.points.push(self.seam_point(&m.sys, &y));
+            if let Some(end) = self.end_in_pinch(m, xc) {
                 return Flow::End(end);
             }
         }
@@ -804,8 +803,7 @@ impl Tracer<'_> {
     fn curvature_end(&mut self, m: &mut March, xn: &DVector<f64>) -> Option<SeamEnd> {
         let before = self.touches(&m.triplet, &m.x);
         if self.coincident(&m.triplet, xn, false) {
-            if let Some((end, y)) = self.pinch(&m.sys, &m.triplet, xn) {
-                m.points.push(self.seam_point(&m.sys, &y));
+            if let Some(end) = self.end_in_pinch(m, xn) {
                 return Some(end);
             }
             // Two touch points on elements of one tangent-continuous group (B-spline edges
