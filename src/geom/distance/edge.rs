@@ -43,6 +43,44 @@ pub fn nearest_on_edge(
     (t, x, d2.sqrt())
 }
 
+/// A lower bound on the distance from `p` to the whole of edge `e`'s curve, where one is
+/// known in closed form: an ellipse (a circle) lies in its plane between the circles of its
+/// two semi-axes, so it is at least as far as that annulus (exact for a circle). `None` for
+/// other curves, and for an ellipse whose axes are not perpendicular.
+pub(super) fn curve_distance_below(e: &Edge, p: DVec3) -> Option<f64> {
+    use truck_stepio::r#in::alias::Conic3D;
+    let Curve3D::Conic(Conic3D::Ellipse(ellipse)) = &e.curve else {
+        return None;
+    };
+    let m = ellipse.transform();
+    // Affine only (what placements and unit scaling give).
+    if m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0 {
+        return None;
+    }
+    let c = DVec3::new(m[3][0], m[3][1], m[3][2]);
+    let (u, v) = (
+        DVec3::new(m[0][0], m[0][1], m[0][2]),
+        DVec3::new(m[1][0], m[1][1], m[1][2]),
+    );
+    let (a, b) = (u.length(), v.length());
+    if u.dot(v).abs() > PERPENDICULAR_AXES * a * b {
+        return None;
+    }
+    let n = u.cross(v).normalize_or_zero();
+    if n == DVec3::ZERO {
+        return None;
+    }
+    let w = p - c;
+    let z = w.dot(n);
+    let rho = (w - n * z).length();
+    let radial = (a.min(b) - rho).max(rho - a.max(b)).max(0.0);
+    let below = (z * z + radial * radial).sqrt();
+    below.is_finite().then_some(below)
+}
+
+/// An ellipse's two axes are perpendicular when the cosine of their angle is below this.
+const PERPENDICULAR_AXES: f64 = 1e-12;
+
 /// `(lo, hi)` of the edge's range.
 #[inline]
 fn edge_span(e: &Edge) -> (f64, f64) {
@@ -241,6 +279,65 @@ mod tests {
     use super::*;
     use crate::testing::distance::Lcg;
     use crate::testing::sample;
+
+    /// The closed-form bound on the distance to an edge's whole curve is never more than the
+    /// distance to any point of it (dense samples round the whole ellipse or circle, not only
+    /// the edge's range), and is the distance itself for a circle at points off its plane,
+    /// inside it and outside it; other curves have none.
+    #[test]
+    fn a_curve_bound_is_below_every_point_of_the_curve() {
+        let mut rng = Lcg(11);
+        let mut conics = 0;
+        for file in [
+            "plate_with_holes.step",
+            "cylinder.step",
+            "elliptic_cylinder.step",
+            "boss_on_plate.step",
+            "box.step",
+            "cylinder_nurbs.step",
+        ] {
+            let model = sample(file);
+            let (lo, hi) = model.bounding_box();
+            let margin = 0.3 * (hi - lo);
+            for e in &model.edges {
+                let Some(_) = curve_distance_below(e, DVec3::ZERO) else {
+                    assert!(!matches!(e.curve, Curve3D::Conic(_)), "{file}: {e:?}");
+                    continue;
+                };
+                conics += 1;
+                let m = 4000;
+                let pts: Vec<DVec3> = (0..m)
+                    .map(|k| eval_curve(&e.curve, std::f64::consts::TAU * k as f64 / m as f64).p)
+                    .collect();
+                let radii: Vec<f64> = pts.windows(2).map(|w| w[0].distance(w[1])).collect();
+                let step = radii.iter().cloned().fold(0.0, f64::max);
+                let circle = {
+                    let c = pts.iter().copied().sum::<DVec3>() / m as f64;
+                    let r: Vec<f64> = pts.iter().map(|q| q.distance(c)).collect();
+                    let (a, b) = r
+                        .iter()
+                        .fold((f64::INFINITY, 0.0_f64), |(a, b), &x| (a.min(x), b.max(x)));
+                    b - a < 1e-9 * b
+                };
+                for _ in 0..200 {
+                    let p = rng.in_box(lo - margin, hi + margin);
+                    let below = curve_distance_below(e, p).unwrap();
+                    let sampled = pts
+                        .iter()
+                        .map(|q| q.distance(p))
+                        .fold(f64::INFINITY, f64::min);
+                    assert!(
+                        below <= sampled * (1.0 + 1e-12),
+                        "{file} {p}: {below} > {sampled}"
+                    );
+                    if circle {
+                        assert!(sampled - below <= step, "{file} {p}: {below} < {sampled}");
+                    }
+                }
+            }
+        }
+        assert!(conics >= 8, "{conics} conic edges");
+    }
 
     #[test]
     fn edge_distance_matches_dense_sampling() {

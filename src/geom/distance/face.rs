@@ -21,7 +21,8 @@
 //! foot (a face seen twice has two basins of the distance).
 
 use super::edge::{
-    edge_feature, edge_nearest, wraps_around, MAX_DESCENT_HALVINGS, MAX_DESCENT_ITER,
+    curve_distance_below, edge_feature, edge_nearest, wraps_around, MAX_DESCENT_HALVINGS,
+    MAX_DESCENT_ITER,
 };
 use super::hit::FaceHit;
 use super::index::{range, Boundary};
@@ -67,6 +68,14 @@ pub fn nearest_on_face(
 /// How far (over the foot's distance) from the foot a cell must lie to seed a second descent
 /// (another basin of the distance, not the same one again).
 const SECOND_BASIN_REL_DISTANCE: f64 = 0.5;
+
+/// Rounding allowed for in the distance to a face's whole surface when it proves that no
+/// point of the face comes within a bound, relative to the query point's size.
+const SURFACE_BOUND_REL_ROUNDING: f64 = 1e-12;
+
+/// Relative rounding allowed for in a curve's closed-form distance bound
+/// ([`curve_distance_below`]).
+const CURVE_BOUND_REL_ROUNDING: f64 = 1e-9;
 
 /// Per-face data that [`Boundary`] caches; [`nearest_on_face`] works without it.
 pub(super) struct Cached<'a> {
@@ -116,6 +125,22 @@ pub(super) fn face_nearest(
     // say so: the edge's or vertex's pseudo-normal decides inside, not the face's normal, to
     // which `p − x` is tangent there).
     let interior = interior_foot(face, p, plane, closed_form, closed, seed, from);
+    // Every point of a face is at least as far as the nearest point of its whole surface
+    // where that is known in closed form (a plane, a sphere, a cylinder's or cone's two
+    // nappes), its edges to the gap the reader measured them off it (twice that, for what
+    // lies between the samples): where that is beyond the bound, nothing on the face is
+    // nearer, and its edges are not searched (the tracer's intrusion query, about a ball
+    // that touches this face).
+    let surface_distance = match (plane, interior) {
+        (Some(_), Some((_, _, d))) => Some(d),
+        _ => closed_form.and_then(|c| c.foot(p)).map(|f| f.distance),
+    };
+    if let Some(d) = surface_distance {
+        let rounding = SURFACE_BOUND_REL_ROUNDING * (p.length() + d);
+        if d - 2.0 * face.gap_mm() - rounding >= best_d {
+            return None;
+        }
+    }
     let interior_uv = interior.map(|i| i.0);
     let critical = |foot: &Foot| {
         let &(uv, x, _) = foot;
@@ -466,6 +491,13 @@ fn edge_candidate(
         Some(c) => {
             let ec = &c.boundary.edges[ei];
             if box_distance_squared(&ec.bbox, p) >= best_d * best_d {
+                return None;
+            }
+            // No nearer than its whole curve (the rounding of that bound is far below what
+            // separates a pruned edge from one that passes).
+            if curve_distance_below(e, p)
+                .is_some_and(|d| d * (1.0 - CURVE_BOUND_REL_ROUNDING) >= best_d)
+            {
                 return None;
             }
             let ts = &c.boundary.edge_t[range(&ec.samples)];

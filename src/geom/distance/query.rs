@@ -229,37 +229,56 @@ mod tests {
 
     /// The bounded query gives the unbounded one's hit when that is nearer than the bound,
     /// and nothing otherwise (nor for a bound of zero, negative or NaN), at random points in
-    /// and about the elliptic bar.
+    /// and about parts whose faces are B-splines (the elliptic bar), planes, cylinders and
+    /// circles (the plate with holes, the boss on a plate), a sphere, a torus, and an
+    /// elliptic cylinder with elliptic edges — with bounds far from the distance and within
+    /// a millionth of it on both sides (the tracer's intrusion query asks just short of a
+    /// ball's radius). The query skips a face whose whole surface, or an edge whose whole
+    /// curve, cannot come within the bound: a bound on either that were too large would
+    /// show here as nothing found where the unbounded query finds a nearer hit.
     #[test]
     fn a_bounded_query_is_the_nearest_hit_or_nothing() {
-        let model =
-            crate::ingest::read_model(&crate::testing::sample_path("trace/elliptic_bar.step"))
-                .unwrap();
-        let b = Boundary::new(&model);
         let mut rng = Lcg(7);
-        let (mut near, mut far) = (0, 0);
-        for _ in 0..300 {
-            let p = rng.in_box(DVec3::new(-25.0, -15.0, -4.0), DVec3::new(25.0, 15.0, 20.0));
-            let (f, hit) = b.nearest_face(&model, p).unwrap();
-            let bound = hit.distance * (0.5 + rng.next());
-            match b.nearest_face_within(&model, p, bound, |_| true) {
-                Some((g, h)) => {
-                    near += 1;
-                    assert!(hit.distance < bound, "{p}: {h:?} beyond {bound}");
-                    assert_eq!(g, f, "{p}");
-                    assert_eq!(h.distance, hit.distance, "{p}");
-                    assert_eq!(h.point, hit.point, "{p}");
+        for file in [
+            "trace/elliptic_bar.step",
+            "plate_with_holes.step",
+            "boss_on_plate.step",
+            "sphere.step",
+            "torus.step",
+            "elliptic_cylinder.step",
+        ] {
+            let model = crate::ingest::read_model(&crate::testing::sample_path(file)).unwrap();
+            let b = Boundary::new(&model);
+            let (lo, hi) = model.bounding_box();
+            let margin = 0.2 * (hi - lo);
+            let (mut near, mut far) = (0, 0);
+            for k in 0..600 {
+                let p = rng.in_box(lo - margin, hi + margin);
+                let (f, hit) = b.nearest_face(&model, p).unwrap();
+                let bound = match k % 3 {
+                    0 => hit.distance * (0.5 + rng.next()),
+                    1 => hit.distance * (1.0 - 1e-6),
+                    _ => hit.distance * (1.0 + 1e-6),
+                };
+                match b.nearest_face_within(&model, p, bound, |_| true) {
+                    Some((g, h)) => {
+                        near += 1;
+                        assert!(hit.distance < bound, "{file} {p}: {h:?} beyond {bound}");
+                        assert_eq!(g, f, "{file} {p}");
+                        assert_eq!(h.distance, hit.distance, "{file} {p}");
+                        assert_eq!(h.point, hit.point, "{file} {p}");
+                    }
+                    None => {
+                        far += 1;
+                        assert!(hit.distance >= bound, "{file} {p}: {hit:?} within {bound}");
+                    }
                 }
-                None => {
-                    far += 1;
-                    assert!(hit.distance >= bound, "{p}: {hit:?} within {bound}");
+                for bad in [0.0, -1.0, f64::NAN] {
+                    assert!(b.nearest_face_within(&model, p, bad, |_| true).is_none());
                 }
             }
-            for bad in [0.0, -1.0, f64::NAN] {
-                assert!(b.nearest_face_within(&model, p, bad, |_| true).is_none());
-            }
+            assert!(near > 100 && far > 100, "{file}: {near} near, {far} far");
         }
-        assert!(near > 50 && far > 50, "{near} near, {far} far");
     }
 
     /// Points just off an ellipse's major axis, between its two centres of curvature at the
