@@ -24,7 +24,10 @@ use std::path::PathBuf;
 ///   with no junction on the segments (20) and reach convex edges (20); elsewhere hand-overs
 ///   from a vertex to the next edge of a kinked outline whose ball is another one (the
 ///   junction with that edge is not found where a vertex on the outline's other side is
-///   touched too), and two touch points coinciding after a hand-over on the TSM headers;
+///   touched too), and two touch points coinciding after a hand-over on the TSM headers
+///   (four more on 0805_SMD's lettering ended where a long step round a glyph's stroke had
+///   jumped past a kinked join and every shorter probe failed: the step is shortened now,
+///   `samples/trace/embossed_eight.step`);
 /// - `touch_on_boundary` on CAP_50SGV (a touch point 0.1 mm off a face's boundary) and
 ///   `separated` on SOT_96: issue 19's, not yet looked at;
 /// - `read`: five parts whose shells are open (an edge used by one face) or whose loop
@@ -38,7 +41,7 @@ const EXPECTED: &[(&str, &[(&str, usize)])] = &[
         "0805_SMD.stp",
         &[
             ("verify:junction_seams", 1),
-            ("verify:seam_ends", 5),
+            ("verify:seam_ends", 1),
             ("verify:sheets_closed", 3),
         ],
     ),

@@ -26,6 +26,11 @@ pub(super) enum HandOverError {
     Osculates(Element),
     /// The seam ends open there.
     Stop(OpenReason),
+    /// The step's crossing was not bracketed — no probe between the last seam point and the
+    /// step's end saw the touch point off its segment; the probes past the last one on it
+    /// failed (the step's end had jumped to another stretch of the seam) — and the hand-over
+    /// at the last point on it failed, for the reason given: the step is to be shortened.
+    Unbracketed(OpenReason),
 }
 
 impl From<OpenReason> for HandOverError {
@@ -61,6 +66,7 @@ impl Tracer<'_> {
         let on_all = |me: &Self, y: &DVector<f64>| {
             (0..3).all(|k| me.stays_on(triplet[k], slot(x, k), slot(y, k)))
         };
+        let mut failed = false;
         while hi - lo > 0.1 * acc {
             let mid = 0.5 * (lo + hi);
             match self.step(&sys, x, t, mid) {
@@ -72,9 +78,13 @@ impl Tracer<'_> {
                     hi = mid;
                     off = Some(xm);
                 }
-                None => hi = mid,
+                None => {
+                    hi = mid;
+                    failed = true;
+                }
             }
         }
+        let unbracketed = off.is_none() && failed;
         if let Some(k) = off
             .as_ref()
             .and_then(|y| (0..3).find(|&k| !self.stays_on(triplet[k], slot(x, k), slot(y, k))))
@@ -115,6 +125,9 @@ impl Tracer<'_> {
         }
         match self.hand_over_at(triplet, i, &xc, t, exit) {
             Ok((to, xnew)) => Ok((to, xc, xnew)),
+            Err(HandOverError::Stop(why)) if unbracketed => {
+                Err((HandOverError::Unbracketed(why), xc))
+            }
             Err(e) => Err((e, xc)),
         }
     }

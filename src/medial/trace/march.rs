@@ -33,6 +33,7 @@ pub(super) struct Run {
 }
 
 /// The state of one march.
+#[derive(Clone)]
 struct March<'c> {
     /// The elements touched now, and at the start.
     triplet: [Element; 3],
@@ -376,6 +377,24 @@ impl Tracer<'_> {
                 m.h *= 0.5;
                 Flow::Next
             }
+            // Likewise where no probe of the step saw the touch point leave, the ones past
+            // the last point on it failing (their tangent turning too far: the step's end
+            // jumped along a seam that curves round a glyph's stroke, on the lettering of a
+            // KiCad resistor), and no hand-over was found at that last point.
+            // (Unless the march ends properly there all the same: at a junction, a pinch, a
+            // curvature limit found at that last point.)
+            Err((HandOverError::Unbracketed(why), xc)) => {
+                let mut ended = m.clone();
+                let flow = self.end_at_crossing(&mut ended, HandOverError::Stop(why), &xc);
+                if matches!(flow, Flow::End(SeamEnd::Open(_)))
+                    && 0.5 * m.h >= MIN_STEP_REL_DIAGONAL * self.model.diagonal()
+                {
+                    m.h *= 0.5;
+                    return Flow::Next;
+                }
+                *m = ended;
+                flow
+            }
             Err((e, xc)) => self.end_at_crossing(m, e, &xc),
         }
     }
@@ -625,6 +644,7 @@ impl Tracer<'_> {
         }
         Flow::End(match e {
             HandOverError::Osculates(seg) => SeamEnd::CurvatureLimit { segment: seg },
+            HandOverError::Unbracketed(why) => SeamEnd::Open(why),
             HandOverError::Stop(why) => SeamEnd::Open(why),
         })
     }
