@@ -43,7 +43,8 @@ where the round is tangent to the top: a free edge again), and a boss whose top 
 taller boss's wall (a rim between two reflex edges to one face: a free edge along that face's
 normal), and a box with two cavities and a shelf twice as thick as its walls (junctions at the
 shelf faces' corners), and the same shelf flush with the back wall (a seam that leaves those
-junctions along the shelf faces' edges).
+junctions along the shelf faces' edges), and an '8' embossed 3 µm high (a seam round a stroke
+whose long step jumps past a kinked join).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -1502,6 +1503,56 @@ def elliptic_boss_in_halves_analytic():
       40 * 30 * 4 + PI * 50 * 3, ELLIPTIC_BOSS_NOTE, volume_rel=1e-3)
 def elliptic_boss_in_halves_nurbs():
     return elliptic_boss_in_halves().toNurbs()
+
+
+def kinked_ellipse(cx, cy, a, b, z, kink):
+    """A closed ellipse (semi-axes a along x, b along y) written as two B-spline halves
+    through nine of its points each, joined at the ends of its y axis with their end
+    tangents turned by `kink` radians towards the outside: two corners of 2·kink, as a
+    font's outline joins its curves."""
+    def half(t0, t1):
+        pts = [V(cx + a * math.cos(t), cy + b * math.sin(t), z)
+               for t in (t0 + (t1 - t0) * k / 8 for k in range(9))]
+
+        def tangent(t, turn):
+            d = V(-a * math.sin(t), b * math.cos(t), 0)
+            d.normalize()
+            c, s = math.cos(turn), math.sin(turn)
+            return V(c * d.x - s * d.y, s * d.x + c * d.y, 0)
+        curve = Part.BSplineCurve()
+        curve.interpolate(pts, InitialTangent=tangent(t0, kink),
+                          FinalTangent=tangent(t1, -kink))
+        return curve.toShape()
+    return Part.Wire([half(-PI / 2, PI / 2), half(PI / 2, 3 * PI / 2)])
+
+
+EMBOSSED_EIGHT_NOTE = (
+    "The seam under the lower bowl's stroke (balls touching the glyph's top and the foot "
+    "edges on either side of the stroke) curves round the bowl; where its touch points reach "
+    "the outline's kinked joins at the bottom, a long step landed past the foot edge's end "
+    "on another stretch of the seam, and every shorter probe of the hand-over's bisection "
+    "failed on the turn of its tangent: the 'crossing' found was where the probes began to "
+    "fail, and the seam ended open (no seam point after handing the foot edge to the top "
+    "face, the system singular). The step is now shortened instead, and the seam goes on. "
+    "Below the waist, balls touch the outline's foot corners 2 µm apart, closer than the "
+    "checkers separate places on elements that do not meet (`separated`, both checkers)."
+)
+
+
+@part("embossed_eight",
+      "A block 2x1.25x0.78 with an '8' embossed 0.003 high on its top, as a KiCad resistor's "
+      "value is lettered: the outline is two ellipses fused (0.082x0.078 about (0.1, 0.2) "
+      "and 0.07x0.066 about (0.1, 0.33)) less two elliptic counters (0.05x0.048 and "
+      "0.04x0.035), each ellipse two B-spline halves meeting at 2.7-degree corners.",
+      None, EMBOSSED_EIGHT_NOTE)
+def embossed_eight():
+    z, kink, h = 0.78, math.radians(1.35), 0.003
+    body = Part.makeBox(2, 1.25, 0.78, V(-1, -0.625, 0))
+    outline = Part.Face(kinked_ellipse(0.1, 0.2, 0.082, 0.078, z, kink)).fuse(
+        Part.Face(kinked_ellipse(0.1, 0.33, 0.07, 0.066, z, kink)))
+    for cx, cy, a, b in ((0.1, 0.2, 0.05, 0.048), (0.1, 0.335, 0.04, 0.035)):
+        outline = outline.cut(Part.Face(kinked_ellipse(cx, cy, a, b, z, kink)))
+    return body.fuse(outline.extrude(V(0, 0, h))).removeSplitter()
 
 
 def main():
