@@ -21,13 +21,14 @@ use std::path::PathBuf;
 /// seam ends, issue 20 the graph's checks: `junction_seams`, `sheets_closed`, `euler`,
 /// `degenerate_ends`, `convex_vertices`):
 /// - open seam ends (`seam_ends`): on MSOP_10 where the balls under its leads meet faces
-///   with no junction on the segments (20) and reach convex edges (20); elsewhere hand-overs
-///   from a vertex to the next edge of a kinked outline whose ball is another one (the
-///   junction with that edge is not found where a vertex on the outline's other side is
-///   touched too), and two touch points coinciding after a hand-over on the TSM headers
-///   (four more on 0805_SMD's lettering ended where a long step round a glyph's stroke had
-///   jumped past a kinked join and every shorter probe failed: the step is shortened now,
-///   `samples/trace/embossed_eight.step`);
+///   with no junction on the segments (20) and reach convex edges (20); and two touch points
+///   coinciding after a hand-over on the TSM headers. The lettering of 0805, 1206 and 1812
+///   no longer ends seams open: four ends on 0805 where a long step round a glyph's stroke
+///   had jumped past a kinked join and every shorter probe failed (the step is shortened
+///   now, `samples/trace/embossed_eight.step`), six on the three where the junction with
+///   the next edge of a kinked outline was located after the touch point across the stroke
+///   had been handed from a vertex to its edge (solved now with that hand-over undone,
+///   `samples/trace/embossed_zero.step`);
 /// - `touch_on_boundary` on CAP_50SGV (a touch point 0.1 mm off a face's boundary) and
 ///   `separated` on SOT_96: issue 19's, not yet looked at;
 /// - `read`: five parts whose shells are open (an edge used by one face) or whose loop
@@ -38,30 +39,10 @@ const EXPECTED: &[(&str, &[(&str, usize)])] = &[
         &[("verify:junction_seams", 6), ("verify:sheets_closed", 18)],
     ),
     (
-        "0805_SMD.stp",
-        &[
-            ("verify:junction_seams", 1),
-            ("verify:seam_ends", 1),
-            ("verify:sheets_closed", 3),
-        ],
-    ),
-    (
         "1206_SMD.stp",
-        &[
-            ("verify:junction_seams", 10),
-            ("verify:seam_ends", 2),
-            ("verify:sheets_closed", 30),
-        ],
+        &[("verify:junction_seams", 8), ("verify:sheets_closed", 24)],
     ),
     ("1210_SMD.stp", &[("verify:sheets_closed", 16)]),
-    (
-        "1812_SMD.stp",
-        &[
-            ("verify:junction_seams", 1),
-            ("verify:seam_ends", 3),
-            ("verify:sheets_closed", 3),
-        ],
-    ),
     (
         "2225_SMD.stp",
         &[("verify:junction_seams", 2), ("verify:sheets_closed", 10)],

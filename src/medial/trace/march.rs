@@ -684,25 +684,71 @@ impl Tracer<'_> {
             (Element::Vertex(_), _) => return None,
             _ => (m.triplet, xc.clone(), false),
         };
-        let s4 = self.start_params(to, b, [f64::NAN; 2])?;
-        let jx = self
-            .locate_junction(&triplet, &x, to, [s4.0, s4.1])
-            .filter(|jx| self.ball_is_empty(m.solid, jx))?;
+        let (triplet, jx, kept) = self.junction_before_handovers(m, triplet, &x, to, i, true)?;
         if undo {
             m.handovers.pop();
         }
-        // Back to the junction: the points past it (along the seam) are dropped.
-        let (j, dir) = (v3(&jx), v3(&m.t));
-        while m.points.len() > 1 && (centre_of(&m.points[m.points.len() - 1]) - j).dot(dir) > 0.0 {
-            m.points.pop();
-        }
-        let kept = m.points.len();
-        m.handovers.retain(|h| h.point < kept);
-        m.triplet = triplet;
-        m.sys = MedialSystem::new(triplet.to_vec());
-        m.x = jx.rows(0, 10).into_owned();
+        self.back_to(m, triplet, &jx, kept);
         let meeting = self.meeting_at(&triplet, to, jx, &m.t);
         Some(self.go_on_from(m, meeting))
+    }
+
+    /// The junction with `to` of the seam on `triplet` (its ball `x`: the march's last point
+    /// or the crossing past it): first on `triplet` (where `as_is`), then with hand-overs of
+    /// its other touch points than `i` made at the last two points undone. Two events that
+    /// close together (a touch point handed from a vertex onto its edge, then the junction
+    /// with the next edge of a kinked outline across the stroke) may have been located in
+    /// the wrong order: the junction touches the element handed from, and must precede that
+    /// hand-over along the seam. Returns the junction's triplet, the 4-segment solution and
+    /// how many of the march's points precede it.
+    fn junction_before_handovers(
+        &mut self,
+        m: &March,
+        triplet: [Element; 3],
+        x: &DVector<f64>,
+        to: Element,
+        i: usize,
+        as_is: bool,
+    ) -> Option<([Element; 3], DVector<f64>, usize)> {
+        let b = v3(x);
+        let s4 = self.start_params(to, b, [f64::NAN; 2])?;
+        let recent: Vec<(usize, Element, usize)> = (0..3)
+            .filter(|&k| k != i)
+            .filter_map(|k| {
+                let h = m.handovers.iter().rev().find(|h| h.to == triplet[k])?;
+                (h.point + 2 >= m.points.len() && h.from != to && !triplet.contains(&h.from))
+                    .then_some((k, h.from, h.point))
+            })
+            .collect();
+        let first = if as_is { 0 } else { 1 };
+        let mut variants = (first..1usize << recent.len()).filter_map(|mask| {
+            let (mut t3, mut y) = (triplet, x.clone());
+            let mut before = usize::MAX;
+            for (bit, &(k, prev, at)) in recent.iter().enumerate() {
+                if mask & (1 << bit) != 0 {
+                    let s = self.start_params(prev, b, [f64::NAN; 2])?;
+                    t3[k] = prev;
+                    y[4 + 2 * k] = s.0;
+                    y[5 + 2 * k] = s.1;
+                    before = before.min(at);
+                }
+            }
+            Some((t3, y, before))
+        });
+        variants.find_map(|(t3, y, before)| {
+            let jx = self
+                .locate_junction(&t3, &y, to, [s4.0, s4.1])
+                .filter(|jx| self.ball_is_empty(m.solid, jx))?;
+            // The points past the junction (along the seam) are dropped.
+            let (j, dir) = (v3(&jx), v3(&m.t));
+            let kept = m.points.len()
+                - m.points[1..]
+                    .iter()
+                    .rev()
+                    .take_while(|p| (centre_of(p) - j).dot(dir) > 0.0)
+                    .count();
+            (kept <= before).then_some((t3, jx, kept))
+        })
     }
 
     /// True when, at the crossing `xc`, a touch point on `from` (the one being handed on) and
@@ -786,7 +832,29 @@ impl Tracer<'_> {
     /// goes on.
     fn junction_end(&mut self, m: &mut March, to: &DVector<f64>) -> Option<Flow> {
         let meeting = self.junction_between(&m.triplet, m.solid, &m.x, to, &m.t)?;
+        // No junction on the triplet as it is: perhaps on the one before a hand-over made
+        // just before (see `junction_before_handovers`).
+        if let Meeting::End(SeamEnd::Open(OpenReason::NoJunction { element }), _) = meeting {
+            let x = m.x.clone();
+            if let Some((triplet, jx, kept)) =
+                self.junction_before_handovers(m, m.triplet, &x, element, usize::MAX, false)
+            {
+                self.back_to(m, triplet, &jx, kept);
+                let meeting = self.meeting_at(&triplet, element, jx, &m.t);
+                return Some(self.go_on_from(m, meeting));
+            }
+        }
         Some(self.go_on_from(m, meeting))
+    }
+
+    /// The march back at the junction `jx` on `triplet`, of which its first `kept` points
+    /// are before: the rest, and hand-overs made there, are dropped.
+    fn back_to(&self, m: &mut March, triplet: [Element; 3], jx: &DVector<f64>, kept: usize) {
+        m.points.truncate(kept);
+        m.handovers.retain(|h| h.point < kept);
+        m.triplet = triplet;
+        m.sys = MedialSystem::new(triplet.to_vec());
+        m.x = jx.rows(0, 10).into_owned();
     }
 
     /// The march at what it met: its end (at the junction's point, when located), or on,
