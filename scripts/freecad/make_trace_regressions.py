@@ -1505,11 +1505,11 @@ def elliptic_boss_in_halves_nurbs():
     return elliptic_boss_in_halves().toNurbs()
 
 
-def kinked_ellipse(cx, cy, a, b, z, kink):
+def kinked_ellipse(cx, cy, a, b, z, kink, start=-PI / 2):
     """A closed ellipse (semi-axes a along x, b along y) written as two B-spline halves
-    through nine of its points each, joined at the ends of its y axis with their end
-    tangents turned by `kink` radians towards the outside: two corners of 2·kink, as a
-    font's outline joins its curves."""
+    through nine of its points each, joined at the ends of its y axis (or at the angles
+    `start` and `start` + π) with their end tangents turned by `kink` radians towards the
+    outside: two corners of 2·kink, as a font's outline joins its curves."""
     def half(t0, t1):
         pts = [V(cx + a * math.cos(t), cy + b * math.sin(t), z)
                for t in (t0 + (t1 - t0) * k / 8 for k in range(9))]
@@ -1523,7 +1523,7 @@ def kinked_ellipse(cx, cy, a, b, z, kink):
         curve.interpolate(pts, InitialTangent=tangent(t0, kink),
                           FinalTangent=tangent(t1, -kink))
         return curve.toShape()
-    return Part.Wire([half(-PI / 2, PI / 2), half(PI / 2, 3 * PI / 2)])
+    return Part.Wire([half(start, start + PI), half(start + PI, start + 2 * PI)])
 
 
 EMBOSSED_EIGHT_NOTE = (
@@ -1554,6 +1554,37 @@ def embossed_eight():
         outline = outline.cut(Part.Face(kinked_ellipse(cx, cy, a, b, z, kink)))
     return body.fuse(outline.extrude(V(0, 0, h))).removeSplitter()
 
+
+
+EMBOSSED_ZERO_NOTE = (
+    "Along the side strokes, the seam under the stroke (balls touching the glyph's top, the "
+    "outline's foot edge and, across the stroke, the counter's foot) reaches the outline's "
+    "kinked join, a corner pointing out of the stroke whose two foot edges both come closer "
+    "than r beside it, within one step of where its touch point across the stroke leaves the "
+    "counter's kinked foot vertex for the next foot edge (the counter 0.0003 higher than the "
+    "outline). The two events were located in the wrong order: the junction with the "
+    "outline's next foot edge touches the counter's vertex, not the edge the touch point had "
+    "been handed to, and the seam ended open (no seam point after handing the outline's "
+    "vertex to its next edge, or that edge closer than r with no junction). The junction is "
+    "now solved with that hand-over undone, before it. The wall halves meeting at each of "
+    "the outline's two kinks bound two small sheets, one at each kink, which the sheets "
+    "count as one sheet with two loops (Euler characteristic -1 for the solid's 1: issue "
+    "20)."
+)
+
+
+@part("embossed_zero",
+      "A block 2x1.25x0.78 with an 'O' embossed 0.003 high on its top: the outline an "
+      "ellipse 0.08x0.12 about (0.1, 0.3) less an elliptic counter 0.05x0.09 about "
+      "(0.1, 0.3003), each two B-spline halves meeting at the ends of its x axis at "
+      "2.7-degree corners, the counter's corners 0.0003 above the outline's.",
+      None, EMBOSSED_ZERO_NOTE)
+def embossed_zero():
+    z, kink, h = 0.78, math.radians(1.35), 0.003
+    body = Part.makeBox(2, 1.25, 0.78, V(-1, -0.625, 0))
+    outline = Part.Face(kinked_ellipse(0.1, 0.3, 0.08, 0.12, z, kink, start=0.0)).cut(
+        Part.Face(kinked_ellipse(0.1, 0.3003, 0.05, 0.09, z, kink, start=0.0)))
+    return body.fuse(outline.extrude(V(0, 0, h))).removeSplitter()
 
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
