@@ -1526,6 +1526,17 @@ def kinked_ellipse(cx, cy, a, b, z, kink, start=-PI / 2):
     return Part.Wire([half(start, start + PI), half(start + PI, start + 2 * PI)])
 
 
+# The embossed glyphs' block (2x1.25, its top at EMBOSSED_TOP), the lettering's height and the
+# half-angle of its outlines' kinked joins.
+EMBOSSED_TOP, EMBOSSED_HEIGHT, EMBOSSED_KINK = 0.78, 0.003, math.radians(1.35)
+
+
+def embossed(outline):
+    """The block with the glyph `outline` (a face in the top's plane) embossed on its top."""
+    body = Part.makeBox(2, 1.25, EMBOSSED_TOP, V(-1, -0.625, 0))
+    return body.fuse(outline.extrude(V(0, 0, EMBOSSED_HEIGHT))).removeSplitter()
+
+
 EMBOSSED_EIGHT_NOTE = (
     "The seam under the lower bowl's stroke (balls touching the glyph's top and the foot "
     "edges on either side of the stroke) curves round the bowl; where its touch points reach "
@@ -1546,14 +1557,12 @@ EMBOSSED_EIGHT_NOTE = (
       "0.04x0.035), each ellipse two B-spline halves meeting at 2.7-degree corners.",
       None, EMBOSSED_EIGHT_NOTE)
 def embossed_eight():
-    z, kink, h = 0.78, math.radians(1.35), 0.003
-    body = Part.makeBox(2, 1.25, 0.78, V(-1, -0.625, 0))
+    z, kink = EMBOSSED_TOP, EMBOSSED_KINK
     outline = Part.Face(kinked_ellipse(0.1, 0.2, 0.082, 0.078, z, kink)).fuse(
         Part.Face(kinked_ellipse(0.1, 0.33, 0.07, 0.066, z, kink)))
     for cx, cy, a, b in ((0.1, 0.2, 0.05, 0.048), (0.1, 0.335, 0.04, 0.035)):
         outline = outline.cut(Part.Face(kinked_ellipse(cx, cy, a, b, z, kink)))
-    return body.fuse(outline.extrude(V(0, 0, h))).removeSplitter()
-
+    return embossed(outline)
 
 
 EMBOSSED_ZERO_NOTE = (
@@ -1580,11 +1589,11 @@ EMBOSSED_ZERO_NOTE = (
       "2.7-degree corners, the counter's corners 0.0003 above the outline's.",
       None, EMBOSSED_ZERO_NOTE)
 def embossed_zero():
-    z, kink, h = 0.78, math.radians(1.35), 0.003
-    body = Part.makeBox(2, 1.25, 0.78, V(-1, -0.625, 0))
+    z, kink = EMBOSSED_TOP, EMBOSSED_KINK
     outline = Part.Face(kinked_ellipse(0.1, 0.3, 0.08, 0.12, z, kink, start=0.0)).cut(
         Part.Face(kinked_ellipse(0.1, 0.3003, 0.05, 0.09, z, kink, start=0.0)))
-    return body.fuse(outline.extrude(V(0, 0, h))).removeSplitter()
+    return embossed(outline)
+
 
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
