@@ -742,8 +742,9 @@ impl Tracer<'_> {
             // The points past the junction (along the seam) are dropped.
             let (j, dir) = (v3(&jx), v3(&m.t));
             let kept = m.points.len()
-                - m.points[1..]
+                - m.points
                     .iter()
+                    .skip(1)
                     .rev()
                     .take_while(|p| (centre_of(p) - j).dot(dir) > 0.0)
                     .count();
