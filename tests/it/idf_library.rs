@@ -21,8 +21,10 @@ use std::path::PathBuf;
 /// seam ends, issue 20 the graph's checks: `junction_seams`, `sheets_closed`, `euler`,
 /// `degenerate_ends`, `convex_vertices`):
 /// - open seam ends (`seam_ends`): on MSOP_10 where the balls under its leads meet faces
-///   with no junction on the segments (20) and reach convex edges (20); and two touch points
-///   coinciding after a hand-over on the TSM headers. The lettering of 0805, 1206 and 1812
+///   with no junction on the segments (20) and reach convex edges (20). The TSM headers'
+///   three ends (two touch points coinciding after a hand-over: a pin tip's hyperbola edge
+///   touched twice, its touch points met before the third reached the plane's edge) end at
+///   that edge's curvature limit now. The lettering of 0805, 1206 and 1812
 ///   no longer ends seams open: four ends on 0805 where a long step round a glyph's stroke
 ///   had jumped past a kinked join and every shorter probe failed (the step is shortened
 ///   now, `samples/trace/embossed_eight.step`), six on the three where the junction with
@@ -85,19 +87,11 @@ const EXPECTED: &[(&str, &[(&str, usize)])] = &[
     ("TCMT1107_4.stp", &[("verify:junction_seams", 6)]),
     (
         "TSM_103_01_L_DV_A.stp",
-        &[
-            ("verify:junction_seams", 12),
-            ("verify:seam_ends", 2),
-            ("verify:sheets_closed", 160),
-        ],
+        &[("verify:junction_seams", 12), ("verify:sheets_closed", 160)],
     ),
     (
         "TSM_104_01_L_DV_A.stp",
-        &[
-            ("verify:junction_seams", 16),
-            ("verify:seam_ends", 1),
-            ("verify:sheets_closed", 210),
-        ],
+        &[("verify:junction_seams", 16), ("verify:sheets_closed", 210)],
     ),
     (
         "VC0603_SMD.stp",

@@ -536,12 +536,24 @@ impl Tracer<'_> {
                 }
             },
             // Elsewhere they meet at the vertex the touch point was handed over at: a pinch.
+            // Or two touch points on one element had already met on the way to the crossing
+            // (a pin's tip cut by a plane, its hyperbola edge touched twice while the third
+            // touch point runs to the plane's edge: FreeCAD's TSM headers): the seam reaches
+            // that element's curvature limit before the crossing, located as after a step.
             None => match self.end_in_pinch(m, crossing) {
                 Some(end) => end,
-                None => SeamEnd::Open(OpenReason::CoincideAfterHandover {
-                    from: m.triplet[i],
-                    to,
-                }),
+                None => {
+                    let before = self.touches(&m.triplet, &m.x);
+                    let met_before = (0..3)
+                        .any(|k| self.merged_with(&m.triplet, &before, crossing, k).is_some());
+                    met_before
+                        .then(|| self.curvature_end(m, crossing))
+                        .flatten()
+                        .unwrap_or(SeamEnd::Open(OpenReason::CoincideAfterHandover {
+                            from: m.triplet[i],
+                            to,
+                        }))
+                }
             },
         }
     }
