@@ -21,16 +21,15 @@ use std::path::PathBuf;
 /// seam ends, issue 20 the graph's checks: `junction_seams`, `sheets_closed`, `euler`,
 /// `degenerate_ends`, `convex_vertices`):
 /// - open seam ends (`seam_ends`): on MSOP_10 where the balls under its leads meet faces
-///   with no junction on the segments (20) and reach convex edges (20). The TSM headers'
-///   three ends (two touch points coinciding after a hand-over: a pin tip's hyperbola edge
-///   touched twice, its touch points met before the third reached the plane's edge) end at
-///   that edge's curvature limit now. The lettering of 0805, 1206 and 1812
-///   no longer ends seams open: four ends on 0805 where a long step round a glyph's stroke
-///   had jumped past a kinked join and every shorter probe failed (the step is shortened
-///   now, `samples/trace/embossed_eight.step`), six on the three where the junction with
-///   the next edge of a kinked outline was located after the touch point across the stroke
-///   had been handed from a vertex to its edge (solved now with that hand-over undone,
-///   `samples/trace/embossed_zero.step`);
+///   with no junction on the segments (20) and reach convex edges (20). Closed since: the
+///   TSM headers' three (a pin seat's hyperbola edge touched twice, its touch points met
+///   before the third reached the plane's edge: the edge's curvature limit now,
+///   `samples/trace/socket_between_shelves.step`); four on 0805's lettering where a long step
+///   round a glyph's stroke had jumped past a kinked join and every shorter probe failed (the
+///   step is shortened now, `samples/trace/embossed_eight.step`); six on the lettering of
+///   0805, 1206 and 1812 where the junction with the next edge of a kinked outline was
+///   located after the touch point across the stroke had been handed from a vertex to its
+///   edge (solved now with that hand-over undone, `samples/trace/embossed_zero.step`);
 /// - `touch_on_boundary` on CAP_50SGV (a touch point 0.1 mm off a face's boundary) and
 ///   `separated` on SOT_96: issue 19's, not yet looked at;
 /// - `read`: five parts whose shells are open (an edge used by one face) or whose loop

@@ -542,20 +542,25 @@ impl Tracer<'_> {
             // that element's curvature limit before the crossing, located as after a step.
             None => match self.end_in_pinch(m, crossing) {
                 Some(end) => end,
-                None => {
-                    let before = self.touches(&m.triplet, &m.x);
-                    let met_before = (0..3)
-                        .any(|k| self.merged_with(&m.triplet, &before, crossing, k).is_some());
-                    met_before
-                        .then(|| self.curvature_end(m, crossing))
-                        .flatten()
-                        .unwrap_or(SeamEnd::Open(OpenReason::CoincideAfterHandover {
-                            from: m.triplet[i],
-                            to,
-                        }))
-                }
+                None => self
+                    .limit_before_crossing(m, crossing)
+                    .unwrap_or(SeamEnd::Open(OpenReason::CoincideAfterHandover {
+                        from: m.triplet[i],
+                        to,
+                    })),
             },
         }
+    }
+
+    /// The seam's end at the curvature limit of an element touched twice, when the two touch
+    /// points had met or passed through each other between the last point and the hand-over's
+    /// crossing `xc`: the limit comes first, located as after an ordinary step.
+    fn limit_before_crossing(&mut self, m: &mut March, xc: &DVector<f64>) -> Option<SeamEnd> {
+        let before = self.touches(&m.triplet, &m.x);
+        (0..3)
+            .any(|k| self.merged_with(&m.triplet, &before, xc, k).is_some())
+            .then(|| self.curvature_end(m, xc))
+            .flatten()
     }
 
     /// Moves touch point `i` onto `to` and goes on from `xnew` (the ball on the new triplet),
@@ -607,6 +612,13 @@ impl Tracer<'_> {
         // Where two touch points meet at a vertex, the seam ends at that pinch.
         if let HandOverError::Stop(_) = e {
             if let Some(end) = self.end_in_pinch(m, xc) {
+                return Flow::End(end);
+            }
+        }
+        // Two touch points on one element that met before the crossing: the curvature limit
+        // (the hand-over past it cannot find the ball: its two touch points have swapped).
+        if let HandOverError::Stop(OpenReason::NoSeamPointAfterHandover { .. }) = e {
+            if let Some(end) = self.limit_before_crossing(m, xc) {
                 return Flow::End(end);
             }
         }
