@@ -44,7 +44,9 @@ taller boss's wall (a rim between two reflex edges to one face: a free edge alon
 normal), and a box with two cavities and a shelf twice as thick as its walls (junctions at the
 shelf faces' corners), and the same shelf flush with the back wall (a seam that leaves those
 junctions along the shelf faces' edges), and an '8' embossed 3 µm high (a seam round a stroke
-whose long step jumps past a kinked join).
+whose long step jumps past a kinked join), and an 'O' embossed likewise (a junction at the
+outline's kink just before a hand-over across the stroke), and a pin's chamfered seat beside two
+shelves (a hyperbola edge's curvature limit just before a hand-over onto a shelf's edge).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -1594,6 +1596,42 @@ def embossed_zero():
         Part.Face(kinked_ellipse(0.1, 0.3003, 0.05, 0.09, z, kink, start=0.0)))
     return embossed(outline)
 
+
+
+SOCKET_BETWEEN_SHELVES_NOTE = (
+    "On each side of the socket a seam's balls touch the block's side face and, twice, the "
+    "hyperbola where the socket's chamfer cone meets its flat on that side (a reflex edge of "
+    "the solid); the two touch points close in on the hyperbola's top and meet there, at the "
+    "edge's curvature limit (r about 0.3146, the side face touched about 0.420 high). The "
+    "shelf's reflex edge is 1 and 2 µm above that: the step that passed the limit also "
+    "passed the edge, and the hand-over onto it found the two touch points coinciding (or, "
+    "on the other side, no ball), so both seams ended open. The limit is now located first, "
+    "as after an ordinary step, and ends both seams."
+)
+
+
+@part("socket_between_shelves",
+      "A block 1.6x2x2 about the origin with a socket inside (a ring-shaped void as a pin's "
+      "chamfered seat leaves: a cylinder R 0.2286 cut by flats at x = ±0.1905, less a cone "
+      "narrowing upwards at 29.899 degrees from R 0.2286 at z = 0.46327, up to z = 0.5715) "
+      "and a shelf 0.2 wide along each side face, its underside 0.421 (+x) and 0.422 (-x) "
+      "above the socket's axis point z = 0, as FreeCAD's IDF library's TSM headers have "
+      "their pin seats over a pocket's end.",
+      None, SOCKET_BETWEEN_SHELVES_NOTE)
+def socket_between_shelves():
+    block = Part.makeBox(1.6, 2.0, 2.0, V(-0.8, -1.0, -1.0))
+    z0, z1, apex, semi = 0.46327, 0.5715, 0.8608, math.radians(29.899)
+
+    def radius(z):
+        return (apex - z) * math.tan(semi)
+    seat = Part.makeCylinder(0.2286, z1 - z0, V(0, 0, z0)).common(
+        Part.makeBox(0.381, 1.0, z1 - z0, V(-0.1905, -0.5, z0)))
+    cone = Part.makeCone(radius(z0), radius(z1), z1 - z0, V(0, 0, z0))
+    # The cone's seam line on the cylinder's side, not across a flat.
+    cone.rotate(V(0, 0, 0), V(0, 0, 1), 90)
+    shelves = Part.makeBox(0.2, 2.0, 1.0 - 0.421, V(0.8, -1.0, 0.421)).fuse(
+        Part.makeBox(0.2, 2.0, 1.0 - 0.422, V(-1.0, -1.0, 0.422)))
+    return block.fuse(shelves).removeSplitter().cut(seat.cut(cone))
 
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
