@@ -137,17 +137,10 @@ fn curve_hull_within(curve: &crate::model::Curve3D, b: &Aabb) -> bool {
     use crate::model::Curve3D;
     use truck_stepio::r#in::alias::Conic3D;
     match curve {
-        Curve3D::Conic(Conic3D::Ellipse(e)) => {
-            let m = e.transform();
-            // Affine only (what placements and unit scaling give).
-            if m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0 {
+        Curve3D::Conic(Conic3D::Ellipse(_)) => {
+            let Some((c, u, v)) = crate::geom::eval::ellipse_axes(curve) else {
                 return false;
-            }
-            let c = DVec3::new(m[3][0], m[3][1], m[3][2]);
-            let (u, v) = (
-                DVec3::new(m[0][0], m[0][1], m[0][2]),
-                DVec3::new(m[1][0], m[1][1], m[1][2]),
-            );
+            };
             let r = u.abs() + v.abs();
             c.is_finite() && r.is_finite() && b.contains(c - r) && b.contains(c + r)
         }

@@ -48,20 +48,7 @@ pub fn nearest_on_edge(
 /// two semi-axes, so it is at least as far as that annulus (exact for a circle). `None` for
 /// other curves, and for an ellipse whose axes are not perpendicular.
 pub(super) fn curve_distance_below(e: &Edge, p: DVec3) -> Option<f64> {
-    use truck_stepio::r#in::alias::Conic3D;
-    let Curve3D::Conic(Conic3D::Ellipse(ellipse)) = &e.curve else {
-        return None;
-    };
-    let m = ellipse.transform();
-    // Affine only (what placements and unit scaling give).
-    if m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0 {
-        return None;
-    }
-    let c = DVec3::new(m[3][0], m[3][1], m[3][2]);
-    let (u, v) = (
-        DVec3::new(m[0][0], m[0][1], m[0][2]),
-        DVec3::new(m[1][0], m[1][1], m[1][2]),
-    );
+    let (c, u, v) = crate::geom::eval::ellipse_axes(&e.curve)?;
     let (a, b) = (u.length(), v.length());
     if u.dot(v).abs() > PERPENDICULAR_AXES * a * b {
         return None;

@@ -123,6 +123,25 @@ pub fn curve_point(curve: &Curve3D, t: f64) -> DVec3 {
     }
 }
 
+/// An ellipse's (or circle's) centre and the vectors of its two semi-axes, `t = 0` and
+/// `t = π/2` from the centre, read off its placement: `None` for other curves and where the
+/// placement is not affine (only placements and unit scaling are expected).
+pub(crate) fn ellipse_axes(curve: &Curve3D) -> Option<(DVec3, DVec3, DVec3)> {
+    use truck_stepio::r#in::alias::Conic3D;
+    let Curve3D::Conic(Conic3D::Ellipse(e)) = curve else {
+        return None;
+    };
+    let m = e.transform();
+    if m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0 {
+        return None;
+    }
+    Some((
+        DVec3::new(m[3][0], m[3][1], m[3][2]),
+        DVec3::new(m[0][0], m[0][1], m[0][2]),
+        DVec3::new(m[1][0], m[1][1], m[1][2]),
+    ))
+}
+
 /// The point of `surface` at `(u, v)` alone: B-spline and NURBS patches without their
 /// derivatives (several times cheaper at high degree), bit for bit [`eval_surface`]'s point;
 /// other kinds through [`eval_surface`].
