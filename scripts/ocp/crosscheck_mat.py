@@ -12,8 +12,9 @@ freely; `skeletal_edges`: its last ball is a vertex of the part, r = 0):
 
   finite             every number of the ball is a number;
   inside             the centre is inside the solid (BRepClass3d_SolidClassifier, retried at
-                     six nearby points where its ray grazes an edge; a ball with r <= tol, a
-                     seam's end at a convex vertex, is exempt);
+                     six nearby points where its ray grazes an edge; ON within the file's
+                     gap, below; a ball with r <= tol, a seam's end at a convex vertex, is
+                     exempt);
   distance           its distance to the boundary shells (BRepExtrema_DistShapeShape) is r;
   touch_on_boundary  each reported touch point is on the boundary,
   touch_at_radius    and at distance r from the centre;
@@ -65,7 +66,9 @@ The file's own gaps: where an exporter wrote a face's edges off its surface (the
 neighbouring face), the boundary there is defined only to that gap. An error of `distance`,
 `touch_on_boundary` or `touch_at_radius` beyond the tolerance passes when it is within the
 tolerance plus the largest gap of the faces near the point (within the error, and r for the
-centre): a face's gap is measured here, as the largest distance from its surface
+centre); a centre that OCCT's classifier puts ON the boundary (its tolerance there widened to
+the gap by the reader) passes `inside` when it is no farther than that gap plus the
+tolerance from the boundary. A face's gap is measured here, as the largest distance from its surface
 (GeomAPI_ProjectPointOnSurf) of 17 points along each of its edges' 3D curves. Such passes are
 counted (`held_to_gap`). For `separated`, a touch point on no face within the tolerance but
 within such a gap is on the faces next to the one nearest it on whose surfaces it lies.
@@ -200,6 +203,7 @@ class Part:
         self.faces = ShapeMap()
         TopExp.MapShapes_s(self.shape, TopAbs_FACE, self.faces)
         self.gaps = {}
+        self.max_gap = None
         self.face_boxes = []
         for i in range(1, self.faces.Extent() + 1):
             b = Bnd_Box()
@@ -294,6 +298,24 @@ class Part:
     def gap_near(self, p, reach, solid=None):
         """The largest gap of the faces within `reach` of `p`."""
         return max((self.face_gap(i) for i in self.faces_within(p, reach, solid)), default=0.0)
+
+    def largest_gap(self):
+        """The largest gap of any face."""
+        if self.max_gap is None:
+            self.max_gap = max((self.face_gap(i) for i in range(1, self.faces.Extent() + 1)),
+                               default=0.0)
+        return self.max_gap
+
+    def gap_within_reach(self, p, reach, solid=None):
+        """The largest gap (above 0) of the faces no farther from `p` than `reach` plus their
+        own gap: a face's surface may lie that far from its edges, and from the points near
+        them; 0 when there is none."""
+        g = self.largest_gap()
+        if g <= 0.0:
+            return 0.0
+        return max((self.face_gap(i) for i, d in self.face_distances(p, reach + g, solid)
+                    if self.face_gap(i) > 0.0 and d.Value() <= reach + self.face_gap(i)),
+                   default=0.0)
 
     def neighbours(self, i):
         """Face i and the faces sharing an edge with it (indices from 1)."""
@@ -510,6 +532,19 @@ class Checks:
         self.held_to_gap += ok
         return ok
 
+    def inside(self, part, p, clearance, solid):
+        """The classifier says IN, or ON where p is no farther from the boundary than the
+        file's gap near it: OCCT's reader widens a gap face's tolerance to its gap, and its
+        classifier answers ON for every point within it, inside or out."""
+        if part.inside(p, clearance):
+            return True
+        if part.state(p) != TopAbs_ON:
+            return False
+        gap = part.gap_within_reach(p, clearance + self.tol, solid)
+        ok = gap > self.tol and clearance <= gap + self.tol
+        self.held_to_gap += ok
+        return ok
+
     def record(self, check, passed, what):
         self.checked[check] = self.checked.get(check, 0) + 1
         if not passed:
@@ -551,7 +586,7 @@ def check_ball(part, checks, touched, what, centre, r, touch, need, unresolved=N
     k = part.ball_solid(centre, r)
     d, _ = part.nearest(centre, k)
     if not point_ball:
-        checks.record("inside", part.inside(centre, min(d, r)),
+        checks.record("inside", checks.inside(part, centre, min(d, r), k),
                       lambda: f"{what}: centre {centre} not inside the solid")
     checks.record("distance", checks.within(part, abs(d - r), centre, r, k),
                   lambda: f"{what}: distance to boundary {d:.9g}, r = {r:.9g}")
@@ -590,7 +625,8 @@ def check_mesh_vertex(part, checks, what, p):
         return
     k = part.solids_holding(p)[0]
     r, sols = part.nearest(p, k)
-    checks.record("inside", part.inside(p, r), lambda: f"{what}: {p} not inside the solid")
+    checks.record("inside", checks.inside(part, p, r, k),
+                  lambda: f"{what}: {p} not inside the solid")
     if not sols:
         checks.record("mesh_contacts", False, lambda: f"{what}: no nearest boundary point")
         return

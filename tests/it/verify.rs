@@ -653,6 +653,77 @@ fn touch_points_near_a_files_gap_are_held_to_the_gap_and_no_more() {
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 
+/// OCCT's reader widens the tolerance of a gap face's edges to the gap, and its classifier
+/// answers ON for every point that near them, inside or out. The cross-check takes such a
+/// centre as inside when it is no farther from the boundary than the gap near it (plus the
+/// accuracy), and no other: `samples/trace/roof_off_its_ridge`'s roof has edges 3e-4 mm off
+/// it. A ball centred 2e-4 mm inside its edge on the end wall x = 40 passes `inside`; one
+/// 1e-3 mm outside that edge fails it (OCCT says OUT), and so does one on the boundary of
+/// `samples/trace/shallow_roof`, which has no gap (ON, to OCCT's own precision).
+#[test]
+fn a_centre_on_the_boundary_is_inside_within_the_files_gap_and_no_more() {
+    if !require(
+        "verify::a_centre_on_the_boundary_is_inside_within_the_files_gap_and_no_more",
+        &[Tool::Occt],
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let part = |name: &str| sample(&format!("trace/{name}.step"));
+    // The middle point of the seam of the bottom, the end wall and the roof, replaced by a
+    // ball centred at `c` of radius `r` touching the wall and the roof.
+    let with_ball = |report: &Value, c: [f64; 3], r: f64| -> Value {
+        let mut out = report.clone();
+        let seams = out["mat"]["seams"].as_array_mut().unwrap();
+        let s = seams
+            .iter_mut()
+            .find(|s| s["segments"] == json!(["F0", "F1", "F2"]))
+            .expect("the seam of F0, F1 and F2");
+        let k = s["points"].as_array().unwrap().len() / 2;
+        let wall = [c[0] + r, c[1], c[2]];
+        let roof = [c[0], c[1], c[2] + r];
+        s["points"][k] = json!({"point": [c[0], c[1], c[2], r], "touch": [wall, roof, roof]});
+        out
+    };
+    let gap = genuine("trace/roof_off_its_ridge.step", dir.path());
+    let clean = genuine("trace/shallow_roof.step", dir.path());
+    let mut problems = vec![];
+    for (name, report, stem, must_pass) in [
+        (
+            "inside within the gap",
+            with_ball(&gap, [40.0 - 2e-4, 15.0, 10.0 - 2e-4], 2e-4),
+            "roof_off_its_ridge",
+            true,
+        ),
+        (
+            "outside beyond the gap",
+            with_ball(&gap, [40.0 + 1e-3, 15.0, 10.0 - 2e-4], 2e-4),
+            "roof_off_its_ridge",
+            false,
+        ),
+        (
+            "on the boundary, no gap",
+            with_ball(&clean, [40.0, 15.0, 10.0 - 2e-4], 2e-4),
+            "shallow_roof",
+            false,
+        ),
+    ] {
+        let path = write(dir.path(), &name.replace([' ', ','], "_"), &report);
+        let (code, failed) = occt(&part(stem), &path);
+        println!("OCCT {name}: exit {code}, failed {failed:?}");
+        let rejected = failed.iter().any(|f| f == "inside");
+        if must_pass && rejected {
+            problems.push(format!("OCCT puts the centre {name} outside"));
+        }
+        if !must_pass && (code != 1 || !rejected) {
+            problems.push(format!(
+                "OCCT puts the centre {name} inside: exit {code}, {failed:?}"
+            ));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
 /// Faces touched at no listed touch point. A thin tube closed by a hemispherical shell
 /// (`samples/trace/test_tube`): its one seam, round the open end, touches the annulus, the
 /// wall and the bore; the hemispheres, joined to the wall and the bore across smooth edges,
