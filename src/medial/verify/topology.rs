@@ -186,7 +186,9 @@ pub(super) fn check_elements(model: &Model, axis: &MedialAxis, v: &mut Verificat
 }
 
 /// True when end `k` of seam `s`, a pinch of `segments` at vertex `vertex`, has the touch
-/// points on those two elements at the vertex, to the accuracy.
+/// points on those two elements at the vertex, to the accuracy. An element may hold two of
+/// the end's touch points (a seam of an edge and a face touched twice, pinched where the edge
+/// meets the face): any touch point on each will do.
 fn pinch_at_vertex(
     model: &Model,
     s: &Seam,
@@ -199,21 +201,14 @@ fn pinch_at_vertex(
     let (Some(point), Some(at)) = (point, model.vertices.get(vertex)) else {
         return false;
     };
-    let slot_of = |e: &Element, not: Option<usize>| {
-        (0..elements.len()).find(|&i| elements[i] == *e && Some(i) != not)
-    };
-    let Some(a) = slot_of(&segments[0], None) else {
-        return false;
-    };
-    let Some(b) = slot_of(&segments[1], Some(a)) else {
-        return false;
-    };
-    [a, b].iter().all(|&i| {
+    let there = |i: usize| {
         point
             .touch
             .get(i)
             .is_some_and(|t| DVec3::from_array(*t).distance(at.point) <= accuracy)
-    })
+    };
+    let slots = |e: Element| (0..elements.len()).filter(move |&i| elements[i] == e);
+    slots(segments[0]).any(|a| there(a) && slots(segments[1]).any(|b| b != a && there(b)))
 }
 
 /// Checks the graph of `axis` into `v`: proper seam ends, junctions with their seams, the
@@ -711,5 +706,63 @@ fn check_convex_vertices(
                 format!("convex vertex V{k} ends no seam")
             });
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::medial::axis::SeamPoint;
+    use crate::testing::sample;
+
+    /// A seam ending in a pinch at vertex 0 of the box, its last touch points `touch` on the
+    /// elements `at_end`.
+    fn pinched(at_end: Vec<Element>, touch: Vec<[f64; 3]>, segments: [Element; 2]) -> Seam {
+        Seam {
+            id: 0,
+            solid: 0,
+            segments: at_end.clone(),
+            ends: [
+                SeamEnd::Closed,
+                SeamEnd::Pinch {
+                    segments,
+                    vertex: 0,
+                },
+            ],
+            end_segments: at_end,
+            points: vec![SeamPoint {
+                point: [1.0, 1.0, 1.0, 1.0],
+                touch,
+            }],
+            handovers: vec![],
+            unresolved: vec![],
+            trace_seconds: 0.0,
+        }
+    }
+
+    /// The pinch's two elements may each hold more than one touch point: the one at the
+    /// vertex counts, whichever slot it is in; a pinch whose touch points on one of its
+    /// elements are all away from the vertex is refused.
+    #[test]
+    fn a_pinch_is_at_its_vertex_whichever_slot_holds_the_touch_point_there() {
+        let model = sample("box.step");
+        let v = model.vertices[0].point.to_array();
+        let away = [v[0] + 1.0, v[1] + 1.0, v[2] + 1.0];
+        let (e, f) = (Element::Edge(0), Element::Face(0));
+        let check = |s: &Seam| pinch_at_vertex(&model, s, 1, &[e, f], 0, 1e-6);
+        // The face twice, its first slot away from the vertex (as a seam of an edge and a
+        // face touched twice, where the edge meets that face).
+        assert!(check(&pinched(vec![e, f, f], vec![v, away, v], [e, f])));
+        assert!(check(&pinched(vec![e, f, f], vec![v, v, away], [e, f])));
+        assert!(check(&pinched(vec![f, e, f], vec![away, v, v], [e, f])));
+        // Neither of the face's touch points at the vertex, or the edge's not.
+        assert!(!check(&pinched(vec![e, f, f], vec![v, away, away], [e, f])));
+        assert!(!check(&pinched(vec![e, f, f], vec![away, v, v], [e, f])));
+        // One touch point cannot stand for both elements.
+        assert!(!check(&pinched(
+            vec![e, f, Element::Face(1)],
+            vec![v, away, v],
+            [e, f]
+        )));
     }
 }
