@@ -30,7 +30,10 @@ freely; `skeletal_edges`: its last ball is a vertex of the part, r = 0):
                      marked `unresolved`, needs one place fewer, where every two touch points
                      closer than that lie on different faces that share a vertex (a shallow
                      crease, a sliver face) and not on the same faces, or on one face of a seam
-                     that ends at a curvature limit or a pinch. Exempt: r <= tol.
+                     that ends at a curvature limit or a pinch; one place, where the seam ends
+                     at a convex vertex and each touch point lies on a face of that vertex, no
+                     two on the same (the touch points converge on it faster than the
+                     separation where its faces meet at shallow angles). Exempt: r <= tol.
 
 With --mesh, K distinct vertices of the sheet mesh (default 200, spread over the file) are checked too:
 `inside`, and `mesh_contacts` -- the ball of radius r = distance to the boundary has a second
@@ -298,6 +301,18 @@ class Part:
     def gap_near(self, p, reach, solid=None):
         """The largest gap of the faces within `reach` of `p`."""
         return max((self.face_gap(i) for i in self.faces_within(p, reach, solid)), default=0.0)
+
+    def vertex_at(self, p, tol):
+        """The vertex (index from 1) within `tol` of p, or None."""
+        best = min(range(len(self.vertex_points)), key=lambda i: dist3(self.vertex_points[i], p),
+                   default=None)
+        if best is None or dist3(self.vertex_points[best], p) > tol:
+            return None
+        return best + 1
+
+    def vertex_face_set(self, v):
+        """The faces (indices from 1) of vertex v (index from 1)."""
+        return {self.faces.FindIndex(f) for f in self.vertex_faces.FindFromIndex(v)}
 
     def largest_gap(self):
         """The largest gap of any face."""
@@ -574,9 +589,19 @@ def shortfall_explained(part, touch, faces, s, same_ok):
     return True
 
 
+def distinct_faces(faces, allowed, used=()):
+    """True when each touch point can be given a face of its own among those it lies on
+    (faces[i]) that is in `allowed`, no face given twice."""
+    if not faces:
+        return True
+    return any(distinct_faces(faces[1:], allowed, used + (f,))
+               for f in faces[0] if f in allowed and f not in used)
+
+
 def check_ball(part, checks, touched, what, centre, r, touch, need, unresolved=None):
     """unresolved: for a ball the report marks unresolved, (places it needs then, whether one
-    face may hold two touch points closer than the separation)."""
+    face may hold two touch points closer than the separation, the part's vertices (indices
+    from 1) at the seam's ends at convex vertices)."""
     tol = checks.tol
     ok = finite(centre, r, touch)
     checks.record("finite", ok, lambda: f"{what}: a number is not finite")
@@ -602,7 +627,7 @@ def check_ball(part, checks, touched, what, centre, r, touch, need, unresolved=N
         # On no face, within a gap of the file's: on the faces next to the nearest whose
         # surfaces it lies on (the corner of two surfaces, off the trim of one).
         if dt > tol and unresolved is not None and part.gap_near(t, dt + tol, k) > tol:
-            on = {g for f in on for g in part.neighbours(f) if part.on_surface(g, t, tol)}
+            on = {g for f in on for g in part.neighbours(f) if part.on_surface(g, t, tol)} or on
         faces.append(on)
         dc = dist3(t, centre)
         checks.record("touch_at_radius", checks.within(part, abs(dc - r), t, 0.0, k),
@@ -611,9 +636,12 @@ def check_ball(part, checks, touched, what, centre, r, touch, need, unresolved=N
         s = separation(r, tol)
         n = places(touch, s)
         # A ball marked unresolved may touch one place fewer, where its touch points closer
-        # than the separation are on faces that meet.
-        ok = n >= need or (unresolved is not None and n >= unresolved[0]
-                           and shortfall_explained(part, touch, faces, s, unresolved[1]))
+        # than the separation are on faces that meet; in the corner of a convex vertex its seam
+        # ends at (each touch point on a face of that vertex, no two on the same), one place.
+        in_corner = unresolved is not None and any(
+            distinct_faces(faces, part.vertex_face_set(v)) for v in unresolved[2])
+        ok = n >= need or in_corner or (unresolved is not None and n >= unresolved[0]
+                                        and shortfall_explained(part, touch, faces, s, unresolved[1]))
         checks.record("separated", ok,
                       lambda: f"{what}: touches {n} separate places (farther apart than {s:.3g} mm), needs {need}")
 
@@ -1064,7 +1092,7 @@ def main():
     touched = set()
     for j in mat.get("junctions", []):
         check_ball(part, checks, touched, f"junction {j['id']}", j["point"], j["radius"], j["touch"],
-                   JUNCTION_PLACES, (JUNCTION_PLACES - 1, False) if j.get("unresolved") else None)
+                   JUNCTION_PLACES, (JUNCTION_PLACES - 1, False, []) if j.get("unresolved") else None)
     for i, d in enumerate(mat.get("degenerate", [])):
         touch = d.get("touch", [])
         ends = d.get("ends", [])
@@ -1092,7 +1120,12 @@ def main():
                 check_pinch(part, checks, f"seam {s['id']} point {k}", p["touch"], tol)
             at_limit = any(isinstance(e, dict) and ("curvature_limit" in e or "pinch" in e)
                            for e in s["ends"])
-            unresolved = (CURVATURE_END_PLACES, at_limit) if k in s.get("unresolved", []) else None
+            # The part's vertices at the seam's ends at convex vertices (its end balls there).
+            corners = [v for end, q in zip(s["ends"], (pts[0], pts[-1]))
+                       if isinstance(end, dict) and "vertex" in end
+                       for v in [part.vertex_at(q["point"][:3], tol)] if v is not None]
+            unresolved = ((CURVATURE_END_PLACES, at_limit, corners)
+                          if k in s.get("unresolved", []) else None)
             check_ball(part, checks, touched, f"seam {s['id']} point {k}", p["point"][:3], p["point"][3],
                        p["touch"], need, unresolved)
     check_graph(mat, checks, touched, part)

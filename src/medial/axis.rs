@@ -273,7 +273,8 @@ pub struct Seam {
     /// The points whose touch points make fewer separate places than a seam point needs at
     /// the accuracy (see [`crate::medial::verify::unresolved_points`]): exact seam points whose
     /// third contact the accuracy cannot tell from another (a shallow crease, a sliver face,
-    /// a face near its curvature limit). Verification holds them to two places.
+    /// a face near its curvature limit). Verification holds them to two places (one in the
+    /// corner of a convex vertex the seam ends at).
     #[serde(default)]
     pub unresolved: Vec<usize>,
     /// How long the tracer took over this seam (s): not part of the medial axis, so not in

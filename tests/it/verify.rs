@@ -368,6 +368,58 @@ impl Tampered {
     }
 }
 
+/// A seam point in the corner of the convex vertex its seam ends at, where the touch
+/// points converge on the vertex faster than the separation `√(8·r·a)` does: the box's
+/// corner at the origin, a ball of r = 2.5·a centred at (r, r, r) touching its three faces
+/// (one place by the separation, marked unresolved), passes both checkers, as the ball of
+/// r = 0 at the vertex does; the same ball with its three touch points on the bottom alone
+/// (a face of that vertex, but no three faces of their own) fails `separated` in both.
+#[test]
+fn a_ball_in_the_corner_of_its_seams_convex_vertex_may_touch_one_place() {
+    let t = Tampered::new(
+        "box.step",
+        "verify::a_ball_in_the_corner_of_its_seams_convex_vertex_may_touch_one_place",
+    );
+    let a = t.genuine["options"]["accuracy"].as_f64().unwrap();
+    let r = 2.5 * a;
+    // The seam ending at the origin's vertex, and the index of its point next to that end.
+    let corner = |report: &Value| -> (usize, usize) {
+        let seams = report["mat"]["seams"].as_array().unwrap();
+        let at_origin = |p: &Value| (0..3).all(|c| p["point"][c].as_f64().unwrap().abs() < 1e-9);
+        seams
+            .iter()
+            .enumerate()
+            .find_map(|(i, s)| {
+                let pts = s["points"].as_array().unwrap();
+                if at_origin(&pts[0]) {
+                    Some((i, 1))
+                } else if at_origin(&pts[pts.len() - 1]) {
+                    Some((i, pts.len() - 2))
+                } else {
+                    None
+                }
+            })
+            .expect("a seam ending at the origin")
+    };
+    let with_ball = |touch: Value| -> Value {
+        let mut out = t.genuine.clone();
+        let (i, k) = corner(&out);
+        let s = &mut out["mat"]["seams"][i];
+        s["points"][k] = json!({"point": [r, r, r, r], "touch": touch});
+        s["unresolved"] = json!([k]);
+        out
+    };
+    let in_corner = with_ball(json!([[0.0, r, r], [r, 0.0, r], [r, r, 0.0]]));
+    let path = write(t.dir.path(), "in_the_corner", &in_corner);
+    assert_eq!(verify(&t.part, &path), (0, vec![]), "in the corner");
+    if t.occt_present {
+        assert_eq!(occt(&t.part, &path), (0, vec![]), "in the corner, OCCT");
+    }
+    let d = 0.2 * a;
+    let on_one_face = with_ball(json!([[r, r, 0.0], [r + d, r, 0.0], [r, r + d, 0.0]]));
+    t.both_fail("on_one_face", &on_one_face, &["separated"]);
+}
+
 /// The skeletal edges below a box standing on a plate: the genuine report passes both
 /// checkers with its Euler characteristic counted; one edge removed leaves that sheet's
 /// boundary open at its vertex (`sheets_closed`, and the count withheld); one turned to run up

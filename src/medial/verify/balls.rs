@@ -119,6 +119,30 @@ fn shortfall_explained(
     })
 }
 
+/// True when each touch point can be given a face of its own among those it lies on
+/// (`faces[i]`) for which `allowed` holds, no face given twice.
+fn distinct_faces(faces: &[Vec<usize>], allowed: &dyn Fn(usize) -> bool) -> bool {
+    fn assign(
+        faces: &[Vec<usize>],
+        used: &mut Vec<usize>,
+        allowed: &dyn Fn(usize) -> bool,
+    ) -> bool {
+        let Some((first, rest)) = faces.split_first() else {
+            return true;
+        };
+        first.iter().any(|&f| {
+            if used.contains(&f) || !allowed(f) {
+                return false;
+            }
+            used.push(f);
+            let ok = assign(rest, used, allowed);
+            used.pop();
+            ok
+        })
+    }
+    assign(faces, &mut Vec::with_capacity(faces.len()), allowed)
+}
+
 /// True when junction `j`'s touch points make fewer than [`JUNCTION_PLACES`] separate places
 /// at the accuracy (`r > a`; with [`UNRESOLVED_MARGIN`]).
 pub fn junction_unresolved(j: &Junction, accuracy: f64) -> bool {
@@ -140,6 +164,9 @@ struct Ball<'a> {
     /// For a ball marked unresolved: the places it needs then (one fewer than `places`), and
     /// the faces on which one face may hold two touch points closer than the separation.
     unresolved: Option<(usize, &'a dyn Fn(usize) -> bool)>,
+    /// The convex vertices the seam of a seam point ends at: in such a vertex's corner (every
+    /// touch point on a face of it) a ball marked unresolved may make one place.
+    corners: &'a [usize],
 }
 
 /// Checks every seam point, junction, skeletal-edge ball and degenerate ball of `axis`.
@@ -173,6 +200,14 @@ pub(super) fn check_balls(
                 _ => false,
             })
         };
+        let corners: Vec<usize> = s
+            .ends
+            .iter()
+            .filter_map(|e| match e {
+                SeamEnd::Vertex(c) => Some(*c),
+                _ => None,
+            })
+            .collect();
         for (k, p) in s.points.iter().enumerate() {
             let at = || format!("seam {} point {k}", s.id);
             let ball = Ball {
@@ -186,6 +221,7 @@ pub(super) fn check_balls(
                     .unresolved
                     .contains(&k)
                     .then_some((CURVATURE_END_PLACES, &at_limit as &dyn Fn(usize) -> bool)),
+                corners: &corners,
             };
             checker.check(&ball, v);
         }
@@ -203,6 +239,7 @@ pub(super) fn check_balls(
             unresolved: j
                 .unresolved
                 .then_some((JUNCTION_PLACES - 1, &never as &dyn Fn(usize) -> bool)),
+            corners: &[],
         };
         checker.check(&ball, v);
     }
@@ -219,6 +256,7 @@ pub(super) fn check_balls(
                 touch: &touch,
                 places: SKELETAL_PLACES,
                 unresolved: None,
+                corners: &[],
             };
             checker.check(&ball, v);
         }
@@ -245,6 +283,7 @@ pub(super) fn check_balls(
                     DEGENERATE_PLACES
                 },
                 unresolved: None,
+                corners: &[],
             };
             checker.check(&ball, v);
         }
@@ -417,15 +456,23 @@ impl Checker<'_> {
             let n = places(&touch, s);
             // A ball marked unresolved may touch one place fewer, where its touch points
             // closer than the separation are on elements that meet (or on a face at the
-            // seam's curvature limit).
+            // seam's curvature limit). In the corner of the convex vertex its seam ends at,
+            // each touch point on a face of that vertex and no two on the same one, it may
+            // touch one place: there the touch points converge on the vertex, as the radius
+            // does on 0, faster than the separation `√(8·r·a)` does where the faces meet at
+            // shallow angles (the ball of r = 0 at the vertex is exempt for the same reason).
             let unresolved_ok = ball.unresolved.is_some_and(|(fewer, same_ok)| {
-                n >= fewer && {
-                    let faces: Vec<Vec<usize>> = touch
-                        .iter()
-                        .map(|t| self.faces_near(ball.solid, *t))
-                        .collect();
-                    shortfall_explained(self.model, &touch, &faces, s, same_ok)
-                }
+                let faces: Vec<Vec<usize>> = touch
+                    .iter()
+                    .map(|t| self.faces_near(ball.solid, *t))
+                    .collect();
+                let in_corner = ball.corners.iter().any(|&c| {
+                    distinct_faces(&faces, &|f| {
+                        Element::Face(f).vertices(self.model).contains(&c)
+                    })
+                });
+                in_corner
+                    || (n >= fewer && shortfall_explained(self.model, &touch, &faces, s, same_ok))
             });
             v.record("separated", n >= ball.places || unresolved_ok, || {
                 let why = match ball.unresolved {
