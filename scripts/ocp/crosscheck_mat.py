@@ -304,6 +304,8 @@ class Part:
 
     def vertex_at(self, p, tol):
         """The vertex (index from 1) within `tol` of p, or None."""
+        if not finite(p):
+            return None
         best = min(range(len(self.vertex_points)), key=lambda i: dist3(self.vertex_points[i], p),
                    default=None)
         if best is None or dist3(self.vertex_points[best], p) > tol:
@@ -1109,6 +1111,12 @@ def main():
     for s in mat.get("seams", []):
         pts = s["points"]
         picks = sorted(set(list(range(0, len(pts), max(1, a.every))) + [len(pts) - 1]))
+        at_limit = any(isinstance(e, dict) and ("curvature_limit" in e or "pinch" in e)
+                       for e in s["ends"])
+        # The part's vertices at the seam's ends at convex vertices (its end balls there).
+        corners = [v for end, q in zip(s["ends"], (pts[0], pts[-1]) if pts else ())
+                   if isinstance(end, dict) and "vertex" in end
+                   for v in [part.vertex_at(q["point"][:3], tol)] if v is not None]
         for k in picks:
             p = pts[k]
             end = s["ends"][0] if k == 0 else s["ends"][1] if k == len(pts) - 1 else None
@@ -1118,12 +1126,6 @@ def main():
             elif isinstance(end, dict) and "pinch" in end:
                 need = PINCH_END_PLACES
                 check_pinch(part, checks, f"seam {s['id']} point {k}", p["touch"], tol)
-            at_limit = any(isinstance(e, dict) and ("curvature_limit" in e or "pinch" in e)
-                           for e in s["ends"])
-            # The part's vertices at the seam's ends at convex vertices (its end balls there).
-            corners = [v for end, q in zip(s["ends"], (pts[0], pts[-1]))
-                       if isinstance(end, dict) and "vertex" in end
-                       for v in [part.vertex_at(q["point"][:3], tol)] if v is not None]
             unresolved = ((CURVATURE_END_PLACES, at_limit, corners)
                           if k in s.get("unresolved", []) else None)
             check_ball(part, checks, touched, f"seam {s['id']} point {k}", p["point"][:3], p["point"][3],
