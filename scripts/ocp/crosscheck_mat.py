@@ -640,10 +640,9 @@ def check_ball(part, checks, touched, what, centre, r, touch, need, unresolved=N
         # A ball marked unresolved may touch one place fewer, where its touch points closer
         # than the separation are on faces that meet; in the corner of a convex vertex its seam
         # ends at (each touch point on a face of that vertex, no two on the same), one place.
-        in_corner = unresolved is not None and any(
-            distinct_faces(faces, part.vertex_face_set(v)) for v in unresolved[2])
-        ok = n >= need or in_corner or (unresolved is not None and n >= unresolved[0]
-                                        and shortfall_explained(part, touch, faces, s, unresolved[1]))
+        ok = n >= need or unresolved is not None and (
+            any(distinct_faces(faces, part.vertex_face_set(v)) for v in unresolved[2])
+            or n >= unresolved[0] and shortfall_explained(part, touch, faces, s, unresolved[1]))
         checks.record("separated", ok,
                       lambda: f"{what}: touches {n} separate places (farther apart than {s:.3g} mm), needs {need}")
 

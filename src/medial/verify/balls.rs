@@ -461,20 +461,22 @@ impl Checker<'_> {
             // touch one place: there the touch points converge on the vertex, as the radius
             // does on 0, faster than the separation `√(8·r·a)` does where the faces meet at
             // shallow angles (the ball of r = 0 at the vertex is exempt for the same reason).
-            let unresolved_ok = ball.unresolved.is_some_and(|(fewer, same_ok)| {
-                let faces: Vec<Vec<usize>> = touch
-                    .iter()
-                    .map(|t| self.faces_near(ball.solid, *t))
-                    .collect();
-                let in_corner = ball.corners.iter().any(|&c| {
-                    distinct_faces(&faces, &|f| {
-                        Element::Face(f).vertices(self.model).contains(&c)
-                    })
+            let ok = n >= ball.places
+                || ball.unresolved.is_some_and(|(fewer, same_ok)| {
+                    let faces: Vec<Vec<usize>> = touch
+                        .iter()
+                        .map(|t| self.faces_near(ball.solid, *t))
+                        .collect();
+                    let in_corner = ball.corners.iter().any(|&c| {
+                        distinct_faces(&faces, &|f| {
+                            Element::Face(f).vertices(self.model).contains(&c)
+                        })
+                    });
+                    in_corner
+                        || (n >= fewer
+                            && shortfall_explained(self.model, &touch, &faces, s, same_ok))
                 });
-                in_corner
-                    || (n >= fewer && shortfall_explained(self.model, &touch, &faces, s, same_ok))
-            });
-            v.record("separated", n >= ball.places || unresolved_ok, || {
+            v.record("separated", ok, || {
                 let why = match ball.unresolved {
                     Some((fewer, _)) if n < fewer => "",
                     Some(_) => {
