@@ -46,7 +46,10 @@ shelf faces' corners), and the same shelf flush with the back wall (a seam that 
 junctions along the shelf faces' edges), and an '8' embossed 3 µm high (a seam round a stroke
 whose long step jumps past a kinked join), and an 'O' embossed likewise (a junction at the
 outline's kink just before a hand-over across the stroke), and a pin's chamfered seat beside two
-shelves (a hyperbola edge's curvature limit just before a hand-over onto a shelf's edge).
+shelves (a hyperbola edge's curvature limit just before a hand-over onto a shelf's edge), and
+a fin whose tip is a plane and a cylinder folded onto each other (interior angle 0) and the
+same sliver cut into a block as a crack (360), each turned so that rounding classified it the
+other way.
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -1632,6 +1635,62 @@ def socket_between_shelves():
     shelves = Part.makeBox(0.2, 2.0, 1.0 - 0.421, V(0.8, -1.0, 0.421)).fuse(
         Part.makeBox(0.2, 2.0, 1.0 - 0.422, V(-1.0, -1.0, 0.422)))
     return block.fuse(shelves).removeSplitter().cut(seat.cut(cone))
+
+def fold_profile(crack):
+    """The profile (z = 0) of a fold: the sliver between the line y = 0 and an arc R 20 tangent
+    to it at the origin, out to x = 10 (0.28 high there); with `crack`, a square 20x20 about
+    the origin with that sliver cut in from its right side."""
+    r, a = 20.0, 10.0
+
+    def arc_y(x):
+        return r - math.sqrt(r * r - x * x)
+    tip, foot, top = V(0, 0, 0), V(a, 0, 0), V(a, arc_y(a), 0)
+    arc = Part.Arc(top, V(a / 2, arc_y(a / 2), 0), tip).toShape()
+    if not crack:
+        return Part.Wire([Part.LineSegment(tip, foot).toShape(),
+                          Part.LineSegment(foot, top).toShape(), arc])
+    corners = [V(a, a, 0), V(-a, a, 0), V(-a, -a, 0), V(a, -a, 0)]
+    path = [top] + corners + [foot, tip]
+    return Part.Wire([Part.LineSegment(path[i], path[i + 1]).toShape()
+                      for i in range(len(path) - 1)] + [arc.reversed()])
+
+
+# The sliver's area: the rectangle 10 x 20 less the circle's area between x = 0 and 10
+# under its arc's far side.
+FOLD_SLIVER_AREA = 20.0 * 10.0 - (5.0 * math.sqrt(300.0) + 200.0 * math.asin(0.5))
+
+
+def folded(crack, axis, degrees):
+    """The fold's profile extruded 5 along z, turned about `axis`: axis-aligned, the faces'
+    normals at the fold are exactly opposite and the classifier's first-order test happened
+    to fall the right way; turned so, it fell the wrong way."""
+    solid = Part.Face(fold_profile(crack)).extrude(V(0, 0, 5))
+    solid.rotate(V(0, 0, 0), axis, degrees)
+    return solid
+
+
+@part("fin_folded_to_its_tip",
+      "A fin 5 deep whose profile is the sliver between the line y = 0 and an arc R 20 "
+      "tangent to it at the origin, out to x = 10, turned 11 degrees about y: its tip is an "
+      "edge where a plane and a cylinder fold back onto each other (interior angle 0), as "
+      "each lead of FreeCAD's IDF library's MSOP-10 has one.",
+      5 * FOLD_SLIVER_AREA, "The tip edge is convex with an interior angle of 0 degrees (a fin of no "
+      "thickness), not 360: the classifier decides by the faces' second-order separation. "
+      "The medial axis is the fin's mid-surface sheet, bounded by the seams of the "
+      "corner triplets at the ends; the balls shrink to nothing at the tip edge.")
+def fin_folded_to_its_tip():
+    return folded(False, V(0, 1, 0), 11)
+
+
+@part("crack_folded_to_its_bottom",
+      "A square block 20x20x5 about the origin with the sliver of fin_folded_to_its_tip "
+      "cut in from its right side, turned 37 degrees about z: the crack's bottom is an edge "
+      "where a plane and a cylinder fold back onto each other (interior angle 360).",
+      20 * 20 * 5 - 5 * FOLD_SLIVER_AREA, "The crack's bottom edge is reflex with an interior angle of 360 degrees (a cusp "
+      "of no width), not 0; points past it are inside the solid.")
+def crack_folded_to_its_bottom():
+    return folded(True, V(0, 0, 1), 37)
+
 
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))

@@ -13,7 +13,9 @@
 //!
 //! Points within [`ON_BOUNDARY_REL_DIAGONAL`](super::ON_BOUNDARY_REL_DIAGONAL) × the model's
 //! diagonal of the boundary are inside (the solid is closed). A knife edge (two faces meeting
-//! at 180° with opposite normals) has a zero pseudo-normal and reads as outside; non-manifold
+//! at 180° with opposite normals, a fold) has a zero pseudo-normal: past it is inside where the
+//! fold is a cusp (interior angle 360°) and outside where it is a fin (0°), by the
+//! classifier's second-order test ([`crate::classify::edge_kind_at`]); non-manifold
 //! edges and solids that touch each other are outside the theorem's assumptions.
 
 use super::hit::FaceHit;
@@ -21,6 +23,10 @@ use super::index::Boundary;
 use super::normal::face_normal;
 use crate::model::{Element, Model};
 use glam::DVec3;
+
+/// Below this length the pseudo-normal of an edge (the sum of its faces' unit normals) is
+/// rounding: the faces fold back onto each other there.
+const FOLD_PSEUDO_NORMAL: f64 = 1e-6;
 
 impl Boundary {
     /// True when `p` is inside the material (see the module docs for the method and its
@@ -44,6 +50,15 @@ impl Boundary {
             return true;
         }
         let n = self.pseudo_normal(model, fi, &hit);
+        // At an edge whose faces fold back onto each other the pseudo-normal vanishes: past
+        // the bottom of a cusp (interior angle 360°, a crack of no width) is material, past
+        // the tip of a fin (0°) is not.
+        if let (Element::Edge(e), Some(t)) = (hit.on, hit.t) {
+            if n.length() < FOLD_PSEUDO_NORMAL {
+                let (kind, _) = crate::classify::edge_kind_at(model, e, t, 0.0);
+                return kind == crate::classify::EdgeKind::Reflex;
+            }
+        }
         (p - hit.point).dot(n) < 0.0
     }
 
@@ -234,6 +249,29 @@ mod tests {
 
     /// The same on the real-world corpus (when it is beside the project), against the
     /// volumes OCCT reports in its MANIFEST.md (4–5 significant digits).
+    /// Past the bottom of a crack of no width (a fold of 360°) is material; past the tip of
+    /// a fin of no thickness (0°) is not: the pseudo-normal there is zero, and the edge's
+    /// kind decides. Each point is 0.01 from the fold's edge along the profile's -x, in the
+    /// samples' turned frames.
+    #[test]
+    fn past_a_folds_edge_is_inside_a_crack_and_outside_a_fin() {
+        let d = 0.01;
+        let (s, c) = 37f64.to_radians().sin_cos();
+        assert_inside(
+            "trace/crack_folded_to_its_bottom.step",
+            &[[-d * c, -d * s, 2.5], [-d * c, -d * s, 0.5]],
+            &[],
+        );
+        // Turned 11° about y: (x, z) goes to (x·cos + z·sin, −x·sin + z·cos).
+        let (s, c) = 11f64.to_radians().sin_cos();
+        let at = |x: f64, z: f64| [x * c + z * s, 0.0, -x * s + z * c];
+        assert_inside(
+            "trace/fin_folded_to_its_tip.step",
+            &[at(5.0, 2.5)].map(|p| [p[0], 0.1, p[2]]),
+            &[at(-d, 2.5), at(-d, 0.5)],
+        );
+    }
+
     #[test]
     fn point_in_solid_integrates_to_the_volume_on_real_parts() {
         let Some(dir) = crate::testing::realworld_dir() else {
