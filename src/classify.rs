@@ -17,7 +17,7 @@
 //! a smooth region); three or more → convex if all are convex, reflex if all are reflex,
 //! mixed otherwise (the corners the paper's tracer starts from are the convex ones).
 
-use crate::geom::{eval_surface, project_point, surface_point};
+use crate::geom::{eval_surface, project_point};
 use crate::model::Model;
 use glam::DVec3;
 use truck_geometry::prelude::ParametricCurve;
@@ -162,23 +162,11 @@ pub fn classify(model: &Model, opts: &ClassifyOptions) -> Classification {
     Classification { edges, vertices }
 }
 
-/// Where face `face` uses edge `edge`: the direction of its loop along the edge (`true` =
-/// along the curve), for each use (a seam is used twice).
-fn uses(model: &Model, face: usize, edge: usize) -> Vec<bool> {
-    model.faces[face]
-        .loops
-        .iter()
-        .flat_map(|l| &l.edges)
-        .filter(|oe| oe.edge == edge)
-        .map(|oe| oe.forward)
-        .collect()
-}
-
 /// The kind of edge `e` at curve parameter `t` and the solid's interior angle there
 /// (radians), by the angle tolerance `angle_tol`: what [`classify`] samples along each edge,
 /// and where an edge is mixed, what it is at one point of it.
 pub fn edge_kind_at(model: &Model, e: usize, t: f64, angle_tol: f64) -> (EdgeKind, f64) {
-    let dir1 = uses(model, model.edges[e].faces[0], e)
+    let dir1 = crate::geom::fold::loop_directions(model, model.edges[e].faces[0], e)
         .first()
         .copied()
         .unwrap_or(true);
@@ -224,7 +212,7 @@ fn dihedral(
     // which side face 2 leaves on is second order, and decides.
     let behind =
         if f1 != f2 && theta > std::f64::consts::FRAC_PI_2 && b1.dot(n2).abs() < FOLD_FIRST_ORDER {
-            fold_is_fin(model, e, p, tangent, n1, b1, hints)
+            crate::geom::fold::fold_is_fin(model, e, p, tangent, n1, b1, hints)
         } else {
             None
         };
@@ -238,66 +226,12 @@ fn dihedral(
 }
 
 /// Below this `|b1·n2|` (the sine of the angle by which face 2 leaves face 1's tangent plane)
-/// the sign is rounding, and [`fold_is_fin`] decides.
+/// the sign is rounding, and [`crate::geom::fold::fold_is_fin`] decides.
 const FOLD_FIRST_ORDER: f64 = 1e-7;
-
-/// The distance, relative to the edge's chord, at which [`fold_is_fin`] compares the faces.
-const FOLD_PROBE_REL: f64 = 1e-2;
-
-/// At an edge where the two faces are tangent with opposite normals (`n1`, face 1's outward
-/// normal at `p`; `b1`, the direction into face 1 across the edge), whether face 2 leaves
-/// behind face 1 — on the solid's side of it, a fin of no thickness (interior angle 0) — or
-/// in front of it, a cusp of no width (360): the point a short way into face 1 is projected
-/// onto both surfaces and the two feet compared along `n1` (`tangent`: the edge's direction
-/// at `p`). `None` where the faces do not
-/// leave the edge the same way (a surface continued with its normal flipped) or coincide to
-/// the second order.
-fn fold_is_fin(
-    model: &Model,
-    e: usize,
-    p: DVec3,
-    tangent: DVec3,
-    n1: DVec3,
-    b1: DVec3,
-    hints: &[Option<(f64, f64)>; 2],
-) -> Option<bool> {
-    let edge = &model.edges[e];
-    let (f1, f2) = (edge.faces[0], edge.faces[1]);
-    // Face 2 lies to the left of its own loop's direction along the edge, as face 1 does.
-    let dir2 = uses(model, f2, e).first().copied()?;
-    let face2 = &model.faces[f2];
-    let uv2 = hints[1]?;
-    let s2 = eval_surface(&face2.surface, uv2.0, uv2.1);
-    let raw2 = s2.su.cross(s2.sv).normalize_or_zero();
-    let topo2 = if face2.same_sense { raw2 } else { -raw2 };
-    let travel2 = if dir2 { tangent } else { -tangent };
-    let b2 = topo2.cross(travel2);
-    if b1.dot(b2) < 0.5 {
-        return None;
-    }
-    let at = |t: f64| {
-        let c = edge.curve.subs(t);
-        DVec3::new(c.x, c.y, c.z)
-    };
-    let (c0, cm, c1) = (
-        at(edge.range.0),
-        at(0.5 * (edge.range.0 + edge.range.1)),
-        at(edge.range.1),
-    );
-    let chord = c0.distance(cm) + cm.distance(c1);
-    let m = p + b1 * (FOLD_PROBE_REL * chord);
-    let foot = |f: usize, hint: Option<(f64, f64)>| {
-        let s = &model.faces[f].surface;
-        project_point(s, m, hint).map(|uv| surface_point(s, uv.0, uv.1))
-    };
-    let d = (foot(f2, hints[1])? - foot(f1, hints[0])?).dot(n1);
-    let noise = 1e-9 * (1.0 + p.abs().max_element());
-    (d.abs() > noise).then_some(d < 0.0)
-}
 
 fn classify_edge(model: &Model, e: usize, opts: &ClassifyOptions) -> EdgeClass {
     let edge = &model.edges[e];
-    let dir1 = uses(model, edge.faces[0], e)[0];
+    let dir1 = crate::geom::fold::loop_directions(model, edge.faces[0], e)[0];
     let n = opts.edge_samples.max(1);
     let mut hints: [Option<(f64, f64)>; 2] = [None, None];
     let mut samples = Vec::with_capacity(n);
@@ -370,7 +304,8 @@ pub const FOLD_DEG: f64 = 1e-2;
 /// there is degenerate (the IDF library's MSOP-10: each lead's outline runs up one bend,
 /// 0.011 mm back down a face and up the next bend, a fin and a crack on all ten leads, and 40
 /// seams ended open with nothing said; OCCT's sink sample has one cusp). Which of the two a
-/// fold is, [`dihedral`] decides by the faces' second-order separation ([`fold_is_fin`]).
+/// fold is, [`dihedral`] decides by the faces' second-order separation
+/// ([`crate::geom::fold::fold_is_fin`]).
 pub fn folds(model: &Model, class: &Classification) -> Option<crate::model::ReadWarning> {
     let folded: Vec<usize> = (0..class.edges.len())
         .filter(|&e| {

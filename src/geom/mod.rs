@@ -6,13 +6,14 @@
 //! Everything here works in model units (millimetres) on the truck geometry that
 //! [`crate::model`] carries, correcting truck where it is wrong (B-spline second derivatives).
 //! The modules, lowest first: [`eval`]; `surface` (kind, periods, parameter range),
-//! [`curvature`], `bbox`, [`bvh`]; [`project`]; [`trim`]; [`distance`].
+//! [`curvature`], `bbox`, [`bvh`]; [`project`]; [`fold`]; [`trim`]; [`distance`].
 
 mod bbox;
 pub mod bvh;
 pub mod curvature;
 pub mod distance;
 pub mod eval;
+pub mod fold;
 pub mod project;
 mod surface;
 pub mod trim;

@@ -137,6 +137,10 @@ pub(super) struct EdgeCache {
     pub(super) uv_start: u32,
 }
 
+/// The cosine above which the angle between two faces' normals at their edge makes the edge a
+/// fold (0.1°).
+const FOLD_COS: f64 = 0.999_998_5;
+
 /// The model's boundary prepared for distance queries (see the module docs): built once per
 /// model with [`Boundary::new`], then queried with the same model.
 #[derive(Clone, Debug)]
@@ -154,6 +158,10 @@ pub struct Boundary {
     pub(super) vertex_normals: Vec<DVec3>,
     /// Distance under which a point is on the boundary.
     pub(super) on_boundary: f64,
+    /// The edges whose two faces fold back onto each other (opposite normals at the edge's
+    /// middle), with the faces they bound: where a face's nearest point is on such an edge,
+    /// the point-in-solid test reads the edge's kind, not the face's normal.
+    pub(super) folds: Vec<(usize, [usize; 2])>,
 }
 
 impl Boundary {
@@ -171,6 +179,7 @@ impl Boundary {
             edge_uv: Vec::new(),
             vertex_normals: Vec::new(),
             on_boundary: 0.0,
+            folds: Vec::new(),
         };
         let loop_points: Vec<Vec<(DVec2, DVec3)>> = model.faces.iter().map(loop_points).collect();
         for e in &model.edges {
@@ -195,7 +204,32 @@ impl Boundary {
             ON_BOUNDARY_REL_DIAGONAL * (all.max - all.min).length()
         };
         b.bvh = Bvh::new(&boxes);
+        b.folds = (0..model.edges.len())
+            .filter(|&e| b.is_fold(model, e))
+            .map(|e| (e, [model.edges[e].faces[0], model.edges[e].faces[1]]))
+            .collect();
         b
+    }
+
+    /// True when edge `e`'s faces have opposite normals (to [`FOLD_COS`]) at its middle.
+    fn is_fold(&self, model: &Model, e: usize) -> bool {
+        let edge = &model.edges[e];
+        let (f, g) = match edge.faces[..] {
+            [f, g] => (f, g),
+            _ => return false,
+        };
+        if f == g {
+            return false;
+        }
+        let t = 0.5 * (edge.range.0 + edge.range.1);
+        let x = eval_curve(&edge.curve, t).p;
+        let normal = |fi: usize| {
+            let hint = self.edge_uv_hint(model, e, fi, t);
+            self.normal_at(&model.faces[fi], fi, x, hint)
+        };
+        normal(f)
+            .zip(normal(g))
+            .is_some_and(|(a, b)| a.dot(b) < -FOLD_COS)
     }
 
     fn add_edge(&mut self, model: &Model, e: &Edge, loop_points: &[Vec<(DVec2, DVec3)>]) {

@@ -14,8 +14,8 @@
 //! Points within [`ON_BOUNDARY_REL_DIAGONAL`](super::ON_BOUNDARY_REL_DIAGONAL) × the model's
 //! diagonal of the boundary are inside (the solid is closed). A knife edge (two faces meeting
 //! at 180° with opposite normals, a fold) has a zero pseudo-normal: past it is inside where the
-//! fold is a cusp (interior angle 360°) and outside where it is a fin (0°), by the
-//! classifier's second-order test ([`crate::classify::edge_kind_at`]); non-manifold
+//! fold is a cusp (interior angle 360°) and outside where it is a fin (0°), by the faces'
+//! second-order separation ([`crate::geom::fold`]); non-manifold
 //! edges and solids that touch each other are outside the theorem's assumptions.
 
 use super::hit::FaceHit;
@@ -27,6 +27,10 @@ use glam::DVec3;
 /// Below this length the pseudo-normal of an edge (the sum of its faces' unit normals) is
 /// rounding: the faces fold back onto each other there.
 const FOLD_PSEUDO_NORMAL: f64 = 1e-6;
+
+/// A fold edge as near as a face's nearest point, relative to the distance, is the nearest
+/// point's edge.
+const FOLD_TIE_REL: f64 = 1e-9;
 
 impl Boundary {
     /// True when `p` is inside the material (see the module docs for the method and its
@@ -55,11 +59,37 @@ impl Boundary {
         // the tip of a fin (0°) is not.
         if let (Element::Edge(e), Some(t)) = (hit.on, hit.t) {
             if n.length() < FOLD_PSEUDO_NORMAL {
-                let (kind, _) = crate::classify::edge_kind_at(model, e, t, 0.0);
-                return kind == crate::classify::EdgeKind::Reflex;
+                if let Some(inside) = self.past_fold_is_inside(model, e, t) {
+                    return inside;
+                }
+            }
+        }
+        // A nearest point on a face that is on a fold edge of it (both faces there at the
+        // same distance, the search taking either) is that edge's: the face's normal is the
+        // wrong way for the points past the edge on the other face's side.
+        if let Element::Face(f) = hit.on {
+            for &(e, _) in self.folds.iter().filter(|(_, fs)| fs.contains(&f)) {
+                let (t, _, d) = super::nearest_on_edge(model, e, p, None);
+                if d <= hit.distance + self.on_boundary.max(FOLD_TIE_REL * hit.distance) {
+                    if let Some(inside) = self.past_fold_is_inside(model, e, t) {
+                        return inside;
+                    }
+                }
             }
         }
         (p - hit.point).dot(n) < 0.0
+    }
+
+    /// Whether the points past fold edge `e` at its parameter `t`, whose nearest boundary
+    /// point is there, are material ([`super::super::fold::past_fold_is_material`]); `None`
+    /// where that cannot tell.
+    fn past_fold_is_inside(&self, model: &Model, e: usize, t: f64) -> Option<bool> {
+        let faces = &model.edges[e].faces;
+        let hints = [
+            self.edge_uv_hint(model, e, faces[0], t),
+            self.edge_uv_hint(model, e, faces[1], t),
+        ];
+        crate::geom::fold::past_fold_is_material(model, e, t, hints)
     }
 
     /// Outward (pseudo-)normal of the boundary at a hit (not normalised).
@@ -251,15 +281,24 @@ mod tests {
     /// volumes OCCT reports in its MANIFEST.md (4–5 significant digits).
     /// Past the bottom of a crack of no width (a fold of 360°) is material; past the tip of
     /// a fin of no thickness (0°) is not: the pseudo-normal there is zero, and the edge's
-    /// kind decides. Each point is 0.01 from the fold's edge along the profile's -x, in the
+    /// kind decides. The points past the edge are 0.01 from it along the profile's -x, in the
     /// samples' turned frames.
     #[test]
     fn past_a_folds_edge_is_inside_a_crack_and_outside_a_fin() {
         let d = 0.01;
         let (s, c) = 37f64.to_radians().sin_cos();
+        // Also level with the crack's bottom, 2.5 to each side: its nearest point is on both
+        // of the fold's faces, and the cylinder's normal there is the wrong way for the
+        // plane's side (the search took the cylinder, and the point was outside).
+        let turned = |x: f64, y: f64, z: f64| [x * c - y * s, x * s + y * c, z];
         assert_inside(
             "trace/crack_folded_to_its_bottom.step",
-            &[[-d * c, -d * s, 2.5], [-d * c, -d * s, 0.5]],
+            &[
+                turned(-d, 0.0, 2.5),
+                turned(-d, 0.0, 0.5),
+                turned(0.0, -2.5, 2.5),
+                turned(0.0, 2.5, 2.5),
+            ],
             &[],
         );
         // Turned 11° about y: (x, z) goes to (x·cos + z·sin, −x·sin + z·cos).

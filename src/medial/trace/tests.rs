@@ -969,3 +969,76 @@ fn a_nearly_osculating_ball_leads_to_the_exact_curvature_limit() {
         "{ends} ends, {near} near, {far} far"
     );
 }
+
+/// At a fold of 360° (a crack's bottom) the faces' normals are opposite, and every normal
+/// square to the edge lies between them by angles: the edge's arc is the half its faces leave
+/// towards (the crack's opening), not the half into the material. Before, a touch point on
+/// the bottom of `crack_folded_to_its_bottom` stayed on the edge past both faces' normals,
+/// and the walls came in as junctions whose touch points on the wall and the edge were one
+/// place (and on MSOP-10's leads).
+#[test]
+fn a_cracks_bottom_owns_the_half_of_its_normals_towards_the_opening() {
+    use crate::medial::equations::edge_angle;
+    let (m, class) = crate::testing::classified("trace/crack_folded_to_its_bottom.step");
+    let e = (0..m.edges.len())
+        .find(|&e| class.edges[e].angle_range_deg.0 > 359.99)
+        .expect("the crack's bottom");
+    let boundary = Boundary::new(&m);
+    let opts = TraceOptions::for_model(&m);
+    let tracer = tracer::Tracer::new(&m, &boundary, &class, &opts);
+    let (lo, hi) = m.edges[e].range;
+    let t = 0.5 * (lo + hi);
+    let open = crate::geom::fold::into_first_face(&m, e, t, None).expect("a direction");
+    let fan = tracer.edge_fan(e, t).expect("the faces' normals");
+    let in_arc = |n: DVec3| {
+        tracer
+            .edge_status(e, [t, edge_angle(&m, e, t, n).unwrap()])
+            .1
+    };
+    assert!(in_arc(open), "the opening's direction");
+    assert!(in_arc(fan[0]) && in_arc(fan[1]), "the arc's ends");
+    assert!(in_arc((open + 0.5 * fan[0]).normalize()));
+    assert!(!in_arc(-open), "into the material");
+    assert!(!in_arc((-open + 0.5 * fan[1]).normalize()));
+}
+
+/// A seam that ends at a convex vertex ends on it: the ball of radius 0 there is the vertex,
+/// each touch point at it. (The system held at `r = 0` is singular where two of the elements
+/// are tangent along a line through the vertex, as the faces of a fin folded to its tip are:
+/// its solution stopped 2.9e-5 mm past the tip of each lead's fin on the IDF library's
+/// MSOP-10, five times the accuracy; here on the samples' fin, a box corner and a pyramid's
+/// base.)
+#[test]
+fn a_seam_ending_at_a_vertex_ends_on_it() {
+    for file in [
+        "trace/fin_folded_to_its_tip.step",
+        "box.step",
+        "pyramid.step",
+    ] {
+        let (m, _, mat) = crate::testing::traced(file);
+        let mut ends = 0;
+        for s in &mat.seams {
+            for (k, end) in s.ends.iter().enumerate() {
+                let SeamEnd::Vertex(v) = *end else { continue };
+                let p = if k == 0 {
+                    &s.points[0]
+                } else {
+                    s.points.last().unwrap()
+                };
+                let at = m.vertices[v].point;
+                assert_eq!(p.point[3], 0.0, "{file}: seam {} end {k}", s.id);
+                assert!(
+                    DVec3::from_slice(&p.point[..3]).distance(at) <= 1e-12 * m.diagonal(),
+                    "{file}: seam {} end {k} at {:?}, vertex V{v} at {at}",
+                    s.id,
+                    p.point
+                );
+                for q in &p.touch {
+                    assert!(DVec3::from_array(*q).distance(at) <= 1e-9 * m.diagonal());
+                }
+                ends += 1;
+            }
+        }
+        assert!(ends > 0, "{file}: no seam ends at a vertex");
+    }
+}

@@ -13,6 +13,10 @@ use crate::medial::segments::SegmentGroups;
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
 use crate::model::{Element, Model};
 use glam::DVec3;
+
+/// How near (radians) to π the span of a reflex edge's arc of normals must be for the edge to
+/// be a fold, whose arc its faces' normals do not decide.
+const FOLD_SPAN_RAD: f64 = 1e-3;
 use nalgebra::DVector;
 use std::collections::{HashMap, HashSet, VecDeque};
 
@@ -335,7 +339,17 @@ impl<'a> Tracer<'a> {
         let in_arc = match (self.edge_fan(e, s[0]), Element::Edge(e).eval(self.model, s)) {
             (Some(fan), Some(ev)) => {
                 let span = fan[0].angle_between(fan[1]);
-                ev.n.angle_between(fan[0]) + ev.n.angle_between(fan[1]) <= span + UNIT_ROUNDING
+                // At a fold of 360° the faces' normals are opposite and every normal square
+                // to the edge is between them: the arc is the half towards which both faces
+                // leave the edge (a crack's opening), not the half into the material.
+                let half = span < std::f64::consts::PI - FOLD_SPAN_RAD || {
+                    let f = self.model.edges[e].faces[0];
+                    let hint = self.boundary.edge_uv_hint(self.model, e, f, s[0]);
+                    crate::geom::fold::into_first_face(self.model, e, s[0], hint)
+                        .is_none_or(|m| ev.n.dot(m) >= -UNIT_ROUNDING)
+                };
+                half && ev.n.angle_between(fan[0]) + ev.n.angle_between(fan[1])
+                    <= span + UNIT_ROUNDING
             }
             _ => false,
         };
