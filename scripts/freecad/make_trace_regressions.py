@@ -1671,22 +1671,26 @@ def folded(crack, axis, degrees):
 
 @part("fin_folded_to_its_tip",
       "A fin 5 deep whose profile is the sliver between the line y = 0 and an arc R 20 "
-      "tangent to it at the origin, out to x = 10, turned 11 degrees about y: its tip is an "
+      "tangent to it at the origin, out to x = 10, turned 37 degrees about z: its tip is an "
       "edge where a plane and a cylinder fold back onto each other (interior angle 0), as "
       "each lead of FreeCAD's IDF library's MSOP-10 has one.",
-      5 * FOLD_SLIVER_AREA, "The tip edge is convex with an interior angle of 0 degrees (a fin of no "
-      "thickness), not 360: the classifier decides by the faces' second-order separation. "
-      "The medial axis is the fin's mid-surface sheet, bounded by the seams of the "
-      "corner triplets at the ends; the balls shrink to nothing at the tip edge.")
+      5 * FOLD_SLIVER_AREA,
+      "The tip edge is convex with an interior angle of 0 degrees (a fin of no thickness), "
+      "not 360: the classifier decides by the faces' second-order separation. The medial "
+      "axis is the fin's mid-surface sheet, bounded by the seams of the corner triplets at "
+      "the ends, which run to the tip's vertices with r falling as the square of the "
+      "distance: within a few accuracies of nothing every touch point is within r of an "
+      "edge of its face, and the seam ends at the vertex ahead.")
 def fin_folded_to_its_tip():
-    return folded(False, V(0, 1, 0), 11)
+    return folded(False, V(0, 0, 1), 37)
 
 
 @part("crack_folded_to_its_bottom",
       "A square block 20x20x5 about the origin with the sliver of fin_folded_to_its_tip "
       "cut in from its right side, turned 37 degrees about z: the crack's bottom is an edge "
       "where a plane and a cylinder fold back onto each other (interior angle 360).",
-      20 * 20 * 5 - 5 * FOLD_SLIVER_AREA, "The crack's bottom edge is reflex with an interior angle of 360 degrees (a cusp "
+      20 * 20 * 5 - 5 * FOLD_SLIVER_AREA,
+      "The crack's bottom edge is reflex with an interior angle of 360 degrees (a cusp "
       "of no width), not 0; points past it are inside the solid.")
 def crack_folded_to_its_bottom():
     return folded(True, V(0, 0, 1), 37)

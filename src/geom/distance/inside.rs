@@ -282,7 +282,7 @@ mod tests {
     /// Past the bottom of a crack of no width (a fold of 360°) is material; past the tip of
     /// a fin of no thickness (0°) is not: the pseudo-normal there is zero, and the edge's
     /// kind decides. The points past the edge are 0.01 from it along the profile's -x, in the
-    /// samples' turned frames.
+    /// samples' frame (turned 37° about z).
     #[test]
     fn past_a_folds_edge_is_inside_a_crack_and_outside_a_fin() {
         let d = 0.01;
@@ -301,13 +301,10 @@ mod tests {
             ],
             &[],
         );
-        // Turned 11° about y: (x, z) goes to (x·cos + z·sin, −x·sin + z·cos).
-        let (s, c) = 11f64.to_radians().sin_cos();
-        let at = |x: f64, z: f64| [x * c + z * s, 0.0, -x * s + z * c];
         assert_inside(
             "trace/fin_folded_to_its_tip.step",
-            &[at(5.0, 2.5)].map(|p| [p[0], 0.1, p[2]]),
-            &[at(-d, 2.5), at(-d, 0.5)],
+            &[turned(5.0, 0.1, 2.5)],
+            &[turned(-d, 0.0, 2.5), turned(-d, 0.0, 0.5)],
         );
     }
 

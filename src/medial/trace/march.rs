@@ -7,12 +7,13 @@ use super::options::{
     FAST_CONVERGENCE_ITER, FIRST_STEP_REL_DIAGONAL, MAX_CENTRE_STEP_ITER, MAX_HANDOVERS_IN_PLACE,
     MAX_POINTS, MAX_STEP_REL_DIAGONAL, MAX_TOUCH_TURN_RAD, MAX_TURN_RAD, MERGED_TOUCH_REL_RADIUS,
     MIN_STEP_REL_DIAGONAL, REACH_REL_ACCURACY, SAME_PLACE_REL_ACCURACY, STEP_GROWTH, STEP_SHRINK,
+    TIP_AHEAD_RAD, TIP_REL_ACCURACY,
 };
 use super::tracer::Tracer;
 use super::unknowns::{
     along_chord, new_triplet, slot, sys_point, to_chord, touches_meet, v3, Pairs,
 };
-use crate::classify::EdgeKind;
+use crate::classify::{EdgeKind, VertexKind};
 use crate::geom::project_point;
 use crate::medial::axis::{Handover, OpenReason, SeamEnd, SeamPoint};
 use crate::medial::equations::MedialSystem;
@@ -663,6 +664,20 @@ impl Tracer<'_> {
                 return Flow::End(SeamEnd::Vertex(v));
             }
         }
+        // A crossing within a few accuracies of nothing, by the trim test's tolerance: where a
+        // fin is folded to its tip (interior angle 0), the ball's radius falls as the square
+        // of the distance to the tip's vertex, and every touch point stands within `r` of an
+        // edge of its face long before the seam is within reach of the vertex. The seam ends
+        // at the convex vertex ahead that its elements meet, the rest of it within `r/4` of
+        // the chord there.
+        if xc[3] <= TIP_REL_ACCURACY * self.opts.accuracy {
+            if let Some(v) = self.vertex_ahead(&m.sys.segments, xc, &m.t) {
+                m.points.push(self.seam_point(&m.sys, xc));
+                let xv = self.on_vertex(&m.sys, xc.clone(), v);
+                m.points.push(self.seam_point(&m.sys, &xv));
+                return Flow::End(SeamEnd::Vertex(v));
+            }
+        }
         // The crossing point itself is a seam point when it is medial.
         if self.is_medial(&m.triplet, xc) {
             m.points.push(self.seam_point(&m.sys, xc));
@@ -1219,6 +1234,28 @@ impl Tracer<'_> {
         y[2] = p.z;
         y[3] = 0.0;
         y
+    }
+
+    /// The convex vertex that every one of `segments` reaches, ahead of the seam point `x`
+    /// along its tangent `t` (within [`TIP_AHEAD_RAD`] of it), nearest `x`.
+    fn vertex_ahead(
+        &self,
+        segments: &[Element],
+        x: &DVector<f64>,
+        t: &DVector<f64>,
+    ) -> Option<usize> {
+        let (b, dir) = (v3(x), v3(t).normalize_or_zero());
+        (0..self.model.vertices.len())
+            .filter(|&v| self.class.vertices[v] == VertexKind::Convex)
+            .filter(|&v| {
+                let to = self.model.vertices[v].point - b;
+                to.length() > 0.0 && to.angle_between(dir) <= TIP_AHEAD_RAD
+            })
+            .filter(|&v| segments.iter().all(|&e| self.reaches(e, v)))
+            .min_by(|&a, &c| {
+                let da = self.model.vertices[a].point.distance(b);
+                da.total_cmp(&self.model.vertices[c].point.distance(b))
+            })
     }
 
     /// The vertex at `b` (within [`REACH_REL_ACCURACY`] × the accuracy) that every one of

@@ -65,6 +65,12 @@ pub const SAME_PLACE_REL_ACCURACY: f64 = 10.0;
 /// How far, in accuracies, a centre may be from the vertex it lands at, or a touch point from
 /// the edge it is taken to have crossed.
 pub const REACH_REL_ACCURACY: f64 = 1e3;
+/// A crossing whose ball is within this many accuracies of nothing may stand for the convex
+/// vertex ahead (a fin folded to its tip): the rest of the seam is within a quarter of the
+/// radius of the chord to it.
+pub const TIP_REL_ACCURACY: f64 = 4.0;
+/// How near (radians) the seam's direction must point to the vertex a crossing stands for.
+pub const TIP_AHEAD_RAD: f64 = 0.1;
 /// Two touch points closer than this times `r` are one place, when refining a seed or a
 /// junction (the solve found one touch twice) or sampling a ball (it osculates the face).
 pub const DISTINCT_TOUCH_REL_RADIUS: f64 = 1e-3;
