@@ -322,8 +322,9 @@ pub fn folds(model: &Model, class: &Classification) -> Option<crate::model::Read
                   (interior angle 0 or 360 degrees: a fin of no thickness, or a cusp of no \
                   width into the solid)"
             .into(),
-        action: "traced as it is: the medial axis about the edge is degenerate (r goes to \
-                 0 along it) and seams may end open there"
+        action: "traced as it is, a fin's tip as a convex edge and a crack's bottom as a \
+                 reflex one (told apart by the faces' second-order separation); the medial \
+                 axis about a fin's tip shrinks to nothing along it"
             .into(),
         largest_gap_mm: None,
     })

@@ -670,7 +670,9 @@ impl Tracer<'_> {
         // edge of its face long before the seam is within reach of the vertex. The seam ends
         // at the convex vertex ahead that its elements meet, the rest of it within `r/4` of
         // the chord there.
-        if xc[3] <= TIP_REL_ACCURACY * self.opts.accuracy {
+        // (A curvature limit there stays one.)
+        let osculates = matches!(e, HandOverError::Osculates(_));
+        if xc[3] <= TIP_REL_ACCURACY * self.opts.accuracy && !osculates {
             if let Some(v) = self.vertex_ahead(&m.sys.segments, xc, &m.t) {
                 m.points.push(self.seam_point(&m.sys, xc));
                 let xv = self.on_vertex(&m.sys, xc.clone(), v);
