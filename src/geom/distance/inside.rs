@@ -277,8 +277,6 @@ mod tests {
         inside as f64 * h.x * h.y * h.z
     }
 
-    /// The same on the real-world corpus (when it is beside the project), against the
-    /// volumes OCCT reports in its MANIFEST.md (4–5 significant digits).
     /// Past the bottom of a crack of no width (a fold of 360°) is material; past the tip of
     /// a fin of no thickness (0°) is not: the pseudo-normal there is zero, and the edge's
     /// kind decides. The points past the edge are 0.01 from it along the profile's -x, in the
@@ -308,6 +306,8 @@ mod tests {
         );
     }
 
+    /// The same on the real-world corpus (when it is beside the project), against the
+    /// volumes OCCT reports in its MANIFEST.md (4–5 significant digits).
     #[test]
     fn point_in_solid_integrates_to_the_volume_on_real_parts() {
         let Some(dir) = crate::testing::realworld_dir() else {
