@@ -36,24 +36,20 @@ use std::path::PathBuf;
 ///   0805, 1206 and 1812 where the junction with the next edge of a kinked outline was
 ///   located after the touch point across the stroke had been handed from a vertex to its
 ///   edge (solved now with that hand-over undone, `samples/trace/embossed_zero.step`);
-/// - `touch_on_boundary` on CAP_50SGV (a touch point 0.1 mm off a face's boundary) and
-///   `separated` on SOT_96: issue 19's, not yet looked at;
+/// - 0603, 1206 and VC0603 pass now, and 2225 lost its `junction_seams`: where two glyph
+///   outlines' kinks face each other, a seam passed a junction handing its touch point from
+///   one edge to the next through their vertex just past it, and was kept beside the seams
+///   leaving that junction (the junction counted five seam ends): a vertex touched is named
+///   by a seam naming an edge at it now (`trace::through`);
+/// - `touch_on_boundary` on CAP_50SGV: a degenerate curve's balls on a NURBS face whose touch
+///   circles leave the trimmed face by 0.1–0.34 mm (issue 20's degenerate pieces);
+///   `separated` on SOT_96: seams into a curvature limit whose last ten points or so touch a
+///   step 1.7e-4 mm high in places within √(8·r·a) of each other (the accuracy's limit);
 /// - `read`: five parts whose shells are open (an edge used by one face) or whose loop
 ///   points lie 3.3e-3 mm off their planes, which the reader refuses with the entity named.
 const EXPECTED: &[(&str, &[(&str, usize)])] = &[
-    (
-        "0603_SMD.stp",
-        &[("verify:junction_seams", 6), ("verify:sheets_closed", 18)],
-    ),
-    (
-        "1206_SMD.stp",
-        &[("verify:junction_seams", 8), ("verify:sheets_closed", 24)],
-    ),
     ("1210_SMD.stp", &[("verify:sheets_closed", 16)]),
-    (
-        "2225_SMD.stp",
-        &[("verify:junction_seams", 2), ("verify:sheets_closed", 10)],
-    ),
+    ("2225_SMD.stp", &[("verify:sheets_closed", 4)]),
     (
         "CAP_50SGV_8_10.stp",
         &[("verify:sheets_closed", 4), ("verify:touch_on_boundary", 9)],
@@ -89,10 +85,6 @@ const EXPECTED: &[(&str, &[(&str, usize)])] = &[
     (
         "TSM_104_01_L_DV_A.stp",
         &[("verify:junction_seams", 16), ("verify:sheets_closed", 210)],
-    ),
-    (
-        "VC0603_SMD.stp",
-        &[("verify:junction_seams", 6), ("verify:sheets_closed", 18)],
     ),
 ];
 

@@ -1042,3 +1042,79 @@ fn a_seam_ending_at_a_vertex_ends_on_it() {
         assert!(ends > 0, "{file}: no seam ends at a vertex");
     }
 }
+
+/// A seam that runs through a junction is dropped where the seams leaving the junction cover
+/// it, also where it hands its touch point from one edge to the next through their shared
+/// vertex just past the junction: the ball there touches the first edge at its end, that
+/// vertex, which the seam leaving the junction along the next edge names through that edge.
+/// (On 0603_SMD's lettering two kinked outlines face each other; the seam kept gave a
+/// junction five seam ends, on 0603, 1206, 2225 and VC0603.) Here on the box's vertex V0
+/// (edges `e1`, `e2` there): seam A runs from J0 to J1 through J2 (at 1.5), handing `e1` →
+/// V0 at its point 2 and V0 → `e2` at 3; B runs J0–J2 on `e1`, C J2–J1 on `e2`.
+#[test]
+fn a_seam_through_a_junction_is_dropped_past_a_vertex_hand_over() {
+    use crate::medial::axis::{Handover, SeamPoint};
+    let (m, class) = crate::testing::classified("box.step");
+    let v = 0;
+    let at = m.vertices[v].point.to_array();
+    let mut edges = (0..m.edges.len()).filter(|&e| m.edges[e].vertices.contains(&v));
+    let (e1, e2) = (edges.next().unwrap(), edges.next().unwrap());
+    let (fa, fb) = (Element::Face(4), Element::Face(5));
+    let (e1, e2, vv) = (Element::Edge(e1), Element::Edge(e2), Element::Vertex(v));
+    let seam = |id: usize, s: std::ops::RangeInclusive<f64>, ends: [usize; 2], on: Element| {
+        let steps = ((s.end() - s.start()) * 2.0).round() as usize;
+        Seam {
+            id,
+            solid: 0,
+            segments: vec![fa, fb, on],
+            ends: ends.map(SeamEnd::Junction),
+            end_segments: vec![fa, fb, on],
+            points: (0..=steps)
+                .map(|k| SeamPoint {
+                    point: [s.start() + 0.5 * k as f64, 10.0, 10.0, 5.0],
+                    touch: vec![[0.0; 3], [1.0; 3], at],
+                })
+                .collect(),
+            handovers: vec![],
+            unresolved: vec![],
+            trace_seconds: 0.0,
+        }
+    };
+    // A: points every 0.5 from 0 to 4 with its hand-overs at 2 and 3 (its points 4 and 6).
+    let mut a = seam(0, 0.0..=4.0, [0, 1], e1);
+    a.handovers = vec![
+        Handover {
+            point: 4,
+            from: e1,
+            to: vv,
+        },
+        Handover {
+            point: 6,
+            from: vv,
+            to: e2,
+        },
+    ];
+    a.end_segments = vec![fa, fb, e2];
+    let b = seam(1, 0.0..=1.5, [0, 2], e1);
+    let c = seam(2, 1.5..=4.0, [2, 1], e2);
+    let junction = |id: usize, x: f64| Junction {
+        id,
+        solid: 0,
+        point: [x, 10.0, 10.0],
+        radius: 5.0,
+        segments: vec![fa, fb, e1, e2],
+        touch: vec![[0.0; 3]; 4],
+        unresolved: false,
+    };
+    let boundary = Boundary::new(&m);
+    let opts = TraceOptions::for_model(&m);
+    let mut tracer = tracer::Tracer::new(&m, &boundary, &class, &opts);
+    tracer.seams = vec![a, b, c];
+    tracer.junctions = vec![junction(0, 0.0), junction(1, 4.0), junction(2, 1.5)];
+    assert_eq!(tracer.drop_seams_through_junctions(), 1);
+    assert_eq!(tracer.seams.len(), 2);
+    assert!(
+        tracer.seams.iter().all(|s| s.points.len() < 9),
+        "A is the one dropped"
+    );
+}

@@ -14,8 +14,12 @@
 //! hand-overs before it). The balls may be covered by different seams: a seam that passes a
 //! junction where a touch point is handed from one reflex edge to the next at their shared
 //! vertex (a faceted profile's crease, where a third seam arrives along the crease) runs along
-//! one seam leaving the junction before the hand-over and another after it. The longest such
-//! seams go first, each checked again against the seams left.
+//! one seam leaving the junction before the hand-over and another after it. A vertex touched
+//! (or an edge touched at its end vertex, where a touch point is handed from one edge to the
+//! next through it) is named by a seam naming an edge at that vertex: where two kinked
+//! outlines face each other, the hand-over comes just past the junction, along the seam
+//! leaving it on the next edge. The longest such seams go first, each checked again against
+//! the seams left.
 
 use super::options::MAX_TURN_RAD;
 use super::queue::named;
@@ -105,12 +109,46 @@ impl Tracer<'_> {
         inner.into_iter().all(|i| {
             let p = s.points[i].point;
             let c = DVec3::new(p[0], p[1], p[2]);
+            let touch = &s.points[i].touch;
             others.iter().any(|(t, theirs)| {
-                touched[i]
-                    .iter()
-                    .any(|set| set.iter().all(|e| theirs.contains(e)))
-                    && ball_on(t, c, p[3], slack)
+                touched[i].iter().any(|set| {
+                    set.iter().all(|&e| {
+                        theirs.contains(&e) || self.named_at_vertex(e, theirs, touch, slack)
+                    })
+                }) && ball_on(t, c, p[3], slack)
             })
+        })
+    }
+}
+
+impl Tracer<'_> {
+    /// True when element `e` (a vertex, or an edge), touched at one of the points `touch`
+    /// within `slack` of a vertex of it, is named by `theirs` through that vertex: the vertex
+    /// itself or an edge ending there. A seam handed from one edge to the next through their
+    /// shared vertex (a kinked outline) touches the vertex and the edge's end there; the seam
+    /// leaving the junction just past it names the next edge (0603_SMD's lettering).
+    fn named_at_vertex(
+        &self,
+        e: Element,
+        theirs: &[Element],
+        touch: &[[f64; 3]],
+        slack: f64,
+    ) -> bool {
+        let vertices: &[usize] = match e {
+            Element::Vertex(ref v) => std::slice::from_ref(v),
+            Element::Edge(g) => &self.model.edges[g].vertices,
+            Element::Face(_) => return false,
+        };
+        vertices.iter().any(|&v| {
+            let at = self.model.vertices[v].point;
+            touch
+                .iter()
+                .any(|q| DVec3::from_array(*q).distance(at) <= slack)
+                && theirs.iter().any(|x| match *x {
+                    Element::Vertex(w) => w == v,
+                    Element::Edge(h) => self.model.edges[h].vertices.contains(&v),
+                    Element::Face(_) => false,
+                })
         })
     }
 }
