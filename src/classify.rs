@@ -17,10 +17,9 @@
 //! a smooth region); three or more → convex if all are convex, reflex if all are reflex,
 //! mixed otherwise (the corners the paper's tracer starts from are the convex ones).
 
-use crate::geom::{eval_surface, project_point};
+use crate::geom::project_point;
 use crate::model::Model;
 use glam::DVec3;
-use truck_geometry::prelude::ParametricCurve;
 
 pub use crate::model::tolerances::DEFAULT_ANGLE_TOL_DEG;
 
@@ -185,23 +184,18 @@ fn dihedral(
 ) -> (EdgeKind, f64) {
     let edge = &model.edges[e];
     let (f1, f2) = (edge.faces[0], edge.faces[1]);
-    let p = edge.curve.subs(t);
-    let p = DVec3::new(p.x, p.y, p.z);
-    let d = edge.curve.der(t);
-    let tangent = DVec3::new(d.x, d.y, d.z).normalize_or_zero();
+    let (p, tangent) = crate::geom::fold::edge_point(model, e, t);
     let mut normals = [DVec3::ZERO; 2];
     let mut topo1 = DVec3::ZERO;
     for (i, f) in [f1, f2].into_iter().enumerate() {
-        let face = &model.faces[f];
-        let Some(uv) = project_point(&face.surface, p, hints[i]) else {
+        let Some(uv) = project_point(&model.faces[f].surface, p, hints[i]) else {
             continue;
         };
         hints[i] = Some(uv);
-        let s = eval_surface(&face.surface, uv.0, uv.1);
-        let raw = s.su.cross(s.sv).normalize_or_zero();
-        normals[i] = raw * face.sign;
+        let (outward, looped) = crate::geom::fold::face_normals(model, f, uv);
+        normals[i] = outward;
         if i == 0 {
-            topo1 = if face.same_sense { raw } else { -raw };
+            topo1 = looped;
         }
     }
     let (n1, n2) = (normals[0], normals[1]);

@@ -30,7 +30,7 @@ pub fn loop_directions(model: &Model, face: usize, edge: usize) -> Vec<bool> {
 }
 
 /// The point and unit tangent of edge `e` at curve parameter `t`.
-fn edge_point(model: &Model, e: usize, t: f64) -> (DVec3, DVec3) {
+pub fn edge_point(model: &Model, e: usize, t: f64) -> (DVec3, DVec3) {
     let curve = &model.edges[e].curve;
     let (c, d) = (curve.subs(t), curve.der(t));
     (
@@ -41,7 +41,7 @@ fn edge_point(model: &Model, e: usize, t: f64) -> (DVec3, DVec3) {
 
 /// Face `f`'s normals at parameters `uv`: the outward one, and the one its loops run
 /// anticlockwise about (the surface's, turned by the face's `same_sense`).
-fn normals(model: &Model, f: usize, uv: (f64, f64)) -> (DVec3, DVec3) {
+pub fn face_normals(model: &Model, f: usize, uv: (f64, f64)) -> (DVec3, DVec3) {
     let face = &model.faces[f];
     let s = eval_surface(&face.surface, uv.0, uv.1);
     let raw = s.su.cross(s.sv).normalize_or_zero();
@@ -54,7 +54,10 @@ fn normals(model: &Model, f: usize, uv: (f64, f64)) -> (DVec3, DVec3) {
 fn into_face(model: &Model, e: usize, f: usize, tangent: DVec3, uv: (f64, f64)) -> Option<DVec3> {
     let dir = loop_directions(model, f, e).first().copied()?;
     let travel = if dir { tangent } else { -tangent };
-    let b = normals(model, f, uv).1.cross(travel).normalize_or_zero();
+    let b = face_normals(model, f, uv)
+        .1
+        .cross(travel)
+        .normalize_or_zero();
     (b != DVec3::ZERO).then_some(b)
 }
 
@@ -121,7 +124,7 @@ pub fn past_fold_is_material(
     let (p, tangent) = edge_point(model, e, t);
     let uv1 = project_point(&model.faces[edge.faces[0]].surface, p, hints[0])?;
     let uv2 = project_point(&model.faces[edge.faces[1]].surface, p, hints[1])?;
-    let n1 = normals(model, edge.faces[0], uv1).0;
+    let n1 = face_normals(model, edge.faces[0], uv1).0;
     let b1 = into_face(model, e, edge.faces[0], tangent, uv1)?;
     fold_is_fin(model, e, p, tangent, n1, b1, &[Some(uv1), Some(uv2)]).map(|fin| !fin)
 }

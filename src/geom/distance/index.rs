@@ -159,9 +159,9 @@ pub struct Boundary {
     /// Distance under which a point is on the boundary.
     pub(super) on_boundary: f64,
     /// The edges whose two faces fold back onto each other (opposite normals at the edge's
-    /// middle), with the faces they bound: where a face's nearest point is on such an edge,
-    /// the point-in-solid test reads the edge's kind, not the face's normal.
-    pub(super) folds: Vec<(usize, [usize; 2])>,
+    /// middle): where a face's nearest point is on such an edge, the point-in-solid test
+    /// reads the edge's kind, not the face's normal.
+    pub(super) folds: Vec<usize>,
 }
 
 impl Boundary {
@@ -206,7 +206,6 @@ impl Boundary {
         b.bvh = Bvh::new(&boxes);
         b.folds = (0..model.edges.len())
             .filter(|&e| b.is_fold(model, e))
-            .map(|e| (e, [model.edges[e].faces[0], model.edges[e].faces[1]]))
             .collect();
         b
     }

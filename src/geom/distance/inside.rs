@@ -68,7 +68,11 @@ impl Boundary {
         // same distance, the search taking either) is that edge's: the face's normal is the
         // wrong way for the points past the edge on the other face's side.
         if let Element::Face(f) = hit.on {
-            for &(e, _) in self.folds.iter().filter(|(_, fs)| fs.contains(&f)) {
+            for &e in self
+                .folds
+                .iter()
+                .filter(|&&e| model.edges[e].faces.contains(&f))
+            {
                 let (t, _, d) = super::nearest_on_edge(model, e, p, None);
                 if d <= hit.distance + self.on_boundary.max(FOLD_TIE_REL * hit.distance) {
                     if let Some(inside) = self.past_fold_is_inside(model, e, t) {

@@ -119,9 +119,7 @@ impl Tracer<'_> {
             })
         })
     }
-}
 
-impl Tracer<'_> {
     /// True when element `e` (a vertex, or an edge), touched at one of the points `touch`
     /// within `slack` of a vertex of it, is named by `theirs` through that vertex: the vertex
     /// itself or an edge ending there. A seam handed from one edge to the next through their

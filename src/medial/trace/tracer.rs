@@ -13,12 +13,12 @@ use crate::medial::segments::SegmentGroups;
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
 use crate::model::{Element, Model};
 use glam::DVec3;
+use nalgebra::DVector;
+use std::collections::{HashMap, HashSet, VecDeque};
 
 /// How near (radians) to π the span of a reflex edge's arc of normals must be for the edge to
 /// be a fold, whose arc its faces' normals do not decide.
 const FOLD_SPAN_RAD: f64 = 1e-3;
-use nalgebra::DVector;
-use std::collections::{HashMap, HashSet, VecDeque};
 
 /// Points along a step's UV path at which [`Tracer::grazes_edge_run_along`] looks.
 const GRAZE_SAMPLES: usize = 16;
