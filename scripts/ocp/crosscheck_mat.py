@@ -55,8 +55,9 @@ The report must describe a medial axis, not merely hold no wrong point:
                      sheet, which no seam need reach);
   seam_ends          no seam end is open, and at a seam end at a pinch two of the touch points
                      are at a vertex of the part;
-  junction_seams     every junction with 4 segments has 4 seam ends, and every junction a seam
-                     ends at exists.
+  junction_seams     every junction with 4 segments has 4 seam ends (unless a seam of more than
+                     3 contacts ends there: it splits there into two seams of 3), and every
+                     junction a seam ends at exists.
   degenerate_ends    every degenerate curve is traced to two located ends (its ball touching
                      another element on the boundary at distance r, r = 0 at a vertex of the
                      part, or, where its arc of contact shrinks to a point, the ball osculating
@@ -1011,6 +1012,9 @@ def check_graph(mat, checks, touched, part):
         len(d.get("balls", [])) for d in mat.get("degenerate", []))
     checks.record("nonempty", n_balls > 0, lambda: "the report has no balls")
     ends_at = [0] * len(junctions)
+    # A junction where a seam of four or more contacts ends (it splits there into seams of
+    # three) is not generic: its sheets, not a count of seam ends, say whether it is complete.
+    non_generic = [False] * len(junctions)
     for s in seams:
         for k, e in enumerate(s.get("ends", [])):
             is_open = isinstance(e, dict) and "open" in e
@@ -1021,8 +1025,10 @@ def check_graph(mat, checks, touched, part):
                 checks.record("junction_seams", exists, lambda: f"seam {s.get('id')} ends at missing junction {j}")
                 if exists:
                     ends_at[j] += 1
+                    at_end = s.get("segments" if k == 0 else "end_segments", [])
+                    non_generic[j] = non_generic[j] or len(at_end) > 3
     for j, n in enumerate(ends_at):
-        generic = len(junctions[j].get("segments", [])) == 4
+        generic = len(junctions[j].get("segments", [])) == 4 and not non_generic[j]
         if generic:
             checks.record("junction_seams", n == 4, lambda: f"junction {j} (4 segments) has {n} seam ends")
     surface = smooth_surfaces(part)

@@ -34,13 +34,6 @@ const LCD_KNOB: &str = "no seam ends open and every ball passes both checkers; t
     sliver edges end in pinches at the slivers' mixed vertices; the sheets' graph there is \
     issue 20's)";
 
-/// The axis of a circular reflex edge traced as seams.
-const CIRCLE_AXES: &str = "no seam ends open; balls centred near a circular reflex edge's \
-    axis touch it (and the B-spline face beside it) several times over; where two touch points \
-    of a seam on one element meet, it ends at that element's curvature limit, and one junction \
-    touching that face three times is left with three seam ends (two leave it along one \
-    triplet to curvature limits), where the sheets do not close (issue 20)";
-
 /// No seam end open any more: the seams under holes tangent to a pocket's walls end at pinches.
 const PINCHED: &str = "no seams end open: the seams under its holes, each inscribed in a \
     square pocket, end in pairs at pinches where the hole's wall meets the pocket's ceiling \
@@ -173,15 +166,6 @@ const EXPECTED_FAILURES: &[Expected] = &[
         PINCHED,
     ),
     ("stepswift_dm1-id-214.stp", &[("verify:euler", 3)], DM1),
-    (
-        "voron0_Hotend_Mount_Revo_Voron.step",
-        &[
-            ("occt:junction_seams", 1),
-            ("verify:junction_seams", 1),
-            ("verify:sheets_closed", 3),
-        ],
-        CIRCLE_AXES,
-    ),
     (
         "voron0_Manta_M4P_Din_Mount_2pc.step",
         &[("verify:sheets_closed", 3)],

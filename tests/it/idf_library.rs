@@ -41,6 +41,11 @@ use std::path::PathBuf;
 ///   one edge to the next through their vertex just past it, and was kept beside the seams
 ///   leaving that junction (the junction counted five seam ends): a vertex touched is named
 ///   by a seam naming an edge at it now (`trace::through`);
+/// - TCMT1107_4 passes now, and SOT428_DPAK and the TSM headers lost their
+///   `junction_seams`: where a seam of four contacts (round a chamfered pocket's corner)
+///   splits into two seams of three, its junction has three seam ends, which the check
+///   counted as one missing; on the TSM headers' pins a seam also left an unresolved junction
+///   and came back to it within the separation (dropped now);
 /// - `touch_on_boundary` on CAP_50SGV: a degenerate curve's balls on a NURBS face whose touch
 ///   circles leave the trimmed face by 0.1–0.34 mm (issue 20's degenerate pieces);
 ///   `separated` on SOT_96: seams into a curvature limit whose last ten points or so touch a
@@ -69,23 +74,13 @@ const EXPECTED: &[(&str, &[(&str, usize)])] = &[
     ("SOD_323.stp", &[("read", 1)]),
     ("SOT23.stp", &[("read", 1)]),
     ("SOT404.stp", &[("read", 1)]),
-    (
-        "SOT428_DPAK.stp",
-        &[("verify:euler", 1), ("verify:junction_seams", 1)],
-    ),
+    ("SOT428_DPAK.stp", &[("verify:euler", 1)]),
     (
         "SOT_96.stp",
         &[("verify:degenerate_ends", 7), ("verify:separated", 84)],
     ),
-    ("TCMT1107_4.stp", &[("verify:junction_seams", 6)]),
-    (
-        "TSM_103_01_L_DV_A.stp",
-        &[("verify:junction_seams", 12), ("verify:sheets_closed", 160)],
-    ),
-    (
-        "TSM_104_01_L_DV_A.stp",
-        &[("verify:junction_seams", 16), ("verify:sheets_closed", 210)],
-    ),
+    ("TSM_103_01_L_DV_A.stp", &[("verify:sheets_closed", 140)]),
+    ("TSM_104_01_L_DV_A.stp", &[("verify:sheets_closed", 178)]),
 ];
 
 /// The library's STEP files.

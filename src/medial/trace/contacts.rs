@@ -55,7 +55,8 @@ impl Tracer<'_> {
     /// touching the same places (the same curve of balls from a non-generic junction found
     /// twice, or on triplets that differ only in which of two contacts at one place they
     /// name). Closed seams, which meet no node, are compared with each other the second way.
-    /// The one naming more, or else the one without an open end, or else the first, is kept.
+    /// The one naming more, or else the one without an open end, or else the one ending at
+    /// more nodes, or else the first, is kept.
     /// Renumbers the rest; returns how many were dropped.
     pub(super) fn drop_repeated_seams(&mut self) -> usize {
         let mut at_node: HashMap<Node, Vec<usize>> = HashMap::new();
@@ -79,12 +80,15 @@ impl Tracer<'_> {
             e.sort();
             e
         };
-        // Whether seam `a` is kept over seam `b` when they repeat each other.
-        let keeps = |a: usize, b: usize| {
-            let (sa, sb) = (&self.seams[a], &self.seams[b]);
-            (sa.segments.len(), !sa.is_open(), std::cmp::Reverse(a))
-                > (sb.segments.len(), !sb.is_open(), std::cmp::Reverse(b))
+        // Whether seam `a` is kept over seam `b` when they repeat each other. Of two seams
+        // otherwise alike, the one that reaches a node where the other stops (at a curvature
+        // limit found a step past a junction) keeps: it ends where the medial axis goes on.
+        let rank = |k: usize| {
+            let s = &self.seams[k];
+            let nodes = s.ends.iter().filter(|e| e.node().is_some()).count();
+            (s.segments.len(), !s.is_open(), nodes, std::cmp::Reverse(k))
         };
+        let keeps = |a: usize, b: usize| rank(a) > rank(b);
         let repeats = |a: usize, b: usize| {
             let (sa, sb) = (&self.seams[a], &self.seams[b]);
             let named_again = ends(sa) == ends(sb)

@@ -64,6 +64,7 @@ impl Tracer<'_> {
         }
         let merged = (0..n).filter(|&j| into[j] != j).count();
         if merged == 0 {
+            self.drop_steps_in_place();
             return 0;
         }
         // The seams that ended at a merged junction end at the one kept, on its ball.
@@ -92,24 +93,7 @@ impl Tracer<'_> {
                 }
             }
         }
-        // The step between the two: a seam from the kept junction back to it within the
-        // separation.
-        let drop: Vec<bool> = self
-            .seams
-            .iter()
-            .map(|s| match s.ends {
-                [SeamEnd::Junction(a), SeamEnd::Junction(b)] if a == b => {
-                    let j = &self.junctions[a];
-                    let c = DVec3::from_array(j.point);
-                    let sep = separation(j.radius, self.opts.accuracy);
-                    s.points
-                        .iter()
-                        .all(|p| DVec3::new(p.point[0], p.point[1], p.point[2]).distance(c) <= sep)
-                }
-                _ => false,
-            })
-            .collect();
-        self.stats.duplicate_seams += self.remove_seams(&drop);
+        self.drop_steps_in_place();
         // Renumber the junctions kept.
         let mut new_id = vec![usize::MAX; n];
         let mut next = 0;
@@ -133,6 +117,30 @@ impl Tracer<'_> {
             }
         }
         merged
+    }
+
+    /// Drops each seam from a junction back to it whose balls all lie within the separation
+    /// of the junction's centre: the step between a junction found twice and the one it was
+    /// merged into, or a seam that left a junction and came back to it at once (on an
+    /// unresolved junction, whose touch points at one place are named by several elements).
+    /// It is no curve of the medial axis.
+    fn drop_steps_in_place(&mut self) {
+        let drop: Vec<bool> = self
+            .seams
+            .iter()
+            .map(|s| match s.ends {
+                [SeamEnd::Junction(a), SeamEnd::Junction(b)] if a == b => {
+                    let j = &self.junctions[a];
+                    let c = DVec3::from_array(j.point);
+                    let sep = separation(j.radius, self.opts.accuracy);
+                    s.points
+                        .iter()
+                        .all(|p| DVec3::new(p.point[0], p.point[1], p.point[2]).distance(c) <= sep)
+                }
+                _ => false,
+            })
+            .collect();
+        self.stats.duplicate_seams += self.remove_seams(&drop);
     }
 }
 

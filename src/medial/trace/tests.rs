@@ -1118,3 +1118,104 @@ fn a_seam_through_a_junction_is_dropped_past_a_vertex_hand_over() {
         "A is the one dropped"
     );
 }
+
+/// Of two seams on one curve of balls, the one reaching a junction at both ends is kept over
+/// one that stopped at a curvature limit a step past a junction. (On the Voron Revo mount a
+/// seam from junction J1 stopped 7e-4 mm past junction J0 at a curvature limit; the seam
+/// traced from J0 to J1 was dropped as its repeat, and J0 kept three seam ends.) Here A runs
+/// from J1 to a curvature limit at x = 0 and B from J0 (at 0) to J1 (at 2); A was traced
+/// first.
+#[test]
+fn a_seam_reaching_a_junction_is_kept_over_its_repeat_ending_at_a_curvature_limit() {
+    use crate::medial::axis::SeamPoint;
+    let (m, class) = crate::testing::classified("box.step");
+    let segments = vec![Element::Face(0), Element::Face(1), Element::Face(2)];
+    let seam = |id: usize, ends: [SeamEnd; 2], forward: bool| {
+        let mut points: Vec<SeamPoint> = (0..=4)
+            .map(|k| SeamPoint {
+                point: [0.5 * k as f64, 10.0, 10.0, 5.0],
+                touch: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            })
+            .collect();
+        if !forward {
+            points.reverse();
+        }
+        Seam {
+            id,
+            solid: 0,
+            segments: segments.clone(),
+            ends,
+            end_segments: segments.clone(),
+            points,
+            handovers: vec![],
+            unresolved: vec![],
+            trace_seconds: 0.0,
+        }
+    };
+    let limit = SeamEnd::CurvatureLimit {
+        segment: Element::Face(0),
+    };
+    let a = seam(0, [SeamEnd::Junction(1), limit], false);
+    let b = seam(1, [SeamEnd::Junction(0), SeamEnd::Junction(1)], true);
+    let boundary = Boundary::new(&m);
+    let opts = TraceOptions::for_model(&m);
+    let mut tracer = tracer::Tracer::new(&m, &boundary, &class, &opts);
+    tracer.seams = vec![a, b];
+    assert_eq!(tracer.drop_repeated_seams(), 1);
+    assert_eq!(
+        tracer.seams[0].ends,
+        [SeamEnd::Junction(0), SeamEnd::Junction(1)],
+        "B is kept"
+    );
+}
+
+/// A seam that leaves a junction and comes back to it within the separation is dropped
+/// though no junction was merged: it is no curve of the medial axis. (On TSM-103's pins an
+/// unresolved junction, its touch points at one place named by several elements, had a
+/// two-point seam back to itself and counted six seam ends.) A seam from the junction back
+/// to it round a loop is kept.
+#[test]
+fn a_seam_back_to_its_junction_within_the_separation_is_dropped() {
+    use crate::medial::axis::SeamPoint;
+    let (m, class) = crate::testing::classified("box.step");
+    let segments = vec![Element::Face(0), Element::Face(1), Element::Face(2)];
+    let seam = |id: usize, far: f64| Seam {
+        id,
+        solid: 0,
+        segments: segments.clone(),
+        ends: [SeamEnd::Junction(0), SeamEnd::Junction(0)],
+        end_segments: segments.clone(),
+        points: [0.0, far, 0.0]
+            .iter()
+            .map(|&y| SeamPoint {
+                point: [10.0, 10.0 + y, 10.0, 5.0],
+                touch: vec![[0.0; 3]; 3],
+            })
+            .collect(),
+        handovers: vec![],
+        unresolved: vec![],
+        trace_seconds: 0.0,
+    };
+    let boundary = Boundary::new(&m);
+    let opts = TraceOptions::for_model(&m);
+    let mut tracer = tracer::Tracer::new(&m, &boundary, &class, &opts);
+    tracer.seams = vec![seam(0, 1e-9), seam(1, 3.0)];
+    tracer.junctions = vec![Junction {
+        id: 0,
+        solid: 0,
+        point: [10.0, 10.0, 10.0],
+        radius: 5.0,
+        segments: vec![
+            Element::Face(0),
+            Element::Face(1),
+            Element::Face(2),
+            Element::Face(3),
+        ],
+        touch: vec![[0.0; 3]; 4],
+        unresolved: true,
+    }];
+    tracer.arrivals = vec![vec![]];
+    assert_eq!(tracer.merge_junctions_found_twice(), 0);
+    assert_eq!(tracer.seams.len(), 1);
+    assert_eq!(tracer.seams[0].points[1].point[1], 13.0, "the loop is kept");
+}

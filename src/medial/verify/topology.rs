@@ -22,8 +22,9 @@ pub struct Topology {
     /// Seam ends that are not a vertex, a junction, a closed loop, a curvature limit or a
     /// pinch.
     pub open_ends: usize,
-    /// Generic junctions (4 segments) that do not have exactly 4 seam ends, and seam ends
-    /// naming a junction that does not exist: both would be tracer bugs.
+    /// Generic junctions (4 segments, every seam ending there on 3) that do not have exactly
+    /// 4 seam ends, and seam ends naming a junction that does not exist: both would be
+    /// tracer bugs.
     pub inconsistencies: Vec<String>,
     /// Per solid: `V − E + F` of the B-rep and `V − E + Σ χ(sheet)` of its medial axis.
     pub euler: Vec<SolidEuler>,
@@ -35,14 +36,22 @@ pub struct Topology {
 /// unpaired sheet-boundary ends from its `sheets`.
 pub fn check_topology(mat: &MedialAxis, sheets: &Sheets) -> Topology {
     let mut ends_at = vec![0usize; mat.junctions.len()];
+    // Junctions where a non-generic seam (four or more contacts round it) ends: there it
+    // splits into seams of three (two, on a pocket's chamfered corner), and the sheets
+    // round it, not a count of seams, say whether the junction is complete.
+    let mut non_generic_end = vec![false; mat.junctions.len()];
     let mut vertices = std::collections::BTreeSet::new();
     let mut inconsistencies = vec![];
     let mut open_ends = 0;
     let mut closed = 0;
     for s in &mat.seams {
-        for e in &s.ends {
+        for (k, e) in s.ends.iter().enumerate() {
+            let segments = if k == 0 { &s.segments } else { &s.end_segments };
             match e {
-                SeamEnd::Junction(j) if *j < ends_at.len() => ends_at[*j] += 1,
+                SeamEnd::Junction(j) if *j < ends_at.len() => {
+                    ends_at[*j] += 1;
+                    non_generic_end[*j] |= segments.len() > 3;
+                }
                 SeamEnd::Junction(j) => {
                     inconsistencies.push(format!("seam {} ends at missing junction {j}", s.id))
                 }
@@ -56,7 +65,7 @@ pub fn check_topology(mat: &MedialAxis, sheets: &Sheets) -> Topology {
         }
     }
     for (j, n) in ends_at.iter().enumerate() {
-        if mat.junctions[j].segments.len() == 4 && *n != 4 {
+        if mat.junctions[j].segments.len() == 4 && !non_generic_end[j] && *n != 4 {
             inconsistencies.push(format!("junction {j} (4 segments) has {n} seam ends"));
         }
     }
@@ -712,7 +721,7 @@ fn check_convex_vertices(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::medial::axis::SeamPoint;
+    use crate::medial::axis::{Junction, SeamPoint};
     use crate::testing::sample;
 
     /// A seam ending in a pinch at vertex 0 of the box, its last touch points `touch` on the
@@ -738,6 +747,65 @@ mod tests {
             unresolved: vec![],
             trace_seconds: 0.0,
         }
+    }
+
+    /// A junction of four segments where three seams of three end is missing one; where a
+    /// seam of four contacts (round a pocket's chamfered corner) ends and splits into two
+    /// seams of three, three seam ends are all there are.
+    #[test]
+    fn a_junction_where_a_non_generic_seam_splits_has_three_seam_ends() {
+        let (e, f, g, h) = (
+            Element::Edge(0),
+            Element::Face(1),
+            Element::Face(2),
+            Element::Face(3),
+        );
+        let seam = |segments: Vec<Element>, end: usize| Seam {
+            id: 0,
+            solid: 0,
+            segments: segments.clone(),
+            ends: [SeamEnd::Junction(0), SeamEnd::Vertex(end)],
+            end_segments: segments.clone(),
+            points: vec![],
+            handovers: vec![],
+            unresolved: vec![],
+            trace_seconds: 0.0,
+        };
+        let axis = |seams: Vec<Seam>| MedialAxis {
+            seams,
+            junctions: vec![Junction {
+                id: 0,
+                solid: 0,
+                point: [0.0; 3],
+                radius: 1.0,
+                segments: vec![e, f, g, h],
+                touch: vec![[0.0; 3]; 4],
+                unresolved: false,
+            }],
+            degenerate: vec![],
+            skeletal_edges: vec![],
+            stats: Default::default(),
+        };
+        let sheets = Sheets {
+            sheets: vec![],
+            solids: vec![],
+            unpaired: vec![],
+        };
+        let generic = axis(vec![
+            seam(vec![e, f, g], 0),
+            seam(vec![e, f, h], 1),
+            seam(vec![f, g, h], 2),
+        ]);
+        assert_eq!(
+            check_topology(&generic, &sheets).inconsistencies,
+            ["junction 0 (4 segments) has 3 seam ends"]
+        );
+        let split = axis(vec![
+            seam(vec![e, f, g, h], 0),
+            seam(vec![e, f, h], 1),
+            seam(vec![f, g, h], 2),
+        ]);
+        assert!(check_topology(&split, &sheets).inconsistencies.is_empty());
     }
 
     /// The pinch's two elements may each hold more than one touch point: the one at the
