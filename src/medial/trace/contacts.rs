@@ -36,9 +36,9 @@ impl Tracer<'_> {
             };
             let accuracy = self.opts.accuracy;
             let s = &mut self.seams[n];
-            for (seg, touch) in extra {
-                s.segments.push(seg);
-                s.end_segments.push(seg);
+            for ([first, last], touch) in extra {
+                s.segments.push(first);
+                s.end_segments.push(last);
                 for (p, t) in s.points.iter_mut().zip(touch) {
                     p.touch.push(t.to_array());
                 }
@@ -129,9 +129,10 @@ impl Tracer<'_> {
     }
 
     /// The elements other than `s`'s own that touch every interior ball of `s` (to the
-    /// output accuracy, at a place of their own), each with its touch point at every ball;
-    /// `None` when there are none.
-    fn contacts_along(&self, s: &Seam) -> Option<Vec<(Element, Vec<DVec3>)>> {
+    /// output accuracy, at a place of their own), each as the elements touching the first
+    /// and last balls (it or, below, a neighbour) and its touch point at every ball; `None`
+    /// when there are none.
+    fn contacts_along(&self, s: &Seam) -> Option<Vec<([Element; 2], Vec<DVec3>)>> {
         let n = s.points.len();
         if n < 3 {
             return None;
@@ -167,16 +168,54 @@ impl Tracer<'_> {
             }
         }
         // At the two ends the touch point may meet another (a vertex, where r is 0) or the
-        // ball touch more (a junction): the element's nearest point to the centre.
+        // ball touch more (a junction): the element's nearest point to the centre, or a
+        // neighbour's where the touch point has just left the element (at a pinch past an
+        // edge touched along the seam, the face beyond it touches the last ball).
         let mut out = vec![];
         for (seg, mut at) in extra {
-            for k in [0, n - 1] {
-                let (c, _, _) = ball(k);
-                at[k] = self.nearest_on_segment(seg, c);
+            let mut ends = [seg; 2];
+            for (end, k) in [0, n - 1].into_iter().enumerate() {
+                let (c, r, _) = ball(k);
+                let (e, q) = self.touching_at_end(seg, c, r)?;
+                ends[end] = e;
+                at[k] = Some(q);
             }
-            out.push((seg, at.into_iter().collect::<Option<Vec<DVec3>>>()?));
+            out.push((ends, at.into_iter().collect::<Option<Vec<DVec3>>>()?));
         }
         Some(out)
+    }
+
+    /// The element touching the ball (`c`, `r`) at the end of a seam along which `seg`
+    /// touches every ball, and its touch point: `seg`'s nearest point when it is at `r` to
+    /// the accuracy; otherwise the nearest of `seg`'s and its neighbours' (an edge's faces, a
+    /// vertex's edges and their faces), which the touch point has moved onto.
+    pub(super) fn touching_at_end(
+        &self,
+        seg: Element,
+        c: DVec3,
+        r: f64,
+    ) -> Option<(Element, DVec3)> {
+        let own = self.nearest_on_segment(seg, c)?;
+        if (own.distance(c) - r).abs() <= self.opts.accuracy {
+            return Some((seg, own));
+        }
+        let faces_of = |e: usize| self.model.edges[e].faces.clone();
+        let neighbours: Vec<Element> = match seg {
+            Element::Face(_) => vec![],
+            Element::Edge(e) => faces_of(e).into_iter().map(Element::Face).collect(),
+            Element::Vertex(v) => self.vertex_edges[v]
+                .iter()
+                .flat_map(|&(e, _)| {
+                    std::iter::once(Element::Edge(e))
+                        .chain(faces_of(e).into_iter().map(Element::Face))
+                })
+                .collect(),
+        };
+        neighbours
+            .into_iter()
+            .filter_map(|e| Some((e, self.nearest_on_segment(e, c)?)))
+            .chain(std::iter::once((seg, own)))
+            .min_by(|a, b| a.1.distance(c).total_cmp(&b.1.distance(c)))
     }
 
     /// The nearest point of segment `seg` to `p`.

@@ -1219,3 +1219,37 @@ fn a_seam_back_to_its_junction_within_the_separation_is_dropped() {
     assert_eq!(tracer.seams.len(), 1);
     assert_eq!(tracer.seams[0].points[1].point[1], 13.0, "the loop is kept");
 }
+
+/// At a seam's end an element touching every interior ball may have handed its touch point
+/// on to a neighbour: the end ball's touch point is then the neighbour's. (On SOT23's leads a
+/// seam between two edges 0.13 mm apart ended at a pinch 3.4 µm past them; its touch points
+/// at the upper edge, the fourth contact, lay 9e-5 mm outside the last ball, which the face
+/// beyond that edge touched.) Here on the box [0,60]×[0,40]×[0,20]: the edge along x at
+/// y = z = 0 and a ball of r = 3 over the bottom face at (30, 5, 3).
+#[test]
+fn a_fourth_contact_at_a_seams_end_is_on_the_neighbour_touching_the_ball() {
+    let (m, class) = crate::testing::classified("box.step");
+    let boundary = Boundary::new(&m);
+    let opts = TraceOptions::for_model(&m);
+    let tracer = tracer::Tracer::new(&m, &boundary, &class, &opts);
+    let on_x_axis = |p: DVec3| p.y.abs() < 1e-9 && p.z.abs() < 1e-9;
+    let e = (0..m.edges.len())
+        .find(|&e| {
+            let [a, b] = m.edges[e].vertices;
+            on_x_axis(m.vertices[a].point) && on_x_axis(m.vertices[b].point)
+        })
+        .unwrap();
+    let (seg, q) = tracer
+        .touching_at_end(Element::Edge(e), DVec3::new(30.0, 5.0, 3.0), 3.0)
+        .unwrap();
+    assert!(q.distance(DVec3::new(30.0, 5.0, 0.0)) < 1e-9, "{q}");
+    let Element::Face(f) = seg else {
+        panic!("{seg:?}")
+    };
+    assert!(m.edges[e].faces.contains(&f));
+    // Where the edge itself is at r it keeps the touch point.
+    let c = DVec3::new(30.0, 3.0, 4.0);
+    let (seg, q) = tracer.touching_at_end(Element::Edge(e), c, 5.0).unwrap();
+    assert_eq!(seg, Element::Edge(e));
+    assert!(q.distance(DVec3::new(30.0, 0.0, 0.0)) < 1e-9, "{q}");
+}
