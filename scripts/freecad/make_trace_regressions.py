@@ -49,7 +49,10 @@ outline's kink just before a hand-over across the stroke), and a pin's chamfered
 shelves (a hyperbola edge's curvature limit just before a hand-over onto a shelf's edge), and
 a fin whose tip is a plane and a cylinder folded onto each other (interior angle 0) and the
 same sliver cut into a block as a crack (360), each turned so that rounding classified it the
-other way.
+other way, and an IC package body drafted in and out of its parting line with a lead out of its
+front (a seam of four contacts, symmetric about the parting line, that splits where it meets the
+lead's edge; and, the lead moved under its end, one whose symmetry a hand-over breaks a step
+before its junction).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -1695,6 +1698,63 @@ def fin_folded_to_its_tip():
 def crack_folded_to_its_bottom():
     return folded(True, V(0, 0, 1), 37)
 
+
+
+# An IC package's body (a DPAK's, an SOT's): 6 x 5, its sides drafted in and out of a parting
+# line 1 above the floor (the creases there 165.19 degrees), with one lead 0.6 wide and 0.3
+# thick out of its front, flush with the parting line, and reaching 0.1 into the body.
+PACKAGE_DRAFT = 0.13
+
+
+def package_with_a_lead(x):
+    """The package body with its lead at x .. x + 0.6."""
+    def rect(inset, z):
+        return Part.makePolygon([V(inset, inset, z), V(6 - inset, inset, z),
+                                 V(6 - inset, 5 - inset, z), V(inset, 5 - inset, z),
+                                 V(inset, inset, z)])
+    lower = Part.makeLoft([rect(PACKAGE_DRAFT, 0), rect(0, 1)], True, True)
+    upper = Part.makeLoft([rect(0, 1), rect(PACKAGE_DRAFT, 2)], True, True)
+    lead = Part.makeBox(0.6, 1.5, 0.3, V(x, -1.4, 0.7))
+    return lower.fuse(upper).fuse(lead).removeSplitter()
+
+
+def package_volume():
+    """Two prismatoids (h/6 (A1 + 4 Am + A2)) and the lead's part outside the lower front
+    face (y = d (1 - z)): 0.6 x the integral of 1.4 + d (1 - z) over z 0.7 .. 1."""
+    d = PACKAGE_DRAFT
+    half = (5.74 * 4.74 + 4 * (6 - d) * (5 - d) + 30) / 6
+    return 2 * half + 0.6 * (1.4 * 0.3 + d * 0.3 ** 2 / 2)
+
+
+@part("package_corner_split_at_a_lead",
+      "An IC package body 6x5x2 whose sides are drafted in and out of a parting line at half "
+      "its height (creases of 165.19 degrees; its drafted faces B-spline lofts), with one lead "
+      "0.6x0.3 out of its front at x = 0.5 to 1.1, flush with the parting line.",
+      package_volume(),
+      "The seams from the corners in the parting line are touched by four faces, the two "
+      "drafted faces on each side (the body is symmetric about the parting line): their "
+      "touch points lie round a circle, and the sheets are between neighbours round it. The "
+      "one from the corner at the lead meets the lead's edge with the lower front face and "
+      "splits there into two seams of three: that junction has three seam ends, and the "
+      "sheets round it close.")
+def package_corner_split_at_a_lead():
+    return package_with_a_lead(0.5)
+
+
+@part("package_lead_under_the_corner_seam",
+      "The package of package_corner_split_at_a_lead with its lead at x = 1 to 1.6: the "
+      "lead's edge with the lower front face runs up to (1, 0, 1), under the end of the seam "
+      "from the front left corner.",
+      package_volume(),
+      "The seam from the front left corner, touched by four faces by symmetry, hands its "
+      "touch point on the lower front face to the lead's edge 0.012 before the junction "
+      "where the ball reaches the floor; past that hand-over the upper left face no longer "
+      "touches the ball (it is 3.4e-5 farther than r at that junction): the seam ends at the "
+      "hand-over, at a junction at (1, 1, 1) with r = 0.99166, whose two other seams (the "
+      "lead's edge, the lower left and upper front faces; the three faces without the "
+      "lead's edge) leave it.")
+def package_lead_under_the_corner_seam():
+    return package_with_a_lead(1.0)
 
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))

@@ -1448,3 +1448,54 @@ fn a_mitres_rim_ends_in_a_free_edge_where_its_faces_are_tangent() {
     let checks = &report["stats"]["verification"]["checks"];
     assert_eq!(checks["sheets_closed"]["failed"], 0, "{checks}");
 }
+
+/// The package body drafted in and out of its parting line, its lead under the end of the
+/// seam from the front left corner: that seam is touched by four faces (the drafted faces on
+/// either side, symmetric about the parting line) until it hands its touch point on the lower
+/// front face to the lead's edge, one step before its junction on the floor. It ends there, at
+/// a junction of the four at (1, 1, 1) with r = 0.99166 (the ball touching the lead's edge at
+/// its top end (1, 0, 1) and the three faces), whose other two seams, of three contacts each,
+/// leave for the floor (the lead's edge, the lower left and upper front faces) and for the
+/// ball touching floor and roof (the three faces without the lead's edge); every ball is at
+/// its distance from the boundary, and every sheet closes.
+#[test]
+fn a_four_contact_seam_ends_where_a_hand_over_breaks_its_symmetry() {
+    let (out, report) = trace_part("package_lead_under_the_corner_seam", true);
+    let failures: Vec<&str> = report["stats"]["verification"]["failures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap())
+        .collect();
+    assert!(
+        failures.iter().all(|f| f.starts_with("euler:")),
+        "{failures:?}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let junctions = report["mat"]["junctions"].as_array().unwrap();
+    let at = junctions
+        .iter()
+        .find(|j| distance(&j["point"], [1.0, 1.0, 1.0]) < 1e-3)
+        .expect("a junction at (1, 1, 1)");
+    assert!(
+        (at["radius"].as_f64().unwrap() - 0.99166).abs() < 1e-4,
+        "{at}"
+    );
+    assert_eq!(at["segments"].as_array().unwrap().len(), 4, "{at}");
+    let id = at["id"].as_u64().unwrap();
+    let ending: Vec<usize> = seams(&report)
+        .iter()
+        .flat_map(|s| {
+            let n = s["segments"].as_array().unwrap().len();
+            let m = s["end_segments"].as_array().unwrap().len();
+            let ends = s["ends"].as_array().unwrap();
+            [(0, n), (1, m)]
+                .into_iter()
+                .filter(move |&(k, _)| ends[k]["junction"].as_u64() == Some(id))
+                .map(|(_, len)| len)
+        })
+        .collect();
+    let mut sorted = ending.clone();
+    sorted.sort();
+    assert_eq!(sorted, [3, 3, 4], "seam ends at the junction, by contacts");
+}

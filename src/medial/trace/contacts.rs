@@ -15,37 +15,198 @@
 //! ball, and the seam's slots are put in their order round the circle. The same seam traced
 //! from two triplets of its contacts is then seen to be one, and traced once.
 
+use super::options::SAME_PLACE_REL_ACCURACY;
 use super::queue::{named, runs_along};
 use super::through::{ball_on, ON_SEAM_REL_ACCURACY};
+use super::tracer::Start;
 use super::tracer::Tracer;
+use super::unknowns::seam_x;
 use crate::geom::distance::nearest_on_edge;
-use crate::medial::axis::{Node, Seam, SeamEnd, SeamPoint};
-use crate::medial::verify::separation;
-use crate::medial::verify::unresolved_points;
+use crate::medial::axis::{Handover, Junction, Node, Seam, SeamEnd, SeamPoint};
+use crate::medial::verify::{junction_unresolved, separation, unresolved_points};
 use crate::model::Element;
 use glam::DVec3;
 use std::collections::HashMap;
 
 impl Tracer<'_> {
     /// Adds to every seam the elements that touch each of its balls besides its own, slots
-    /// ordered round the seam.
+    /// ordered round the seam. Where an element added so touches every interior ball but not
+    /// the ball at one end (nor does a neighbour it hands its touch point to), and the seam
+    /// hands a touch point over at the ball before that end, the hand-over has broken the
+    /// symmetry that made the seam non-generic: the seam is split there, at a junction (see
+    /// [`Self::split_at`]). Elsewhere the end's touch point is left off the ball, for
+    /// `touch_at_radius` to report.
     pub(super) fn add_more_contacts(&mut self) {
-        for n in 0..self.seams.len() {
-            let Some(extra) = self.contacts_along(&self.seams[n]) else {
-                continue;
-            };
-            let accuracy = self.opts.accuracy;
-            let s = &mut self.seams[n];
-            for ([first, last], touch) in extra {
-                s.segments.push(first);
-                s.end_segments.push(last);
-                for (p, t) in s.points.iter_mut().zip(touch) {
-                    p.touch.push(t.to_array());
+        let mut n = 0;
+        while n < self.seams.len() {
+            if let Some(extra) = self.contacts_along(&self.seams[n]) {
+                let off: Vec<usize> = (0..2)
+                    .filter(|&end| extra.iter().any(|x| !x.touches_end[end]))
+                    .collect();
+                // Split only where a hand-over at that ball is the event located exactly.
+                let s = &self.seams[n];
+                let points = s.points.len();
+                let split = match off[..] {
+                    [end] if points >= 3 => Some(if end == 0 { 1 } else { points - 2 }),
+                    _ => None,
+                }
+                .filter(|&k| s.handovers.iter().any(|h| h.point == k));
+                let accuracy = self.opts.accuracy;
+                let original = self.seams[n].clone();
+                let s = &mut self.seams[n];
+                for x in &extra {
+                    s.segments.push(x.ends[0]);
+                    s.end_segments.push(x.ends[1]);
+                    for (p, t) in s.points.iter_mut().zip(&x.touch) {
+                        p.touch.push(t.to_array());
+                    }
+                }
+                put_slots_in_order(s);
+                s.unresolved = unresolved_points(s, accuracy);
+                if let Some(k) = split {
+                    self.split_at(n, original, k, &extra);
                 }
             }
-            put_slots_in_order(s);
-            s.unresolved = unresolved_points(s, accuracy);
+            n += 1;
+            if !self.queue.is_empty() {
+                self.run_queue();
+            }
         }
+        self.stats.points = self.seams.iter().map(|s| s.points.len()).sum();
+    }
+
+    /// Splits seam `n` (whose further contacts `extra` were just added; `original` is it
+    /// without them) at its ball `k` (its second or last but one): the piece from that ball
+    /// to the end where the contacts do not all touch keeps only the seam's own three, and
+    /// ends at a junction at ball `k`, which touches all of them. The sheets round that
+    /// junction (between neighbours round the non-generic piece, and all three of the other
+    /// piece's) that only one piece bounds are closed by one more seam, when they are the
+    /// three sheets of one triplet: it is queued from the junction, leaving along the plane
+    /// of its touch points on the side where the element it omits recedes (along the other
+    /// piece where the contacts round a circle leave that side unresolved).
+    fn split_at(&mut self, n: usize, original: Seam, k: usize, extra: &[Extra]) {
+        let accuracy = self.opts.accuracy;
+        let last = k + 1 == original.points.len() - 1;
+        let own_at_k = super::through::touched_at(&original)[k][1].clone();
+        let ball = original.points[k].clone();
+        let centre = |p: &SeamPoint| DVec3::new(p.point[0], p.point[1], p.point[2]);
+        let c = centre(&ball);
+        let r = ball.point[3];
+        let id = self.junctions.len();
+        let mut segments = own_at_k.clone();
+        segments.extend(extra.iter().map(|x| x.element));
+        let mut touch = ball.touch.clone();
+        touch.extend(extra.iter().map(|x| x.touch[k].to_array()));
+        let mut junction = Junction {
+            id,
+            solid: original.solid,
+            point: c.to_array(),
+            radius: r,
+            segments: segments.clone(),
+            touch: touch.clone(),
+            unresolved: false,
+        };
+        junction.unresolved = junction_unresolved(&junction, accuracy);
+        // The piece of three contacts, and the non-generic piece cut short at ball `k`.
+        let mut rest = original.clone();
+        rest.id = self.seams.len();
+        let along_rest;
+        let s = &mut self.seams[n];
+        if last {
+            rest.points = original.points[k..].to_vec();
+            rest.segments = own_at_k;
+            rest.ends[0] = SeamEnd::Junction(id);
+            rest.handovers = shifted(&original.handovers, k);
+            s.points.truncate(k + 1);
+            s.ends[1] = SeamEnd::Junction(id);
+            s.end_segments = ordered(&segments, &s.points[k].touch, &touch);
+            s.handovers.retain(|h| h.point <= k);
+            along_rest = centre(&rest.points[1]) - c;
+        } else {
+            rest.points = original.points[..=k].to_vec();
+            rest.end_segments = own_at_k;
+            rest.ends[1] = SeamEnd::Junction(id);
+            rest.handovers.retain(|h| h.point < k);
+            s.points.drain(..k);
+            s.ends[0] = SeamEnd::Junction(id);
+            s.segments = ordered(&segments, &s.points[0].touch, &touch);
+            s.handovers = shifted(&s.handovers, k);
+            along_rest = centre(&rest.points[k - 1]) - c;
+        }
+        s.unresolved = unresolved_points(s, accuracy);
+        rest.unresolved = unresolved_points(&rest, accuracy);
+        // The sheets round the junction that one piece alone bounds.
+        let mut once: HashMap<[Element; 2], usize> = HashMap::new();
+        let mut count = |a: Element, b: Element| {
+            *once.entry(if a < b { [a, b] } else { [b, a] }).or_default() += 1;
+        };
+        let round = if last { &s.end_segments } else { &s.segments };
+        for i in 0..round.len() {
+            count(round[i], round[(i + 1) % round.len()]);
+        }
+        let own = if last {
+            &rest.segments
+        } else {
+            &rest.end_segments
+        };
+        for (i, j) in [(0, 1), (1, 2), (0, 2)] {
+            count(own[i], own[j]);
+        }
+        let mut open: Vec<Element> = once
+            .iter()
+            .filter(|(_, &n)| n == 1)
+            .flat_map(|(p, _)| *p)
+            .collect();
+        let pairs = once.values().filter(|&&n| n == 1).count();
+        open.sort();
+        open.dedup();
+        let arrived = centre(&s.points[if last { k - 1 } else { 1 }]) - c;
+        self.junctions.push(junction);
+        self.arrivals.push(
+            [arrived, along_rest]
+                .iter()
+                .filter_map(|d| d.try_normalize())
+                .collect(),
+        );
+        self.seams.push(rest);
+        if pairs != 3 || open.len() != 3 {
+            return;
+        }
+        let slots: Vec<usize> = open
+            .iter()
+            .filter_map(|e| segments.iter().position(|f| f == e))
+            .collect();
+        let Some(omitted) = (0..segments.len()).find(|i| !slots.contains(i)) else {
+            return;
+        };
+        let t = |i: usize| DVec3::from_array(touch[i]);
+        let Some(mut dir) = (t(slots[1]) - t(slots[0]))
+            .cross(t(slots[2]) - t(slots[0]))
+            .try_normalize()
+        else {
+            return;
+        };
+        let recede = dir.dot(t(slots[0]) - t(omitted));
+        if recede.abs() <= SAME_PLACE_REL_ACCURACY * accuracy {
+            if dir.dot(along_rest) < 0.0 {
+                dir = -dir;
+            }
+        } else if recede < 0.0 {
+            dir = -dir;
+        }
+        let Some(params) = slots
+            .iter()
+            .map(|&i| self.start_params(segments[i], c, [f64::NAN; 2]))
+            .collect::<Option<Vec<_>>>()
+        else {
+            return;
+        };
+        self.queue.push_back(Start {
+            triplet: [segments[slots[0]], segments[slots[1]], segments[slots[2]]],
+            x: seam_x(c, r, [params[0], params[1], params[2]]),
+            dir,
+            from: Node::Junction(id),
+        });
     }
 
     /// Drops each seam that repeats another from the same node: between the same two nodes,
@@ -129,10 +290,10 @@ impl Tracer<'_> {
     }
 
     /// The elements other than `s`'s own that touch every interior ball of `s` (to the
-    /// output accuracy, at a place of their own), each as the elements touching the first
+    /// output accuracy, at a place of their own), each with the elements touching the first
     /// and last balls (it or, below, a neighbour) and its touch point at every ball; `None`
     /// when there are none.
-    fn contacts_along(&self, s: &Seam) -> Option<Vec<([Element; 2], Vec<DVec3>)>> {
+    fn contacts_along(&self, s: &Seam) -> Option<Vec<Extra>> {
         let n = s.points.len();
         if n < 3 {
             return None;
@@ -174,13 +335,20 @@ impl Tracer<'_> {
         let mut out = vec![];
         for (seg, mut at) in extra {
             let mut ends = [seg; 2];
+            let mut touches_end = [true; 2];
             for (end, k) in [0, n - 1].into_iter().enumerate() {
                 let (c, r, _) = ball(k);
                 let (e, q) = self.touching_at_end(seg, c, r)?;
                 ends[end] = e;
+                touches_end[end] = (q.distance(c) - r).abs() <= self.opts.accuracy;
                 at[k] = Some(q);
             }
-            out.push((ends, at.into_iter().collect::<Option<Vec<DVec3>>>()?));
+            out.push(Extra {
+                element: seg,
+                ends,
+                touch: at.into_iter().collect::<Option<Vec<DVec3>>>()?,
+                touches_end,
+            });
         }
         Some(out)
     }
@@ -229,6 +397,46 @@ impl Tracer<'_> {
             Element::Vertex(v) => self.model.vertices.get(v).map(|v| v.point),
         }
     }
+}
+
+/// An element touching every interior ball of a seam besides its own.
+struct Extra {
+    element: Element,
+    /// The elements touching the first and last balls in its place (it, or a neighbour its
+    /// touch point has moved onto).
+    ends: [Element; 2],
+    /// Its touch point at every ball.
+    touch: Vec<DVec3>,
+    /// Whether it (or that neighbour) touches the first and last balls at `r` to the
+    /// accuracy.
+    touches_end: [bool; 2],
+}
+
+/// The hand-overs of `h` after point `k`, renumbered from `k`: those of a seam's piece that
+/// starts at its point `k` on the elements it touches there after any hand-over at `k`.
+fn shifted(h: &[Handover], k: usize) -> Vec<Handover> {
+    h.iter()
+        .filter(|x| x.point > k)
+        .map(|x| Handover {
+            point: x.point - k,
+            ..x.clone()
+        })
+        .collect()
+}
+
+/// `segments` (with their touch points `touch`, slot by slot) in the order of the touch points
+/// `order` (each the nearest of `touch`).
+fn ordered(segments: &[Element], order: &[[f64; 3]], touch: &[[f64; 3]]) -> Vec<Element> {
+    let d = |a: &[f64; 3], b: &[f64; 3]| DVec3::from_array(*a).distance(DVec3::from_array(*b));
+    order
+        .iter()
+        .map(|q| {
+            let i = (0..touch.len())
+                .min_by(|&i, &j| d(&touch[i], q).total_cmp(&d(&touch[j], q)))
+                .unwrap_or(0);
+            segments[i]
+        })
+        .collect()
 }
 
 /// Puts the slots of `s` (its segments, end segments and every point's touch points) in their

@@ -154,7 +154,7 @@ impl Tracer<'_> {
 /// The elements seam `s` touches at each of its points: its first elements with the
 /// hand-overs before the point made; at a hand-over's point (which is on both elements) also
 /// with that hand-over made.
-fn touched_at(s: &Seam) -> Vec<[Vec<Element>; 2]> {
+pub(super) fn touched_at(s: &Seam) -> Vec<[Vec<Element>; 2]> {
     let mut now = s.segments.clone();
     let hand = |now: &mut Vec<Element>, from: Element, to: Element| {
         if let Some(slot) = now.iter_mut().find(|e| **e == from) {
