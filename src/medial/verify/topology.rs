@@ -37,8 +37,8 @@ pub struct Topology {
 pub fn check_topology(mat: &MedialAxis, sheets: &Sheets) -> Topology {
     let mut ends_at = vec![0usize; mat.junctions.len()];
     // Junctions where a non-generic seam (four or more contacts round it) ends: there it
-    // splits into seams of three (two, on a pocket's chamfered corner), and the sheets
-    // round it, not a count of seams, say whether the junction is complete.
+    // may split into two seams of three (a package body's corner seam at a lead's edge),
+    // and the sheets round it, not a count of seams, say whether the junction is complete.
     let mut non_generic_end = vec![false; mat.junctions.len()];
     let mut vertices = std::collections::BTreeSet::new();
     let mut inconsistencies = vec![];
