@@ -42,9 +42,10 @@ use std::path::PathBuf;
 ///   leaving that junction (the junction counted five seam ends): a vertex touched is named
 ///   by a seam naming an edge at it now (`trace::through`);
 /// - TCMT1107_4 passes now, and SOT428_DPAK and the TSM headers lost their
-///   `junction_seams`: where a seam of four contacts (round a chamfered pocket's corner)
-///   splits into two seams of three, its junction has three seam ends, which the check
-///   counted as one missing; on the TSM headers' pins a seam also left an unresolved junction
+///   `junction_seams`: where a seam of four contacts (from a corner between two pairs of
+///   shallow creases, as on a body drafted in and out of its parting line) splits into two
+///   seams of three, its junction has three seam ends, which the check counted as one
+///   missing (`samples/trace/package_corner_split_at_a_lead.step`); on the TSM headers' pins a seam also left an unresolved junction
 ///   and came back to it within the separation (dropped now);
 /// - `touch_on_boundary` on CAP_50SGV: a degenerate curve's balls on a NURBS face whose touch
 ///   circles leave the trimmed face by 0.1–0.34 mm (issue 20's degenerate pieces);
