@@ -43,16 +43,15 @@ impl Tracer<'_> {
                 let off: Vec<usize> = (0..2)
                     .filter(|&end| extra.iter().any(|x| !x.touches_end[end]))
                     .collect();
+                let original = self.seams[n].clone();
+                let points = original.points.len();
                 // Split only where a hand-over at that ball is the event located exactly.
-                let s = &self.seams[n];
-                let points = s.points.len();
                 let split = match off[..] {
                     [end] if points >= 3 => Some(if end == 0 { 1 } else { points - 2 }),
                     _ => None,
                 }
-                .filter(|&k| s.handovers.iter().any(|h| h.point == k));
+                .filter(|&k| original.handovers.iter().any(|h| h.point == k));
                 let accuracy = self.opts.accuracy;
-                let original = self.seams[n].clone();
                 let s = &mut self.seams[n];
                 for x in &extra {
                     s.segments.push(x.ends[0]);
@@ -152,12 +151,12 @@ impl Tracer<'_> {
         for (i, j) in [(0, 1), (1, 2), (0, 2)] {
             count(own[i], own[j]);
         }
-        let mut open: Vec<Element> = once
-            .iter()
-            .filter(|(_, &n)| n == 1)
-            .flat_map(|(p, _)| *p)
+        let unpaired: Vec<[Element; 2]> = once
+            .into_iter()
+            .filter(|&(_, n)| n == 1)
+            .map(|(p, _)| p)
             .collect();
-        let pairs = once.values().filter(|&&n| n == 1).count();
+        let mut open = unpaired.concat();
         open.sort();
         open.dedup();
         let arrived = centre(&s.points[if last { k - 1 } else { 1 }]) - c;
@@ -169,7 +168,7 @@ impl Tracer<'_> {
                 .collect(),
         );
         self.seams.push(rest);
-        if pairs != 3 || open.len() != 3 {
+        if unpaired.len() != 3 || open.len() != 3 {
             return;
         }
         let slots: Vec<usize> = open
