@@ -18,10 +18,13 @@ freely; `skeletal_edges`: its last ball is a vertex of the part, r = 0):
   distance           its distance to the boundary shells (BRepExtrema_DistShapeShape) is r;
   touch_on_boundary  each reported touch point is on the boundary,
   touch_at_radius    and at distance r from the centre;
-  separated          the touch points make enough separate places: two count as separate when
-                     farther apart than sqrt(8 r tol), the chord over which a sphere of radius r
-                     and a surface tangent to it stay within tol of each other, so that one
-                     smooth contact cannot pass for two. Seam points need 3 (2 at a seam end at
+  separated          the touch points make enough separate places (the most of them pairwise
+                     separate): two count as separate when farther apart than sqrt(8 r tol),
+                     the chord over which a sphere of radius r and a surface tangent to it stay
+                     within tol of each other, so that one smooth contact cannot pass for two,
+                     or when they lie on one edge that curls round the ball between them (the
+                     second derivative of the squared distance along it at most tol |C''|: the
+                     distance has a maximum between them). Seam points need 3 (2 at a seam end at
                      a curvature limit, where the ball osculates a face, or at a pinch, where
                      two touch points meet at a vertex), junctions 4, degenerate balls 2
                      (1 at an end where the arc of contact shrinks to a point), a skeletal
@@ -177,12 +180,29 @@ def separation(r, tol):
     return math.sqrt(8.0 * r * tol)
 
 
-def places(touch, s):
-    found = []
-    for t in touch:
-        if all(dist3(t, q) > s for q in found):
-            found.append(t)
-    return len(found)
+def places(touch, s, separate=None, steps=100_000):
+    """The most touch points pairwise farther apart than s, or pairwise separate(i, j) (i < j)
+    when given (in the order given, a point within s of two that are not of each other would
+    hide one). A search over subsets of at most `steps` steps; past it, the largest set found
+    so far."""
+    if separate is None:
+        def separate(i, j):
+            return dist3(touch[i], touch[j]) > s
+    best = 0
+    budget = [steps]
+
+    def grow(chosen, start):
+        nonlocal best
+        best = max(best, len(chosen))
+        for i in range(start, len(touch)):
+            if len(chosen) + len(touch) - i <= best or budget[0] == 0:
+                return
+            budget[0] -= 1
+            if all(separate(j, i) for j in chosen):
+                grow(chosen + [i], i + 1)
+
+    grow([], 0)
+    return best
 
 
 def finite(*values):
@@ -302,6 +322,27 @@ class Part:
     def gap_near(self, p, reach, solid=None):
         """The largest gap of the faces within `reach` of `p`."""
         return max((self.face_gap(i) for i in self.faces_within(p, reach, solid)), default=0.0)
+
+    def edges_near(self, p, tol, solid=None):
+        """{edge index (from 1): (its curve, the parameter of p's foot on it)} for every edge
+        of the faces (of that solid) within tol of p that is itself within tol of p."""
+        found = {}
+        for i in self.faces_within(p, tol, solid):
+            exp = TopExp_Explorer(self.faces.FindKey(i), TopAbs_EDGE)
+            while exp.More():
+                edge = TopoDS.Edge(exp.Current())
+                exp.Next()
+                k = self.edge_faces.FindIndex(edge)
+                if k in found or BRep_Tool.Degenerated_s(edge):
+                    continue
+                first, last = BRep_Tool.Range_s(edge)
+                curve = BRep_Tool.Curve_s(edge, first, last)
+                if curve is None:
+                    continue
+                proj = GeomAPI_ProjectPointOnCurve(gp_Pnt(*p), curve, first, last)
+                if proj.NbPoints() > 0 and proj.LowerDistance() <= tol:
+                    found[k] = (curve, proj.LowerDistanceParameter())
+        return found
 
     def vertex_at(self, p, tol):
         """The vertex (index from 1) within `tol` of p, or None."""
@@ -571,6 +612,42 @@ class Checks:
                 self.failures.append(f"{check}: {what()}")
 
 
+# Samples of an edge between two touch points at which curls_round looks for the edge bending
+# round the ball.
+CURL_SAMPLES = 8
+
+
+def curls_round(curve, t0, t1, c, tol):
+    """True when the curve bends round the ball centred at c somewhere between parameters t0
+    and t1 (both included): there the second derivative of half the squared distance from c,
+    |C'|^2 - (c - C).C'', is at most what the accuracy of c allows (tol |C''|), so that the
+    distance along it has a maximum between two touch points (or is constant): two touch
+    points there are two places however close."""
+    for k in range(CURL_SAMPLES + 1):
+        t = t0 + (t1 - t0) * k / CURL_SAMPLES
+        q, d1, d2 = gp_Pnt(), gp_Vec(), gp_Vec()
+        curve.D2(t, q, d1, d2)
+        w = (c[0] - q.X(), c[1] - q.Y(), c[2] - q.Z())
+        g = d1.SquareMagnitude() - (w[0] * d2.X() + w[1] * d2.Y() + w[2] * d2.Z())
+        if g <= tol * d2.Magnitude():
+            return True
+    return False
+
+
+def places_on_curling_edges(part, touch, centre, s, tol, k):
+    """places(touch, s), where two touch points closer than s on one edge that curls round the
+    ball between them count as separate places too."""
+    edges = [part.edges_near(t, tol, k) for t in touch]
+
+    def separate(i, j):
+        if dist3(touch[i], touch[j]) > s:
+            return True
+        return any(e in edges[j] and curls_round(curve, ti, edges[j][e][1], centre, tol)
+                   for e, (curve, ti) in edges[i].items())
+
+    return places(touch, s, separate)
+
+
 def shortfall_explained(part, touch, faces, s, same_ok):
     """True when every two touch points closer than s lie on two different faces that meet
     (share a vertex: a crease, a sliver between them) and not on the same faces (not both on
@@ -638,6 +715,10 @@ def check_ball(part, checks, touched, what, centre, r, touch, need, unresolved=N
     if not point_ball:
         s = separation(r, tol)
         n = places(touch, s)
+        if n < need:
+            # Closer than the separation but on one edge that curls round the ball between
+            # them: two places the chord cannot tell apart and the curve's second derivative can.
+            n = places_on_curling_edges(part, touch, centre, s, tol, k)
         # A ball marked unresolved may touch one place fewer, where its touch points closer
         # than the separation are on faces that meet; in the corner of a convex vertex its seam
         # ends at (each touch point on a face of that vertex, no two on the same), one place.

@@ -47,10 +47,13 @@ use std::path::PathBuf;
 ///   seams of three, its junction has three seam ends, which the check counted as one
 ///   missing (`samples/trace/package_corner_split_at_a_lead.step`); on the TSM headers' pins a seam also left an unresolved junction
 ///   and came back to it within the separation (dropped now);
+/// - SOT_96 lost its `separated` (84): seams into a curvature limit whose last ten points
+///   or so touch a step 1.7e-4 mm high at three points in a row, the middle one within
+///   √(8·r·a) of both ends and the ends farther apart: the places were counted in the order
+///   given (one place) and are the most touch points pairwise apart now (two, as an
+///   unresolved point needs);
 /// - `touch_on_boundary` on CAP_50SGV: a degenerate curve's balls on a NURBS face whose touch
 ///   circles leave the trimmed face by 0.1–0.34 mm (issue 20's degenerate pieces);
-///   `separated` on SOT_96: seams into a curvature limit whose last ten points or so touch a
-///   step 1.7e-4 mm high in places within √(8·r·a) of each other (the accuracy's limit);
 /// - `read`: five parts whose shells are open (an edge used by one face) or whose loop
 ///   points lie 3.3e-3 mm off their planes, which the reader refuses with the entity named.
 const EXPECTED: &[(&str, &[(&str, usize)])] = &[
@@ -76,10 +79,7 @@ const EXPECTED: &[(&str, &[(&str, usize)])] = &[
     ("SOT23.stp", &[("read", 1)]),
     ("SOT404.stp", &[("read", 1)]),
     ("SOT428_DPAK.stp", &[("verify:euler", 1)]),
-    (
-        "SOT_96.stp",
-        &[("verify:degenerate_ends", 7), ("verify:separated", 84)],
-    ),
+    ("SOT_96.stp", &[("verify:degenerate_ends", 7)]),
     ("TSM_103_01_L_DV_A.stp", &[("verify:sheets_closed", 140)]),
     ("TSM_104_01_L_DV_A.stp", &[("verify:sheets_closed", 178)]),
 ];

@@ -461,6 +461,56 @@ fn a_skeletal_edge_removed_turned_or_moved_fails() {
     t.both_fail("moved", &moved, &["skeletal_edges"]);
 }
 
+/// Two touch points on one edge closer than the separation `√(8·r·a)` are two places where
+/// the edge curls round the ball between them, and one elsewhere. The embossed '8'
+/// (`trace/embossed_eight.step`) has seams whose balls touch a counter's foot edge twice a
+/// few µm apart, near that edge's centre of curvature: its genuine report passes both
+/// checkers. A seam point whose face touch point is replaced by its edge touch point moved
+/// 0.1·√(8·r·a) along that edge fails `separated` in both: on the L-bracket's straight
+/// reflex edge, and on the elliptic rim of `trace/split_blind_hole.step`, which curves away
+/// from the ball.
+#[test]
+fn two_touch_points_on_one_edge_are_two_places_only_where_it_curls_round_the_ball() {
+    let test =
+        "verify::two_touch_points_on_one_edge_are_two_places_only_where_it_curls_round_the_ball";
+    Tampered::new("trace/embossed_eight.step", test);
+    for part in ["l_bracket.step", "trace/split_blind_hole.step"] {
+        let t = Tampered::new(part, test);
+        let a = t.genuine["options"]["accuracy"].as_f64().unwrap();
+        let mut doubled = t.genuine.clone();
+        let seams = doubled["mat"]["seams"].as_array_mut().unwrap();
+        // A seam of two faces and an edge without hand-overs, at its middle point.
+        let s = seams
+            .iter_mut()
+            .find(|s| {
+                let segments = s["segments"].as_array().unwrap();
+                let edges = segments
+                    .iter()
+                    .filter(|e| e.as_str().unwrap().starts_with('E'))
+                    .count();
+                edges == 1 && s["handovers"].as_array().unwrap().is_empty()
+            })
+            .unwrap_or_else(|| panic!("{part}: a seam of two faces and an edge"));
+        let e = s["segments"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .position(|e| e.as_str().unwrap().starts_with('E'))
+            .unwrap();
+        let f = (e + 1) % 3;
+        let k = s["points"].as_array().unwrap().len() / 2;
+        let at = |k: usize, c: usize| s["points"][k]["touch"][e][c].as_f64().unwrap();
+        let t0: Vec<f64> = (0..3).map(|c| at(k, c)).collect();
+        let along: Vec<f64> = (0..3).map(|c| at(k + 1, c) - t0[c]).collect();
+        let len = along.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let r = s["points"][k]["point"][3].as_f64().unwrap();
+        let step = 0.1 * (8.0 * r * a).sqrt();
+        let moved: Vec<f64> = (0..3).map(|c| t0[c] + along[c] / len * step).collect();
+        s["points"][k]["touch"][f] = json!(moved);
+        t.both_fail(&format!("doubled_on_an_edge_{k}"), &doubled, &["separated"]);
+    }
+}
+
 /// The free edge where a mitre's rim opens to 180 degrees (`box_with_a_mitred_corner`): the
 /// genuine report passes both checkers; removed, the rim's sheet is open at its vertex
 /// (`sheets_closed`); shortened to start at r = 2 (still straight, still empty), it no longer

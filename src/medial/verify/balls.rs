@@ -27,17 +27,52 @@ pub fn separation(r: f64, accuracy: f64) -> f64 {
     (8.0 * r * accuracy).sqrt()
 }
 
-/// How many separate places `touch` holds, at separation `s`: each point farther than `s`
-/// from every place counted so far is a new place.
+/// How many separate places `touch` holds, at separation `s`: the most touch points that
+/// are pairwise farther apart than `s`. Counting in the order given undercounts: with three
+/// touch points in a row 0.9·s apart, the middle one is within `s` of both others, and
+/// those two are separate places.
 pub fn places(touch: &[DVec3], s: f64) -> usize {
-    let mut found: Vec<DVec3> = vec![];
-    for t in touch {
-        if found.iter().all(|q| q.distance(*t) > s) {
-            found.push(*t);
+    places_where(touch.len(), &|i, j| touch[i].distance(touch[j]) > s)
+}
+
+/// The most of `n` touch points that are pairwise separate places by `separate(i, j)`
+/// (`i < j`). A search over subsets, bounded by [`PLACES_SEARCH_STEPS`]: past it, the
+/// largest set found so far (never more places than there are).
+fn places_where(n: usize, separate: &dyn Fn(usize, usize) -> bool) -> usize {
+    fn grow(
+        n: usize,
+        separate: &dyn Fn(usize, usize) -> bool,
+        chosen: &mut Vec<usize>,
+        from: usize,
+        best: &mut usize,
+        steps: &mut usize,
+    ) {
+        *best = (*best).max(chosen.len());
+        for i in from..n {
+            // Not even every point left would make more than the best.
+            if chosen.len() + (n - i) <= *best || *steps == 0 {
+                return;
+            }
+            *steps -= 1;
+            if chosen.iter().all(|&j| separate(j, i)) {
+                chosen.push(i);
+                grow(n, separate, chosen, i + 1, best, steps);
+                chosen.pop();
+            }
         }
     }
-    found.len()
+    let mut best = 0;
+    let mut steps = PLACES_SEARCH_STEPS;
+    grow(n, separate, &mut vec![], 0, &mut best, &mut steps);
+    best
 }
+
+/// Samples of an edge between two touch points at which [`Checker::curls_round`] looks for
+/// the edge bending round the ball.
+const CURL_SAMPLES: usize = 8;
+
+/// Most subsets [`places`] tries: far more than the few touch points of a ball need.
+const PLACES_SEARCH_STEPS: usize = 100_000;
 
 /// Places seam point `k` of `s` must touch: [`SEAM_PLACES`], or 2 at an end at a curvature
 /// limit or a pinch.
@@ -375,6 +410,42 @@ impl Checker<'_> {
         found
     }
 
+    /// The edges of `solid` within the accuracy of `p` (those of the faces it is on), each
+    /// with the parameter of `p`'s foot on it.
+    fn edges_near(&self, solid: usize, p: DVec3) -> Vec<(usize, f64)> {
+        let mut found: Vec<(usize, f64)> = vec![];
+        for f in self.faces_within(solid, p, self.accuracy, 4) {
+            for oe in self.model.faces[f].loops.iter().flat_map(|l| &l.edges) {
+                if found.iter().any(|&(e, _)| e == oe.edge) {
+                    continue;
+                }
+                let (t, _, d) = crate::geom::nearest_on_edge(self.model, oe.edge, p, None);
+                if d <= self.accuracy {
+                    found.push((oe.edge, t));
+                }
+            }
+        }
+        found
+    }
+
+    /// True when edge `e` curls round the ball centred at `c` somewhere between its
+    /// parameters `t0` and `t1` (both included): there `½‖c − C(t)‖²`, whose minima along the
+    /// edge are its touch points, has second derivative `‖C′‖² − (c − C)·C″` at most what
+    /// the accuracy of `c` allows (`a·‖C″‖`): the edge bends round the ball as tightly as the
+    /// ball, towards its centre, so that the distance along it has a maximum between two
+    /// touch points or is constant. Two touch points on it there are two places however
+    /// close; along an edge that bends less (a straight one, or one curving away) one touch
+    /// point cannot pass for two. Between the parameters directly, not round a closed edge's
+    /// seam.
+    fn curls_round(&self, e: usize, t0: f64, t1: f64, c: DVec3) -> bool {
+        let curve = &self.model.edges[e].curve;
+        (0..=CURL_SAMPLES).any(|k| {
+            let t = t0 + (t1 - t0) * k as f64 / CURL_SAMPLES as f64;
+            let d = crate::geom::eval_curve(curve, t);
+            d.d1.length_squared() - (c - d.p).dot(d.d2) <= self.accuracy * d.d2.length()
+        })
+    }
+
     /// True when `p` is within the accuracy of face `f`'s surface (untrimmed).
     fn on_surface(&self, f: usize, p: DVec3) -> bool {
         let surface = &self.model.faces[f].surface;
@@ -453,7 +524,24 @@ impl Checker<'_> {
         }
         if !point_ball {
             let s = separation(r, a);
-            let n = places(&touch, s);
+            let mut n = places(&touch, s);
+            if n < ball.places {
+                // Closer than the separation but on one edge that curls round the ball between
+                // them: two places the chord cannot tell apart, and the curve's second
+                // derivative can.
+                let edges: Vec<Vec<(usize, f64)>> = touch
+                    .iter()
+                    .map(|t| self.edges_near(ball.solid, *t))
+                    .collect();
+                n = places_where(touch.len(), &|i, j| {
+                    touch[i].distance(touch[j]) > s
+                        || edges[i].iter().any(|&(e, ti)| {
+                            edges[j]
+                                .iter()
+                                .any(|&(g, tj)| g == e && self.curls_round(e, ti, tj, b))
+                        })
+                });
+            }
             // A ball marked unresolved may touch one place fewer, where its touch points
             // closer than the separation are on elements that meet (or on a face at the
             // seam's curvature limit). In the corner of the convex vertex its seam ends at,
@@ -511,6 +599,13 @@ mod tests {
         assert_eq!(places(&[p(0.0), p(0.5), p(0.9)], 1.0), 1);
         assert_eq!(places(&[p(0.0), p(1.5), p(3.0)], 1.0), 3);
         assert_eq!(places(&[p(0.0), p(0.0), p(2.0), p(2.1)], 1.0), 2);
+        // The middle one within the separation of both ends, which are not: two places, in
+        // any order.
+        assert_eq!(places(&[p(0.9), p(0.0), p(1.8)], 1.0), 2);
+        assert_eq!(places(&[p(0.0), p(0.9), p(1.8)], 1.0), 2);
+        // Many points one place apart along a line: every other one.
+        let row: Vec<DVec3> = (0..40).map(|i| p(0.6 * i as f64)).collect();
+        assert_eq!(places(&row, 1.0), 20);
         // √(8·r·a): r = 10 mm, a = 1e-4 mm → 0.0894 mm.
         assert!((separation(10.0, 1e-4) - 0.08944271909999159).abs() < 1e-15);
     }

@@ -11,10 +11,13 @@
 //!   boundary is closer than `r`, so the ball is maximal in the global sense;
 //! - `touch_on_boundary` and `touch_at_radius`: every reported touch point `t` is on the
 //!   boundary (`d(t, ∂Ω) ≤ a`) and on the ball (`|‖t − B‖ − r| ≤ a`);
-//! - `separated`: the touch points lie in enough separate places — two touch points count as
-//!   separate when they are farther apart than `√(8·r·a)`, the chord over which a sphere of
-//!   radius `r` and a surface tangent to it stay within `a` of each other, so that one smooth
-//!   contact cannot pass for two. Seam points need 3 places (2 at a curvature-limit end,
+//! - `separated`: the touch points lie in enough separate places (the most of them that are
+//!   pairwise separate) — two touch points count as separate when they are farther apart
+//!   than `√(8·r·a)`, the chord over which a sphere of radius `r` and a surface tangent to it
+//!   stay within `a` of each other, so that one smooth contact cannot pass for two; or when
+//!   they are on one edge that curls round the ball between them (the second derivative of
+//!   the squared distance along it is at most what the accuracy of the centre allows: the
+//!   distance has a maximum between them, as near the edge's centre of curvature). Seam points need 3 places (2 at a curvature-limit end,
 //!   where the ball osculates a face, and at a pinch, where two touch points meet at a
 //!   vertex), junctions 4, degenerate balls 2. A ball with `r ≤ a` (a seam's end at a convex
 //!   vertex) is a point and is exempt from this and from `inside`. A seam point the seam lists
