@@ -19,10 +19,13 @@ freely; `skeletal_edges`: its last ball is a vertex of the part, r = 0):
   touch_on_boundary  each reported touch point is on the boundary,
   touch_at_radius    and at distance r from the centre;
   separated          the touch points make enough separate places (the most of them pairwise
-                     separate): two count as separate when farther apart than sqrt(8 r tol),
+                     separate): two count as separate when farther apart than sqrt(8 r e),
                      the chord over which a sphere of radius r and a surface tangent to it stay
-                     within tol of each other, so that one smooth contact cannot pass for two,
-                     or when they lie on one edge that curls round the ball between them (the
+                     within e of each other, so that one smooth contact cannot pass for two
+                     (e: the ball's own error -- its distance's, its touch points' off the ball
+                     and off the boundary -- where finer than tol, and at least 1e-7 mm and
+                     1e-9 of the diagonal: a touch point that close to another on one contact
+                     would be off the ball by more than e), or when they lie on one edge that curls round the ball between them (the
                      second derivative of the squared distance along it at most tol |C''|: the
                      distance has a maximum between them). Seam points need 3 (2 at a seam end at
                      a curvature limit, where the ball osculates a face, or at a pinch, where
@@ -612,6 +615,11 @@ class Checks:
                 self.failures.append(f"{check}: {what()}")
 
 
+# The finest error a ball's separation is taken at (mm), however exact the ball: OCCT's
+# extrema vouch for no less; and the same relative to the part's diagonal.
+FINEST_SEPARATION_ACCURACY = 1e-7
+FINEST_SEPARATION_REL_DIAGONAL = 1e-9
+
 # Samples of an edge between two touch points at which curls_round looks for the edge bending
 # round the ball.
 CURL_SAMPLES = 8
@@ -696,8 +704,11 @@ def check_ball(part, checks, touched, what, centre, r, touch, need, unresolved=N
     checks.record("distance", checks.within(part, abs(d - r), centre, r, k),
                   lambda: f"{what}: distance to boundary {d:.9g}, r = {r:.9g}")
     faces = []
+    # The ball's own error (its distance's and its touch points'), for the separation below.
+    own_error = abs(d - r)
     for t in touch:
         dt, sols = part.nearest(t, k)
+        own_error = max(own_error, dt)
         checks.record("touch_on_boundary", checks.within(part, dt, t, 0.0, k),
                       lambda: f"{what}: touch point {t} is {dt:.3g} mm off the boundary")
         on = set()
@@ -710,10 +721,15 @@ def check_ball(part, checks, touched, what, centre, r, touch, need, unresolved=N
             on = {g for f in on for g in part.neighbours(f) if part.on_surface(g, t, tol)} or on
         faces.append(on)
         dc = dist3(t, centre)
+        own_error = max(own_error, abs(dc - r))
         checks.record("touch_at_radius", checks.within(part, abs(dc - r), t, 0.0, k),
                       lambda: f"{what}: touch point {t} at {dc:.9g} from the centre, r = {r:.9g}")
     if not point_ball:
-        s = separation(r, tol)
+        # The chord at the ball's own error where that is finer than the accuracy: a touch
+        # point as close to another on one smooth contact would be farther off the ball than
+        # that error (by at least chord^2 / (8 r), short of osculation).
+        finest = max(FINEST_SEPARATION_ACCURACY, FINEST_SEPARATION_REL_DIAGONAL * part.diagonal)
+        s = separation(r, min(max(own_error, finest), max(tol, finest)))
         n = places(touch, s)
         if n < need:
             # Closer than the separation but on one edge that curls round the ball between

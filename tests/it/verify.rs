@@ -468,7 +468,9 @@ fn a_skeletal_edge_removed_turned_or_moved_fails() {
 /// checkers. A seam point whose face touch point is replaced by its edge touch point moved
 /// 0.1·√(8·r·a) along that edge fails `separated` in both: on the L-bracket's straight
 /// reflex edge, and on the elliptic rim of `trace/split_blind_hole.step`, which curves away
-/// from the ball.
+/// from the ball. (The moved point is then the ball's largest error, `(0.1·√(8·r·a))²/(2·r)`
+/// at least, and the chord at that error is twice as long as the move: the ball's own
+/// error, which the separation is taken at, cannot hide it either.)
 #[test]
 fn two_touch_points_on_one_edge_are_two_places_only_where_it_curls_round_the_ball() {
     let test =

@@ -67,6 +67,12 @@ fn places_where(n: usize, separate: &dyn Fn(usize, usize) -> bool) -> usize {
     best
 }
 
+/// The finest error a ball's separation is taken at (mm), however exact the ball: the
+/// checkers' own distances vouch for no less (OpenCASCADE's extrema are exact to 1e-7 mm).
+pub const FINEST_SEPARATION_ACCURACY: f64 = 1e-7;
+/// The same relative to the part's diagonal: double precision over a large part.
+pub const FINEST_SEPARATION_REL_DIAGONAL: f64 = 1e-9;
+
 /// Samples of an edge between two touch points at which [`Checker::curls_round`] looks for
 /// the edge bending round the ball.
 const CURL_SAMPLES: usize = 8;
@@ -498,6 +504,9 @@ impl Checker<'_> {
         }
         let d = self.distance(ball.solid, b);
         let e = (d - r).abs();
+        // The ball's own error: its distance's and its touch points' (off the ball, off the
+        // boundary), for the separation below.
+        let mut own_error = e;
         v.worst_distance_error = nan_max(v.worst_distance_error, e);
         let ok = self.within(e, ball.solid, b, r, v);
         v.record("distance", ok, || {
@@ -506,12 +515,14 @@ impl Checker<'_> {
         let touch: Vec<DVec3> = ball.touch.iter().map(|t| DVec3::from_array(*t)).collect();
         for t in &touch {
             let off = self.distance(ball.solid, *t);
+            own_error = nan_max(own_error, off);
             v.worst_touch_off_boundary = nan_max(v.worst_touch_off_boundary, off);
             let ok = self.within(off, ball.solid, *t, 0.0, v);
             v.record("touch_on_boundary", ok, || {
                 format!("{}: touch point {t} is {off:.3e} mm off the boundary", at())
             });
             let e = (t.distance(b) - r).abs();
+            own_error = nan_max(own_error, e);
             v.worst_touch_error = nan_max(v.worst_touch_error, e);
             let ok = self.within(e, ball.solid, *t, 0.0, v);
             v.record("touch_at_radius", ok, || {
@@ -523,7 +534,12 @@ impl Checker<'_> {
             });
         }
         if !point_ball {
-            let s = separation(r, a);
+            // The chord at the ball's own error where that is finer than the accuracy: a
+            // touch point as close to another on one smooth contact would be farther off the
+            // ball than that error (by at least chord²/(8·r), short of osculation).
+            let finest = FINEST_SEPARATION_ACCURACY
+                .max(FINEST_SEPARATION_REL_DIAGONAL * self.model.diagonal());
+            let s = separation(r, own_error.clamp(finest, a.max(finest)));
             let mut n = places(&touch, s);
             if n < ball.places {
                 // Closer than the separation but on one edge that curls round the ball between

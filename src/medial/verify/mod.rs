@@ -13,8 +13,11 @@
 //!   boundary (`d(t, ∂Ω) ≤ a`) and on the ball (`|‖t − B‖ − r| ≤ a`);
 //! - `separated`: the touch points lie in enough separate places (the most of them that are
 //!   pairwise separate) — two touch points count as separate when they are farther apart
-//!   than `√(8·r·a)`, the chord over which a sphere of radius `r` and a surface tangent to it
-//!   stay within `a` of each other, so that one smooth contact cannot pass for two; or when
+//!   than `√(8·r·e)`, the chord over which a sphere of radius `r` and a surface tangent to it
+//!   stay within `e` of each other, so that one smooth contact cannot pass for two (`e` the
+//!   ball's own error — its distance's and its touch points' — where finer than `a`, and no
+//!   finer than 1e-7 mm or 1e-9 of the diagonal: a touch point that close to another on
+//!   one contact would be off the ball by more than that error); or when
 //!   they are on one edge that curls round the ball between them (the second derivative of
 //!   the squared distance along it is at most what the accuracy of the centre allows: the
 //!   distance has a maximum between them, as near the edge's centre of curvature). Seam points need 3 places (2 at a curvature-limit end,
