@@ -409,12 +409,18 @@ fn a_drill_points_apex_is_touched_while_the_ball_turns_about_the_holes_axis() {
 /// landed on a vertex). No vertex there is on all three faces, so the seam has left its faces,
 /// not returned to a convex vertex: every ball is at its distance from the boundary and touches
 /// it (the tracer once ended that seam at the triangle's vertex with a ball of radius 0 in the
-/// material, 0.0245 mm from the boundary).
+/// material, 0.0245 mm from the boundary). The part passes `--verify`: the seam's touch points
+/// on the triangle's three edges, 0.025 mm apart at r = 2.5, are three places at the balls'
+/// own error.
 #[test]
 fn a_seam_does_not_end_at_a_vertex_its_faces_do_not_share() {
-    // (`verify` fails the part on other checks, listed in `crosscheck.rs`, and says so.)
     let (out, report) = trace_part("cube_corner_in_plate", true);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{:?}",
+        report["stats"]["verification"]["failures"]
+    );
     let checks = &report["stats"]["verification"]["checks"];
     for check in [
         "distance",
