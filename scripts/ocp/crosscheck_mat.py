@@ -183,11 +183,12 @@ def separation(r, tol):
     return math.sqrt(8.0 * r * tol)
 
 
-def places(touch, s, separate=None, steps=100_000):
+def places(touch, s, separate=None, cap=None, steps=100_000):
     """The most touch points pairwise farther apart than s, or pairwise separate(i, j) (i < j)
     when given (in the order given, a point within s of two that are not of each other would
-    hide one). A search over subsets of at most `steps` steps; past it, the largest set found
-    so far."""
+    hide one), or `cap` when there are at least that many (the search stops there: a sheet
+    mesh vertex's contacts can be a whole sphere's extrema). A search over subsets of at most
+    `steps` steps; past it, the largest set found so far."""
     if separate is None:
         def separate(i, j):
             return dist3(touch[i], touch[j]) > s
@@ -199,6 +200,8 @@ def places(touch, s, separate=None, steps=100_000):
         best = max(best, len(chosen))
         for i in range(start, len(touch)):
             if len(chosen) + len(touch) - i <= best or budget[0] == 0:
+                return
+            if cap is not None and best >= cap:
                 return
             budget[0] -= 1
             if all(separate(j, i) for j in chosen):
@@ -642,7 +645,7 @@ def curls_round(curve, t0, t1, c, tol):
     return False
 
 
-def places_on_curling_edges(part, touch, centre, s, tol, k):
+def places_on_curling_edges(part, touch, centre, s, tol, k, cap):
     """places(touch, s), where two touch points closer than s on one edge that curls round the
     ball between them count as separate places too."""
     edges = [part.edges_near(t, tol, k) for t in touch]
@@ -653,7 +656,7 @@ def places_on_curling_edges(part, touch, centre, s, tol, k):
         return any(e in edges[j] and curls_round(curve, ti, edges[j][e][1], centre, tol)
                    for e, (curve, ti) in edges[i].items())
 
-    return places(touch, s, separate)
+    return places(touch, s, separate, cap)
 
 
 def shortfall_explained(part, touch, faces, s, same_ok):
@@ -730,11 +733,11 @@ def check_ball(part, checks, touched, what, centre, r, touch, need, unresolved=N
         # that error (by at least chord^2 / (8 r), short of osculation).
         finest = max(FINEST_SEPARATION_ACCURACY, FINEST_SEPARATION_REL_DIAGONAL * part.diagonal)
         s = separation(r, min(max(own_error, finest), max(tol, finest)))
-        n = places(touch, s)
+        n = places(touch, s, cap=need)
         if n < need:
             # Closer than the separation but on one edge that curls round the ball between
             # them: two places the chord cannot tell apart and the curve's second derivative can.
-            n = places_on_curling_edges(part, touch, centre, s, tol, k)
+            n = places_on_curling_edges(part, touch, centre, s, tol, k, need)
         # A ball marked unresolved may touch one place fewer, where its touch points closer
         # than the separation are on faces that meet; in the corner of a convex vertex its seam
         # ends at (each touch point on a face of that vertex, no two on the same), one place.
@@ -764,9 +767,9 @@ def check_mesh_vertex(part, checks, what, p):
     # The contacts: every face's nearest point, and every extremum of the distance on a
     # face, within r + tol of the centre.
     contacts = [q for q, _, _ in sols] + part.face_contacts(p, r + tol, k, extrema=True)
-    if places(contacts, s) < 2:
+    if places(contacts, s, cap=2) < 2:
         contacts += part.axis_contacts(p, contacts, r + tol, tol, k)
-    ok = places(contacts, s) >= 2 or growth_contact(part, p, r, p1, s, tol, k)
+    ok = places(contacts, s, cap=2) >= 2 or growth_contact(part, p, r, p1, s, tol, k)
     checks.record("mesh_contacts", ok,
                   lambda: f"{what}: the ball at {p} (r {r:.6g}) has no second contact: it could grow")
 
