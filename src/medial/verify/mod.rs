@@ -17,15 +17,15 @@
 //!   stay within `e` of each other, so that one smooth contact cannot pass for two (`e` the
 //!   ball's own error — its distance's and its touch points' — where finer than `a`, and no
 //!   finer than 1e-7 mm or 1e-9 of the diagonal: a touch point that close to another on
-//!   one contact would be off the ball by more than that error); or when
-//!   they are on one edge that curls round the ball between them (the second derivative of
-//!   the squared distance along it is at most what the accuracy of the centre allows: the
-//!   distance has a maximum between them, as near the edge's centre of curvature). Seam points need 3 places (2 at a curvature-limit end,
-//!   where the ball osculates a face, and at a pinch, where two touch points meet at a
-//!   vertex), junctions 4, degenerate balls 2. A ball with `r ≤ a` (a seam's end at a convex
-//!   vertex) is a point and is exempt from this and from `inside`. A seam point the seam lists
-//!   as `unresolved` (a junction marked so) needs one place fewer where the geometry explains
-//!   the shortfall: the touch points closer than the separation are on faces that meet (a
+//!   one contact would be off the ball by more than that error); or when they are on one
+//!   edge that curls round the ball between them (the second derivative of the squared
+//!   distance along it is at most what the accuracy of the centre allows: the distance has a
+//!   maximum between them, as near the edge's centre of curvature). Seam points need 3
+//!   places (2 at a curvature-limit end, where the ball osculates a face, and at a pinch,
+//!   where two touch points meet at a vertex), junctions 4, degenerate balls 2. A ball with
+//!   `r ≤ a` (a seam's end at a convex vertex) is a point and is exempt from this and from
+//!   `inside`. A seam point the seam lists as `unresolved` (a junction marked so) needs one
+//!   place fewer where the geometry explains the shortfall: the touch points closer than the separation are on faces that meet (a
 //!   shallow crease, a sliver face), found from where they are, or on the face of the
 //!   element where the seam ends at its curvature limit or a pinch.
 //!
