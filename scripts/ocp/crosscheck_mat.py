@@ -25,9 +25,10 @@ freely; `skeletal_edges`: its last ball is a vertex of the part, r = 0):
                      (e: the ball's own error -- its distance's, its touch points' off the ball
                      and off the boundary -- where finer than tol, and at least 1e-7 mm and
                      1e-9 of the diagonal: a touch point that close to another on one contact
-                     would be off the ball by more than e), or when they lie on one edge that curls round the ball between them (the
-                     second derivative of the squared distance along it at most tol |C''|: the
-                     distance has a maximum between them). Seam points need 3 (2 at a seam end at
+                     would be off the ball by more than e), or when they lie on one edge that
+                     curls round the ball between them (the second derivative of the squared
+                     distance along it at most tol |C''|: the distance has a maximum between
+                     them). Seam points need 3 (2 at a seam end at
                      a curvature limit, where the ball osculates a face, or at a pinch, where
                      two touch points meet at a vertex), junctions 4, degenerate balls 2
                      (1 at an end where the arc of contact shrinks to a point), a skeletal
