@@ -271,6 +271,7 @@ fn write_outputs(
         accuracy: tol.accuracy,
         accuracy_from: tol.accuracy_from.as_str().into(),
         diagonal: tol.diagonal,
+        trace_accuracy: tol.trace,
         solver_tolerance: tol.solver,
         angle_tol_deg: tol.angle_deg,
         fit_tolerance: tol.fit,
@@ -310,7 +311,7 @@ fn write_outputs(
             sheets,
             &crate::medial::MeshOptions {
                 samples: opts.mesh_points(),
-                ..crate::medial::MeshOptions::new(tol.accuracy)
+                ..crate::medial::MeshOptions::new(tol.trace)
             },
         );
         let path = opts.out_dir.join(format!("{stem}.sheets.obj"));

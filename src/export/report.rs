@@ -43,7 +43,10 @@ pub struct OptionsReport {
     pub accuracy_from: String,
     /// The part's bounding-box diagonal (mm), the scale of every default tolerance.
     pub diagonal: f64,
-    /// Newton residual target (mm), 1e-3 × the accuracy.
+    /// The accuracy (mm) the medial axis was computed to: `accuracy`, or the default (1e-6 ×
+    /// the diagonal) where that is finer.
+    pub trace_accuracy: f64,
+    /// Newton residual target (mm), 1e-3 × the trace accuracy.
     pub solver_tolerance: f64,
     /// Faces meeting at less than this angle (degrees) count as tangent.
     pub angle_tol_deg: f64,

@@ -9,7 +9,11 @@
 
 /// Default output accuracy, relative to the part's bounding-box diagonal.
 pub const DEFAULT_ACCURACY_REL_DIAGONAL: f64 = 1e-6;
-/// Newton's residual target relative to the accuracy: residuals well inside it.
+/// The coarsest accuracy a run accepts, relative to the diagonal: a ball off by more could lie
+/// anywhere across a wall that thin, so no check could hold a medial axis to it (`--verify`
+/// refuses a coarser one too).
+pub const MAX_ACCURACY_REL_DIAGONAL: f64 = 1e-3;
+/// Newton's residual target relative to the trace accuracy: residuals well inside it.
 pub const SOLVER_TOL_REL_ACCURACY: f64 = 1e-3;
 /// Default fit tolerance (largest distance from a traced point to its fitted curve, and
 /// largest radius error), relative to the diagonal. The seams are exported for looking at
@@ -51,7 +55,14 @@ pub struct Tolerances {
     /// Output accuracy: every ball is medial to within it, every junction located to it.
     pub accuracy: f64,
     pub accuracy_from: AccuracySource,
-    /// Newton's residual target: [`SOLVER_TOL_REL_ACCURACY`] × the accuracy.
+    /// The accuracy the medial axis is computed to: the output accuracy, or the default
+    /// ([`DEFAULT_ACCURACY_REL_DIAGONAL`] × the diagonal) where that is finer. The tracer's
+    /// events (a ball reaching `r = 0`, an intrusion by more than it, two touch points one
+    /// place) are decided to it, so a coarse output accuracy never lets them swallow the
+    /// part's features: the same medial axis comes out at every accuracy, fitted and
+    /// checked to the one asked for.
+    pub trace: f64,
+    /// Newton's residual target: [`SOLVER_TOL_REL_ACCURACY`] × the trace accuracy.
     pub solver: f64,
     /// Largest distance from a traced point to its seam's fitted B-spline (and largest
     /// radius error); never below the accuracy.
@@ -68,6 +79,7 @@ impl Tolerances {
             diagonal,
             accuracy,
             accuracy_from: AccuracySource::Default,
+            trace: accuracy,
             solver: SOLVER_TOL_REL_ACCURACY * accuracy,
             fit: (DEFAULT_FIT_TOL_REL_DIAGONAL * diagonal).max(accuracy),
             angle_deg: DEFAULT_ANGLE_TOL_DEG,
@@ -76,7 +88,8 @@ impl Tolerances {
 
     /// The defaults, with the accuracy and the fit tolerance given where `Some` (a fit
     /// tolerance below the accuracy is raised to it: fitting closer than the points are
-    /// known is meaningless). Refuses lengths that are not positive and finite.
+    /// known is meaningless). Refuses lengths that are not positive and finite, and an
+    /// accuracy coarser than [`MAX_ACCURACY_REL_DIAGONAL`] × the diagonal.
     pub fn new(
         diagonal: f64,
         accuracy: Option<f64>,
@@ -91,9 +104,19 @@ impl Tolerances {
             }
         }
         if let Some(a) = accuracy {
+            let most = MAX_ACCURACY_REL_DIAGONAL * diagonal;
+            if a > most {
+                return Err(format!(
+                    "the accuracy {a} mm is coarser than the part allows: at most \
+                     {MAX_ACCURACY_REL_DIAGONAL} × its bounding-box diagonal {diagonal:.4} mm, \
+                     {most:.3e} mm (a ball that far off could lie anywhere across a wall that \
+                     thin); for a coarser fit of the seams, use --fit-tol"
+                ));
+            }
             t.accuracy = a;
             t.accuracy_from = AccuracySource::User;
-            t.solver = SOLVER_TOL_REL_ACCURACY * a;
+            t.trace = a.min(t.trace);
+            t.solver = SOLVER_TOL_REL_ACCURACY * t.trace;
             t.fit = (DEFAULT_FIT_TOL_REL_DIAGONAL * diagonal).max(a);
         }
         if let Some(f) = fit {
@@ -112,6 +135,7 @@ mod tests {
         let t = Tolerances::for_diagonal(100.0);
         assert_eq!(t.accuracy, 1e-6 * 100.0);
         assert_eq!(t.solver, 1e-3 * t.accuracy);
+        assert_eq!(t.trace, t.accuracy);
         assert_eq!(t.fit, 1e-4 * 100.0);
         assert_eq!(t.accuracy_from, AccuracySource::Default);
         assert_eq!(Tolerances::new(100.0, None, None), Ok(t));
@@ -119,9 +143,21 @@ mod tests {
 
     #[test]
     fn given_lengths_are_checked_and_the_fit_never_below_the_accuracy() {
-        let t = Tolerances::new(100.0, Some(0.5), None).unwrap();
-        assert_eq!((t.accuracy, t.solver, t.fit), (0.5, 1e-3 * 0.5, 0.5));
+        let t = Tolerances::new(100.0, Some(0.05), None).unwrap();
+        assert_eq!((t.accuracy, t.fit), (0.05, 0.05));
         assert_eq!(t.accuracy_from.as_str(), "--tol");
+        // Traced to the default where that is finer, to the accuracy where it is finer.
+        let default = Tolerances::for_diagonal(100.0);
+        assert_eq!((t.trace, t.solver), (default.accuracy, default.solver));
+        let t = Tolerances::new(100.0, Some(1e-9), None).unwrap();
+        assert_eq!((t.accuracy, t.trace, t.solver), (1e-9, 1e-9, 1e-3 * 1e-9));
+        // Coarser than 1e-3 of the diagonal: refused, saying the most it may be.
+        assert_eq!(
+            Tolerances::new(100.0, Some(0.09), None).unwrap().accuracy,
+            0.09
+        );
+        let e = Tolerances::new(100.0, Some(0.1000001), None).unwrap_err();
+        assert!(e.contains("at most") && e.contains("1.000e-1 mm"), "{e}");
         let t = Tolerances::new(100.0, None, Some(1e-9)).unwrap();
         assert_eq!(t.fit, t.accuracy);
         for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {

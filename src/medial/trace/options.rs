@@ -89,7 +89,8 @@ pub const UNIT_ROUNDING: f64 = 1e-9;
 /// Options of [`crate::medial::trace`].
 #[derive(Clone, Debug)]
 pub struct TraceOptions {
-    /// Output accuracy in model units (mm): residuals of every point, and junction location.
+    /// The trace accuracy in model units (mm; `Tolerances::trace`): residuals of every
+    /// point, and junction location.
     pub accuracy: f64,
     /// Newton's residual target (mm), well inside the accuracy.
     pub solver_tol: f64,
@@ -102,7 +103,7 @@ impl TraceOptions {
     /// The tracer's share of a run's tolerances.
     pub fn new(tol: &Tolerances) -> TraceOptions {
         TraceOptions {
-            accuracy: tol.accuracy,
+            accuracy: tol.trace,
             solver_tol: tol.solver,
             tangent_angle_rad: tol.angle_deg.to_radians(),
         }

@@ -54,9 +54,7 @@ use crate::geom::Boundary;
 use crate::medial::axis::MedialAxis;
 use crate::model::Model;
 
-/// The largest accuracy a medial axis can be held to, relative to the part's bounding-box
-/// diagonal: beyond it a ball could be anywhere in a thin wall and pass.
-pub const MAX_ACCURACY_REL_DIAGONAL: f64 = 1e-3;
+pub use crate::model::tolerances::MAX_ACCURACY_REL_DIAGONAL;
 
 /// Verifies `axis` against `model` to `accuracy` (mm): every ball, then the graph, as the
 /// module docs say. `class` is the model's classification (for convex vertices, mixed edges
