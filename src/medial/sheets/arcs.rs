@@ -10,12 +10,17 @@ use glam::DVec3;
 use serde::Serialize;
 use std::collections::{BTreeSet, HashMap};
 
-/// Where arcs end: a node of the graph, or the ball where seams end at a skeletal edge.
+/// Where arcs end: a node of the graph, the ball where seams end at a skeletal edge, or a
+/// ball where degenerate curves touching along an arc end (see [`ball_places`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub(super) enum Place {
     Node(Node),
     /// The ball where skeletal edge `k` starts (the seams ending there end at it).
     Skeletal(usize),
+    /// The `k`-th ball where a degenerate curve touching along an arc ends (a fillet's axis
+    /// where it meets the next round or the corner sphere of a filleted box), with the seams
+    /// that end at a curvature limit or a pinch at that ball.
+    Ball(usize),
 }
 
 /// One element of a sheet's boundary.
@@ -28,6 +33,9 @@ pub enum BoundaryRef {
     Edge(usize),
     /// A skeletal edge (by id): the sheet's free edge.
     Skeletal(usize),
+    /// A degenerate curve (by its index in `mat.degenerate`) whose balls touch a round along
+    /// an arc: the axis along which the sheet of the faces either side of the round ends.
+    Degenerate(usize),
 }
 
 /// An arc: one side of a seam, a rim, or a skeletal edge.
@@ -244,10 +252,250 @@ pub(super) fn convex_kinks(
     kinks
 }
 
+/// Balls closer than this, over the diagonal, are one place of the graph: the ends of
+/// degenerate curves and the seam ends at curvature limits there are each located to the
+/// accuracy (1e-6 of the diagonal by default; on the filleted box they agree to 1.5e-7).
+const SAME_BALL_REL_DIAGONAL: f64 = 1e-5;
+
+/// The places of the balls where degenerate curves touching along an arc end, and of what
+/// meets them there (see [`ball_places`]).
+#[derive(Default)]
+pub(super) struct BallPlaces {
+    /// Seam ends at a curvature limit or a pinch at one of those balls: `[seam, end]` → place.
+    pub(super) seam_ends: HashMap<[usize; 2], Place>,
+    /// Each degenerate piece's two end places (`None` where not a place of the graph, and for
+    /// curves that touch all round, which do not bound a sheet).
+    pub(super) curve_ends: Vec<[Option<Place>; 2]>,
+    /// Skeletal edges that start where a rim's sheet ends on rounds' axes, at one of those
+    /// balls (a mitred corner of two rounds, where their axes meet): id → place.
+    pub(super) skeletal_starts: HashMap<usize, Place>,
+    /// The degenerate points at one of those balls (a filleted box's corner sphere's centre,
+    /// where three rounds' axes and a seam end): a node, not a piece of its own.
+    pub(super) points: BTreeSet<usize>,
+}
+
+/// The places where degenerate curves touching along an arc (fillets' axes) end: a junction
+/// whose ball is theirs, a vertex where the ball vanishes, or a [`Place::Ball`] shared by the
+/// curves ending at one ball; with the seam ends at a curvature limit or a pinch at such a
+/// ball (not already at a skeletal edge's start: `skeletal`), and the degenerate points there.
+/// An inner box's medial axis grown by the rounds' radius is a filleted box's: the rounds'
+/// axes are the inner box's rims, the corner spheres' centres its vertices, where its seams
+/// end.
+pub(super) fn ball_places(
+    model: &Model,
+    mat: &MedialAxis,
+    skeletal: &HashMap<[usize; 2], Place>,
+) -> BallPlaces {
+    use crate::medial::axis::DegenerateEnd;
+    use crate::medial::DegenerateKind;
+    let tol = SAME_BALL_REL_DIAGONAL * model.diagonal();
+    let centre = |b: &[f64; 4]| DVec3::new(b[0], b[1], b[2]);
+    let mut balls: Vec<DVec3> = vec![];
+    // A curve's end: the junction there, or the ball of the curves ending there. What ends
+    // at a curvature limit, or starts, at such a ball: that ball (a seam ending beside a
+    // junction at its own curvature limit does not end at the junction).
+    let mut place_of = |c: DVec3, curve_end: bool| -> Option<Place> {
+        if let Some(j) = mat
+            .junctions
+            .iter()
+            .find(|j| curve_end && DVec3::from_array(j.point).distance(c) <= tol)
+        {
+            return Some(Place::Node(Node::Junction(j.id)));
+        }
+        if let Some(k) = balls.iter().position(|b| b.distance(c) <= tol) {
+            return Some(Place::Ball(k));
+        }
+        curve_end.then(|| {
+            balls.push(c);
+            Place::Ball(balls.len() - 1)
+        })
+    };
+    let mut out = BallPlaces::default();
+    for d in &mat.degenerate {
+        let mut ends = [None, None];
+        if d.kind == DegenerateKind::Curve && !d.around && d.ends.len() == 2 {
+            for (i, end) in d.ends.iter().enumerate() {
+                let ball = if i == 0 {
+                    d.balls.first()
+                } else {
+                    d.balls.last()
+                };
+                ends[i] = match (end, ball) {
+                    (DegenerateEnd::Vanishes { vertex }, _) => {
+                        Some(Place::Node(Node::Vertex(*vertex)))
+                    }
+                    (DegenerateEnd::Meets { .. } | DegenerateEnd::Shrinks { .. }, Some(b)) => {
+                        place_of(centre(b), true)
+                    }
+                    _ => None,
+                };
+            }
+        }
+        out.curve_ends.push(ends);
+    }
+    for (n, s) in mat.seams.iter().enumerate() {
+        for end in 0..2 {
+            if skeletal.contains_key(&[n, end])
+                || !matches!(
+                    s.ends[end],
+                    SeamEnd::CurvatureLimit { .. } | SeamEnd::Pinch { .. }
+                )
+            {
+                continue;
+            }
+            let (Some(p), _) = s.at_end(end) else {
+                continue;
+            };
+            if let Some(place) = place_of(centre(&p.point), false) {
+                out.seam_ends.insert([n, end], place);
+            }
+        }
+    }
+    for k in &mat.skeletal_edges {
+        if !k.starts.is_empty() || k.meets.is_empty() {
+            continue;
+        }
+        if let Some(place) = k.balls.first().and_then(|b| place_of(centre(b), false)) {
+            out.skeletal_starts.insert(k.id, place);
+        }
+    }
+    for (k, d) in mat.degenerate.iter().enumerate() {
+        if d.kind == DegenerateKind::Point
+            && d.balls
+                .first()
+                .is_some_and(|b| place_of(centre(b), false).is_some())
+        {
+            out.points.insert(k);
+        }
+    }
+    out
+}
+
+/// Adds the degenerate curves that touch along an arc (a fillet's axis) to `arcs`, each a
+/// free edge of the sheet of the two faces its round joins (the faces either side of the
+/// arc of contact, tangent to the balls there), from its place at one end to the other
+/// (`ends`, from [`ball_places`]). Returns the curves added. A curve whose ends are not both places, or whose two faces are
+/// not found, is left out (and the count withheld).
+pub(super) fn add_degenerate(
+    model: &Model,
+    class: &Classification,
+    mat: &MedialAxis,
+    groups: &SegmentGroups,
+    ends: &[[Option<Place>; 2]],
+    arcs: &mut Vec<Arc>,
+) -> BTreeSet<usize> {
+    use crate::medial::DegenerateKind;
+    let mut added = BTreeSet::new();
+    for (k, d) in mat.degenerate.iter().enumerate() {
+        if d.kind != DegenerateKind::Curve || d.around {
+            continue;
+        }
+        // (A closed one, a ring's beaded rim, is a loop by itself with no node to tell which
+        // sheet it bounds: its sheet's other loops are named by other segments, and the
+        // pieces would count them as sheets of their own. Left out.)
+        let Some([Some(a), Some(b)]) = ends.get(k) else {
+            continue;
+        };
+        let Some(pair) = round_sides(model, class, d) else {
+            continue;
+        };
+        arcs.push(Arc::between(
+            BoundaryRef::Degenerate(k),
+            d.solid,
+            [*a, *b],
+            pair,
+            groups,
+        ));
+        added.insert(k);
+    }
+    added
+}
+
+/// A round's curvature across is `1/r` to this, relative, at its axis's balls.
+const ROUND_CURVATURE_REL: f64 = 1e-3;
+
+/// The two faces a round joins, either side of the arc its degenerate curve `d`'s balls
+/// touch it along: the faces across its smooth edges whose surfaces the curve's middle ball
+/// is tangent to (at the distance `r` from its centre, to [`SAME_BALL_REL_DIAGONAL`] of the
+/// diagonal). `None` unless there are exactly two.
+fn round_sides(
+    model: &Model,
+    class: &Classification,
+    d: &crate::medial::Degenerate,
+) -> Option<[Element; 2]> {
+    let b = d.balls.get(d.balls.len() / 2)?;
+    let (c, r) = (DVec3::new(b[0], b[1], b[2]), b[3]);
+    let tol = SAME_BALL_REL_DIAGONAL * model.diagonal();
+    // The foot of the centre on face `f`'s surface: its distance, and the surface there.
+    let foot = |f: usize| {
+        let (u, v) = crate::geom::project::project_point(&model.faces[f].surface, c, None)?;
+        let at = crate::geom::eval_face(&model.faces[f], u, v);
+        Some((at.p.distance(c), at))
+    };
+    // The round: the faces of its segments the middle ball osculates (a face the curve's
+    // touch point was handed to at the arc's end, the plane beside the round, is a side).
+    let faces = || {
+        d.segments.iter().filter_map(|e| match e {
+            Element::Face(f) => Some(*f),
+            _ => None,
+        })
+    };
+    let osculated = |f: usize| {
+        foot(f).is_some_and(|(dist, at)| {
+            (dist - r).abs() <= tol
+                && crate::geom::principal_curvatures(&at, model.faces[f].sign)
+                    .is_some_and(|k| (k.k1 * r - 1.0).abs() <= ROUND_CURVATURE_REL)
+        })
+    };
+    let mut on: BTreeSet<usize> = faces().filter(|&f| osculated(f)).collect();
+    if on.is_empty() {
+        on = faces().collect();
+    }
+    let mut sides: Vec<Element> = vec![];
+    for (e, edge) in model.edges.iter().enumerate() {
+        if edge.faces.len() != 2 || !edge.faces.iter().any(|f| on.contains(f)) {
+            continue;
+        }
+        match class.edges[e].kind {
+            // The arc of contact ends where the round meets a face tangent to it.
+            EdgeKind::Smooth => {
+                for &x in &edge.faces {
+                    let side = Element::Face(x);
+                    if !on.contains(&x)
+                        && !sides.contains(&side)
+                        && foot(x).is_some_and(|(dist, _)| (dist - r).abs() <= tol)
+                    {
+                        sides.push(side);
+                    }
+                }
+            }
+            // Or at a reflex edge of the round's that the ball touches (a bead on a ring's
+            // rim, its arc of contact ending in the groove at its foot).
+            EdgeKind::Reflex => {
+                let (_, _, dist) = crate::geom::distance::nearest_on_edge(model, e, c, None);
+                if (dist - r).abs() <= tol && !sides.contains(&Element::Edge(e)) {
+                    sides.push(Element::Edge(e));
+                }
+            }
+            _ => {}
+        }
+    }
+    match sides[..] {
+        [x, y] => Some(sorted_pair(x, y)),
+        _ => None,
+    }
+}
+
 /// Adds the skeletal edges to `arcs`: each runs from its ball to its vertex, on its pair.
 /// A free edge that starts on degenerate curves (where a rim's sheet ends, up to the rounds'
-/// axes: `meets`) has no node there: degenerate curves are not in the graph yet.
-pub(super) fn add_skeletal(mat: &MedialAxis, groups: &SegmentGroups, arcs: &mut Vec<Arc>) {
+/// axes: `meets`) starts at the place where those curves end (`starts`, from
+/// [`ball_places`]); inside a curve it has no node (the curve is not split there yet).
+pub(super) fn add_skeletal(
+    mat: &MedialAxis,
+    groups: &SegmentGroups,
+    starts: &HashMap<usize, Place>,
+    arcs: &mut Vec<Arc>,
+) {
     for k in &mat.skeletal_edges {
         let mut arc = Arc::between(
             BoundaryRef::Skeletal(k.id),
@@ -257,7 +505,7 @@ pub(super) fn add_skeletal(mat: &MedialAxis, groups: &SegmentGroups, arcs: &mut 
             groups,
         );
         if k.starts.is_empty() && !k.meets.is_empty() {
-            arc.ends[0] = None;
+            arc.ends[0] = starts.get(&k.id).map(|p| (*p, arc.pair));
         }
         arcs.push(arc);
     }

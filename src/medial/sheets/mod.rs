@@ -37,7 +37,10 @@ use crate::medial::axis::{MedialAxis, Node, SeamEnd};
 use crate::medial::segments::{SegmentGroups, UnionFind};
 use crate::model::{Element, Model};
 pub use arcs::BoundaryRef;
-use arcs::{add_rims, add_skeletal, convex_kinks, end_balls, seam_arcs, Arc, Place};
+use arcs::{
+    add_degenerate, add_rims, add_skeletal, ball_places, convex_kinks, end_balls, seam_arcs, Arc,
+    BallPlaces, Place,
+};
 use glam::DVec3;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
@@ -89,16 +92,24 @@ pub struct Sheets {
     pub sheets: Vec<Sheet>,
     pub solids: Vec<SolidEuler>,
     pub unpaired: Vec<String>,
+    /// Arc ends at a ball where rounds' axes end that could not be paired there by the
+    /// segments they name: one sheet may be named by a round on one side and by the face
+    /// beside it on the other (the ball touches both along one contact), so this is not a
+    /// piece missing, but the sheets round that ball not told apart; the count is withheld.
+    pub untold: Vec<String>,
 }
 
 /// Finds the sheets of `mat` and the Euler characteristics of each solid and its medial axis.
 pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets {
     let groups = SegmentGroups::new(model, class);
-    let balls = end_balls(mat);
+    let mut balls = end_balls(mat);
+    let places = ball_places(model, mat, &balls);
+    balls.extend(places.seam_ends.iter().map(|(k, p)| (*k, *p)));
     let mut arcs = seam_arcs(mat, &groups, &balls);
     let kinks = convex_kinks(model, class, mat);
     let mixed = add_rims(model, class, &groups, &kinks, &mut arcs);
-    add_skeletal(mat, &groups, &mut arcs);
+    add_skeletal(mat, &groups, &places.skeletal_starts, &mut arcs);
+    let fillets = add_degenerate(model, class, mat, &groups, &places.curve_ends, &mut arcs);
     add_witnesses(model, class, mat, &balls, &mut arcs);
     // Elements a junction touches in two places.
     let twice: BTreeSet<(Place, Element)> = mat
@@ -127,7 +138,7 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
             (Place::Node(Node::Junction(j.id)), touch)
         })
         .collect();
-    let (mut uf, paired, unpaired) = pair_ends(&arcs, &twice, tol, &near, &contacts);
+    let (mut uf, paired, unpaired, untold) = pair_ends(&arcs, &twice, tol, &near, &contacts);
     let feet = Feet {
         model,
         mat,
@@ -136,8 +147,10 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
     let (by_sheet, incomplete) = loops_by_sheet(&arcs, &mut uf, &paired, &feet);
     let mut out = Sheets {
         unpaired,
+        untold: untold.iter().map(|(_, u)| u.clone()).collect(),
         ..Default::default()
     };
+    let untold_solids: BTreeSet<usize> = untold.iter().map(|(s, _)| *s).collect();
     for ((solid, _), loops) in by_sheet {
         let first = &arcs[loops[0][0]];
         let segments = first.pair;
@@ -156,7 +169,16 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
 
     out.solids = (0..model.solids.len())
         .map(|solid| {
-            solid_and_axis_euler(model, mat, &arcs, &out.sheets, solid, &mixed, &incomplete)
+            let graph = Graph {
+                arcs: &arcs,
+                sheets: &out.sheets,
+                mixed: &mixed,
+                incomplete: &incomplete,
+                places: &places,
+                fillets: &fillets,
+                untold: &untold_solids,
+            };
+            solid_and_axis_euler(model, mat, &graph, solid)
         })
         .collect();
     out
@@ -166,14 +188,15 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
 /// by the groups there (`near`), at a junction by the two of its `contacts` the arcs' touch
 /// points are at (equal to `tol`), then by segment pair, then (where one element is touched
 /// twice there, so that two sheets share a segment pair) by the touch points the arcs run
-/// between: the union of paired arcs, which ends are paired, and the ends that could not be.
+/// between: the union of paired arcs, which ends are paired, and the ends that could not be
+/// (at a ball where rounds' axes end, apart, with their solid: see [`Sheets::untold`]).
 fn pair_ends(
     arcs: &[Arc],
     twice: &BTreeSet<(Place, Element)>,
     tol: f64,
     near: &dyn Fn(usize) -> Option<LocalGroups>,
     contacts: &BTreeMap<Place, Vec<DVec3>>,
-) -> (UnionFind, Vec<[bool; 2]>, Vec<String>) {
+) -> PairedEnds {
     let mut at: BTreeMap<Place, Vec<(usize, usize)>> = BTreeMap::new();
     for (k, arc) in arcs.iter().enumerate() {
         for (end, e) in arc.ends.iter().enumerate() {
@@ -186,6 +209,7 @@ fn pair_ends(
         uf: UnionFind::new(arcs.len()),
         paired: vec![[false; 2]; arcs.len()],
         unpaired: vec![],
+        untold: vec![],
     };
     for (node, ends) in &at {
         if let Some(pairs) = at_skeletal_ball(arcs, *node, ends) {
@@ -250,8 +274,12 @@ fn pair_ends(
         }
     }
 
-    (out.uf, out.paired, out.unpaired)
+    (out.uf, out.paired, out.unpaired, out.untold)
 }
+
+/// What [`pair_ends`] finds: the union of paired arcs, which ends are paired, the ends that
+/// could not be, and those at balls where rounds' axes end (with their solid).
+type PairedEnds = (UnionFind, Vec<[bool; 2]>, Vec<String>, Vec<(usize, String)>);
 
 /// The group of each element as the groups are at one vertex (see [`groups_at_vertex`]).
 type LocalGroups = Box<dyn Fn(Element) -> usize>;
@@ -319,6 +347,7 @@ struct Pairing {
     uf: UnionFind,
     paired: Vec<[bool; 2]>,
     unpaired: Vec<String>,
+    untold: Vec<(usize, String)>,
 }
 
 /// Pairs the arc ends `list` at `node`, all of one group pair: two are one sheet's; more are
@@ -336,6 +365,7 @@ fn pair_list(
         uf,
         paired,
         unpaired,
+        untold,
     } = out;
     let mut tries = vec![list];
     if tries[0].len() > 2 {
@@ -374,12 +404,16 @@ fn pair_list(
                     format!("{} {{{},{}}}", name(arcs[k].element), pair[0], pair[1])
                 })
                 .collect();
-            unpaired.push(format!(
+            let text = format!(
                 "{}: {} arc end(s) of one sheet: {}",
                 node_name(node),
                 list.len(),
                 names.join(", ")
-            ));
+            );
+            match node {
+                Place::Ball(_) => untold.push((arcs[list[0].0].solid, text)),
+                _ => unpaired.push(text),
+            }
         }
     }
 }
@@ -444,15 +478,24 @@ fn by_touch(arcs: &[Arc], list: Vec<(usize, usize)>, tol: f64) -> Vec<Vec<(usize
 
 /// The Euler characteristics of `solid` and of its medial axis (`V − E + Σ χ(sheet)`, or why
 /// that is withheld).
-fn solid_and_axis_euler(
-    model: &Model,
-    mat: &MedialAxis,
-    arcs: &[Arc],
-    sheets: &[Sheet],
-    solid: usize,
-    mixed: &BTreeSet<usize>,
-    incomplete: &BTreeSet<usize>,
-) -> SolidEuler {
+/// What the count of one solid's Euler characteristic is made from.
+struct Graph<'a> {
+    arcs: &'a [Arc],
+    sheets: &'a [Sheet],
+    /// Solids with mixed edges.
+    mixed: &'a BTreeSet<usize>,
+    /// Solids with sheet boundaries that do not close.
+    incomplete: &'a BTreeSet<usize>,
+    /// The balls where rounds' axes end, with the seam ends and points there.
+    places: &'a BallPlaces,
+    /// The degenerate curves that are arcs of the graph (rounds' axes).
+    fillets: &'a BTreeSet<usize>,
+    /// Solids with arc ends not told apart at a ball where rounds' axes end.
+    untold: &'a BTreeSet<usize>,
+}
+
+fn solid_and_axis_euler(model: &Model, mat: &MedialAxis, g: &Graph, solid: usize) -> SolidEuler {
+    let (arcs, sheets) = (g.arcs, g.sheets);
     let solid_euler = solid_euler(model, solid);
     let mine: Vec<&Arc> = arcs.iter().filter(|a| a.solid == solid).collect();
     let nodes: BTreeSet<Place> = mine
@@ -469,14 +512,16 @@ fn solid_and_axis_euler(
         }
     }
     let sheets: Vec<&Sheet> = sheets.iter().filter(|s| s.solid == solid).collect();
-    let reason = withheld(mat, solid, mixed, incomplete, !mine.is_empty());
+    let reason = withheld(mat, solid, g, !mine.is_empty());
     // A closed seam is a loop with one node of its own: it adds 1 − 1 = 0.
     let chi_sheets: i64 = sheets.iter().map(|s| 2 - s.loops.len() as i64).sum();
+    // Rounds' axes are arcs, and the points where they meet are nodes, counted above.
     let chi_degenerate: i64 = mat
         .degenerate
         .iter()
-        .filter(|d| d.solid == solid)
-        .map(|d| degenerate_euler(d) - sheets_ending_inside(d, &sheets))
+        .enumerate()
+        .filter(|(k, d)| d.solid == solid && !g.fillets.contains(k) && !g.places.points.contains(k))
+        .map(|(_, d)| degenerate_euler(d) - sheets_ending_inside(d, &sheets))
         .sum();
     SolidEuler {
         solid,
@@ -580,9 +625,20 @@ fn sheets_ending_inside(d: &crate::medial::Degenerate, sheets: &[&Sheet]) -> i64
 /// being counted, if they do: a curve not traced to located ends, or a point beside other
 /// pieces (where it joins them is not known). `has_arcs`: the solid's medial axis has seams,
 /// rims or skeletal edges.
-fn degenerate_withheld(mat: &MedialAxis, solid: usize, has_arcs: bool) -> Option<String> {
+fn degenerate_withheld(
+    mat: &MedialAxis,
+    solid: usize,
+    g: &Graph,
+    has_arcs: bool,
+) -> Option<String> {
     use crate::medial::axis::DegenerateEnd;
-    let mine: Vec<_> = mat.degenerate.iter().filter(|d| d.solid == solid).collect();
+    let mine: Vec<_> = mat
+        .degenerate
+        .iter()
+        .enumerate()
+        .filter(|(k, d)| d.solid == solid && !g.fillets.contains(k) && !g.places.points.contains(k))
+        .map(|(_, d)| d)
+        .collect();
     let open = mine.iter().any(|d| {
         d.kind == crate::medial::DegenerateKind::Curve
             && (d.ends.is_empty()
@@ -601,7 +657,7 @@ fn degenerate_withheld(mat: &MedialAxis, solid: usize, has_arcs: bool) -> Option
     if open {
         Some("a degenerate curve is not traced to located ends".into())
     } else if arc {
-        Some("a degenerate curve's balls touch along an arc, not all round (a fillet's axis): it bounds a sheet, not yet in the cell count".into())
+        Some("a degenerate curve's balls touch along an arc, not all round (a fillet's axis), and where it ends or which two faces' sheet it bounds is not known".into())
     } else if point_among_others {
         Some("a degenerate point lies among other pieces (where it joins them is not known)".into())
     } else {
@@ -610,28 +666,22 @@ fn degenerate_withheld(mat: &MedialAxis, solid: usize, has_arcs: bool) -> Option
 }
 
 /// Why the medial axis's Euler characteristic of `solid` is not counted, if it is not.
-fn withheld(
-    mat: &MedialAxis,
-    solid: usize,
-    mixed: &BTreeSet<usize>,
-    incomplete: &BTreeSet<usize>,
-    has_arcs: bool,
-) -> Option<String> {
+fn withheld(mat: &MedialAxis, solid: usize, g: &Graph, has_arcs: bool) -> Option<String> {
     let seams_of_solid = mat.seams.iter().filter(|s| s.solid == solid);
+    // Seam ends that are places of the graph: a skeletal edge's start, a round's axis's end.
     let skeletal_starts: BTreeSet<[usize; 2]> = mat
         .skeletal_edges
         .iter()
         .flat_map(|k| k.starts.iter().copied())
+        .chain(g.places.seam_ends.keys().copied())
         .collect();
-    if mixed.contains(&solid) {
+    if g.mixed.contains(&solid) {
         Some("the solid has mixed edges (convex along part, reflex along the rest)".into())
-    } else if let Some(why) = degenerate_withheld(mat, solid, has_arcs) {
+    } else if let Some(why) = degenerate_withheld(mat, solid, g, has_arcs) {
         Some(why)
-    } else if mat
-        .skeletal_edges
-        .iter()
-        .any(|k| k.solid == solid && !k.meets.is_empty())
-    {
+    } else if mat.skeletal_edges.iter().any(|k| {
+        k.solid == solid && !k.meets.is_empty() && !g.places.skeletal_starts.contains_key(&k.id)
+    }) {
         Some("skeletal edges end at degenerate curves, which are not in the cell count yet".into())
     } else if mat.seams.iter().enumerate().any(|(i, s)| {
         s.solid == solid
@@ -653,7 +703,12 @@ fn withheld(
         .any(|s| s.ends.iter().any(|e| matches!(e, SeamEnd::Open(_))))
     {
         Some("seams end open".into())
-    } else if incomplete.contains(&solid) {
+    } else if g.untold.contains(&solid) {
+        Some(
+            "the sheets round a ball where rounds' axes end are not told apart (see `untold`)"
+                .into(),
+        )
+    } else if g.incomplete.contains(&solid) {
         Some("some sheet boundaries do not close (see `unpaired`)".into())
     } else {
         None
@@ -665,6 +720,7 @@ fn name(e: BoundaryRef) -> String {
         BoundaryRef::Seam(s) => format!("seam {s}"),
         BoundaryRef::Edge(e) => format!("rim E{e}"),
         BoundaryRef::Skeletal(k) => format!("skeletal edge {k}"),
+        BoundaryRef::Degenerate(k) => format!("degenerate curve {k}"),
     }
 }
 
@@ -673,6 +729,7 @@ fn node_name(n: Place) -> String {
         Place::Node(Node::Junction(j)) => format!("junction {j}"),
         Place::Node(Node::Vertex(v)) => format!("vertex V{v}"),
         Place::Skeletal(k) => format!("the ball skeletal edge {k} starts at"),
+        Place::Ball(k) => format!("the ball {k} where rounds' axes end"),
     }
 }
 
@@ -720,7 +777,7 @@ mod tests {
             arc(2, [bottom, a]),
             arc(3, [b, bottom]),
         ];
-        let (mut uf, paired, unpaired) =
+        let (mut uf, paired, unpaired, _) =
             pair_ends(&arcs, &twice, 1e-9, &|_| None, &BTreeMap::new());
         assert!(paired.iter().all(|p| p[0]), "{paired:?}");
         assert!(
@@ -733,7 +790,7 @@ mod tests {
         // Arc 3 off by more than the tolerance: arcs 1 and 3 are not one sheet's.
         let mut wrong = arcs;
         wrong[3] = arc(3, [b + DVec3::X * 1e-6, bottom]);
-        let (_, paired, unpaired) = pair_ends(&wrong, &twice, 1e-9, &|_| None, &BTreeMap::new());
+        let (_, paired, unpaired, _) = pair_ends(&wrong, &twice, 1e-9, &|_| None, &BTreeMap::new());
         assert!(!paired[1][0] && !paired[3][0], "{paired:?}");
         assert_eq!(
             unpaired
@@ -744,7 +801,7 @@ mod tests {
             "{unpaired:?}"
         );
         // Without the face touched twice the four are one ambiguous set, as before.
-        let (_, _, unpaired) =
+        let (_, _, unpaired, _) =
             pair_ends(&wrong, &BTreeSet::new(), 1e-9, &|_| None, &BTreeMap::new());
         assert!(
             unpaired
@@ -783,7 +840,7 @@ mod tests {
         let mut edge = arc(BoundaryRef::Skeletal(0), [a, b], None);
         edge.ends = [Some((ball, [a, b])), Some((v, [a, b]))];
         arcs.push(edge);
-        let (mut uf, paired, unpaired) =
+        let (mut uf, paired, unpaired, _) =
             pair_ends(&arcs, &BTreeSet::new(), 1e-9, &|_| None, &BTreeMap::new());
         assert!(
             paired[0][1] && paired[1][1] && paired[2][1] && paired[3][0],
@@ -842,14 +899,14 @@ mod tests {
                 _ => usize::MAX,
             }))
         };
-        let (mut uf, paired, unpaired) =
+        let (mut uf, paired, unpaired, _) =
             pair_ends(&arcs, &BTreeSet::new(), 1e-9, &local, &BTreeMap::new());
         assert!(unpaired.is_empty(), "{unpaired:?}");
         assert!(paired.iter().all(|p| p[0]), "{paired:?}");
         assert_eq!(uf.find(2), uf.find(4), "top and the walls: one sheet");
         assert_eq!(uf.find(0), uf.find(6));
         assert_ne!(uf.find(2), uf.find(0));
-        let (_, _, unpaired) =
+        let (_, _, unpaired, _) =
             pair_ends(&arcs, &BTreeSet::new(), 1e-9, &|_| None, &BTreeMap::new());
         assert_eq!(
             unpaired,
@@ -901,7 +958,7 @@ mod tests {
         ];
         let at = BTreeMap::from([(j, contacts.to_vec())]);
         let none = BTreeSet::new();
-        let (mut uf, paired, unpaired) = pair_ends(&arcs, &none, 1e-9, &|_| None, &at);
+        let (mut uf, paired, unpaired, _) = pair_ends(&arcs, &none, 1e-9, &|_| None, &at);
         assert!(unpaired.is_empty(), "{unpaired:?}");
         assert!(paired.iter().all(|p| p[0]), "{paired:?}");
         assert_eq!(
@@ -910,11 +967,11 @@ mod tests {
             "the wall and its foot edge: one contact"
         );
         assert_eq!(uf.find(0), uf.find(2));
-        let (_, _, unpaired) = pair_ends(&arcs, &none, 1e-9, &|_| None, &BTreeMap::new());
+        let (_, _, unpaired, _) = pair_ends(&arcs, &none, 1e-9, &|_| None, &BTreeMap::new());
         assert_eq!(unpaired.len(), 2, "{unpaired:?}");
         let mut off = arcs;
         off[3].touch[0] = Some([contacts[0] + DVec3::Z * 1e-6, contacts[2]]);
-        let (_, _, unpaired) = pair_ends(&off, &none, 1e-9, &|_| None, &at);
+        let (_, _, unpaired, _) = pair_ends(&off, &none, 1e-9, &|_| None, &at);
         assert_eq!(unpaired.len(), 2, "{unpaired:?}");
     }
 
@@ -1104,15 +1161,25 @@ mod tests {
     }
 
     /// Where the boundary is incomplete the count is withheld with a reason, never guessed:
-    /// the filleted box's sheets end freely on its fillets' axes (degenerate curves touching
-    /// an arc, not yet arcs of the sheets), the elliptic cylinder's seams end at curvature
-    /// limits. The cylinder's axis, touching all round, is counted (see
-    /// `degenerate_curves_are_traced_between_located_ends`).
+    /// the elliptic cylinder's seams end at curvature limits whose skeletal edges are not
+    /// traced; the filleted box's rounds' axes, when one of them is not known to end (its end
+    /// made open), keep its count from being made. The cylinder's axis, touching all round,
+    /// is counted (see `degenerate_curves_are_traced_between_located_ends`).
     #[test]
     fn euler_withheld_where_sheets_are_incomplete() {
-        let (_, s) = sheets_of("filleted_box.step");
+        let (m, c, mut mat) = crate::testing::traced("filleted_box.step");
+        let k = mat.degenerate.iter().position(|d| !d.around).unwrap();
+        mat.degenerate[k].ends[1] = crate::medial::axis::DegenerateEnd::open(
+            crate::medial::axis::DegenerateOpen::BallBudget,
+            "made open by the test",
+        );
+        let s = sheets(&m, &c, &mat);
         assert_eq!(s.solids[0].mat_euler, None);
-        assert!(s.solids[0].unknown.as_deref().unwrap().contains("arc"));
+        assert!(s.solids[0]
+            .unknown
+            .as_deref()
+            .unwrap()
+            .contains("not traced"));
         let (_, s) = sheets_of("cylinder.step");
         assert_eq!(s.solids[0].mat_euler, Some(1));
         let (_, s) = sheets_of("elliptic_cylinder.step");
@@ -1122,6 +1189,47 @@ mod tests {
             .as_deref()
             .unwrap()
             .contains("curvature"));
+    }
+
+    /// The filleted box (60×40×20, every edge rounded with radius 4) has the medial axis of
+    /// the inner box 52×32×12 grown by 4: its rounds' axes are that box's rims, its corner
+    /// spheres' centres its vertices, where the corner seams end at a curvature limit and
+    /// three axes meet. 12 nodes (4 junctions, 8 corner balls), 24 arcs (12 seams, 12 axes),
+    /// 13 sheets: χ = 1, as the box's. Each axis bounds the sheet of the two faces its round
+    /// joins.
+    #[test]
+    fn filleted_box_counts_its_rounds_axes_as_rims() {
+        let (mat, s) = sheets_of("filleted_box.step");
+        assert!(s.unpaired.is_empty(), "{:?}", s.unpaired);
+        let e = &s.solids[0];
+        assert_eq!(
+            (e.nodes, e.arcs, e.sheets, e.solid_euler, e.mat_euler),
+            (12, 24, 13, 1, Some(1)),
+            "{:?}",
+            e.unknown
+        );
+        let axes: Vec<usize> = (0..mat.degenerate.len())
+            .filter(|&k| !mat.degenerate[k].around && mat.degenerate[k].balls.len() > 1)
+            .collect();
+        assert_eq!(axes.len(), 12);
+        for k in axes {
+            let sheet = s
+                .sheets
+                .iter()
+                .find(|sh| sh.boundary.contains(&BoundaryRef::Degenerate(k)))
+                .unwrap_or_else(|| panic!("axis {k} bounds no sheet"));
+            // Two planes, neither of them the round.
+            assert!(
+                !sheet
+                    .segments
+                    .iter()
+                    .any(|e| mat.degenerate[k].segments.contains(e))
+                    || mat.degenerate[k].segments.len() > 2,
+                "{:?} {:?}",
+                sheet.segments,
+                mat.degenerate[k].segments
+            );
+        }
     }
 
     /// A square pyramid: the seam from its apex is touched by the four side faces, so its

@@ -30,6 +30,9 @@ pub struct Topology {
     pub euler: Vec<SolidEuler>,
     /// Sheet-boundary arc ends that could not be paired at a node (tracer gaps).
     pub unpaired: Vec<String>,
+    /// Arc ends at a ball where rounds' axes end that the segments they name do not pair
+    /// (the count is withheld there; see `Sheets::untold`).
+    pub untold: Vec<String>,
 }
 
 /// Checks the seam–junction graph of `mat`, and takes the Euler characteristics and the
@@ -76,6 +79,7 @@ pub fn check_topology(mat: &MedialAxis, sheets: &Sheets) -> Topology {
         inconsistencies,
         euler: sheets.solids.clone(),
         unpaired: sheets.unpaired.clone(),
+        untold: sheets.untold.clone(),
     }
 }
 
@@ -786,11 +790,7 @@ mod tests {
             skeletal_edges: vec![],
             stats: Default::default(),
         };
-        let sheets = Sheets {
-            sheets: vec![],
-            solids: vec![],
-            unpaired: vec![],
-        };
+        let sheets = Sheets::default();
         let generic = axis(vec![
             seam(vec![e, f, g], 0),
             seam(vec![e, f, h], 1),
