@@ -130,13 +130,17 @@ pub fn verify_report(
     };
     let class = crate::classify::classify(&model, &class_opts);
     let boundary = crate::geom::Boundary::new(&model);
-    Ok(crate::medial::verify(
+    let mut v = crate::medial::verify(
         &model,
         &boundary,
         &class,
         &reported.axis,
         accuracy.unwrap_or(reported.accuracy),
-    ))
+    );
+    if let Some(listed) = &reported.sheets {
+        crate::medial::verify::check_listed_sheets(&model, &class, &reported.axis, listed, &mut v);
+    }
+    Ok(v)
 }
 
 /// The output file stem of `part` (its file name without the extension).

@@ -14,6 +14,8 @@ pub struct ReportedAxis {
     pub angle_tol_deg: f64,
     /// The part the report says it describes, as written there.
     pub input_path: String,
+    /// The sheets the report lists (`None` in a report without `mat.sheets`).
+    pub sheets: Option<Vec<crate::medial::verify::ListedSheet>>,
 }
 
 /// Reads the medial axis and the options of a report (`matrace.report/1`). The error says
@@ -52,6 +54,10 @@ pub fn read_report(text: &str) -> Result<ReportedAxis, String> {
             x => x.as_f64().ok_or_else(|| format!("{what} is not a number")),
         }
     };
+    let sheets = match &mat["sheets"] {
+        serde_json::Value::Null => None,
+        x => Some(serde_json::from_value(x.clone()).map_err(|e| format!("mat.sheets: {e}"))?),
+    };
     let accuracy = number(&v["options"]["accuracy"], "options.accuracy")?;
     let angle_tol_deg = number(&v["options"]["angle_tol_deg"], "options.angle_tol_deg")?;
     Ok(ReportedAxis {
@@ -65,5 +71,6 @@ pub fn read_report(text: &str) -> Result<ReportedAxis, String> {
         accuracy,
         angle_tol_deg,
         input_path: v["input"]["path"].as_str().unwrap_or_default().to_string(),
+        sheets,
     })
 }

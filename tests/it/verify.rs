@@ -1031,3 +1031,53 @@ fn mesh_vertices_touching_one_face_twice_or_all_round_pass_and_moved_off_fail() 
         );
     }
 }
+
+/// A report with a sheet taken out fails `matrace verify` on the Euler characteristic (a
+/// medial axis a sheet short is not the solid's) and on `sheets_listed`; one with a loop
+/// taken from a sheet with holes (the plate's mid-sheet) too. On the filleted box, whose
+/// rounds' axes are arcs of its sheets, the genuine report passes. (`trace --verify` finds
+/// the sheets itself; a report read back lists them, and `verify` holds it to them.)
+#[test]
+fn a_report_missing_a_sheet_fails_on_the_euler_characteristic() {
+    for name in ["box.step", "filleted_box.step"] {
+        let t = Tampered::new(
+            name,
+            "verify::a_report_missing_a_sheet_fails_on_the_euler_characteristic",
+        );
+        let mut fewer = t.genuine.clone();
+        let sheets = fewer["mat"]["sheets"].as_array_mut().unwrap();
+        assert_eq!(sheets.len(), 13, "{name}");
+        sheets.remove(5);
+        t.verify_fails(
+            &format!("{name}: a sheet fewer"),
+            &fewer,
+            &["euler", "sheets_listed"],
+        );
+        if name == "filleted_box.step" {
+            let axes = t.genuine["mat"]["sheets"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .flat_map(|s| s["boundary"].as_array().unwrap())
+                .filter(|b| b.get("degenerate").is_some())
+                .count();
+            assert_eq!(
+                axes, 12,
+                "each round's axis bounds one sheet, as a rim does"
+            );
+        }
+    }
+    let t = Tampered::new(
+        "plate_with_holes.step",
+        "verify::a_report_missing_a_sheet_fails_on_the_euler_characteristic",
+    );
+    let mut holed = t.genuine.clone();
+    let sheet = holed["mat"]["sheets"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|s| s["loops"].as_array().unwrap().len() == 4)
+        .expect("the mid-sheet with three holes");
+    sheet["loops"].as_array_mut().unwrap().pop();
+    t.verify_fails("a hole fewer", &holed, &["euler", "sheets_listed"]);
+}

@@ -24,7 +24,7 @@ pub(super) enum Place {
 }
 
 /// One element of a sheet's boundary.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum BoundaryRef {
     /// A seam (by id).

@@ -53,6 +53,14 @@ impl Verification {
         )
     }
 
+    /// Sets `ok`: every check passed, and every error beyond the accuracy passed its check
+    /// only within the file's own gap there (`held_to_gap`); a NaN passes neither comparison.
+    pub(super) fn settle(&mut self) {
+        let worst = self.worst();
+        self.ok = self.checks.values().all(|c| c.failed == 0)
+            && (worst <= self.accuracy || (self.held_to_gap > 0 && worst <= self.largest_gap_held));
+    }
+
     /// Failures by check, the checks that failed only (`{"separated": 3}`).
     pub fn failed_checks(&self) -> BTreeMap<&'static str, usize> {
         self.checks
