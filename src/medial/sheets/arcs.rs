@@ -1,6 +1,8 @@
 //! The arcs of sheet boundaries (`docs/design.md`, sheets, step 1): three per seam (one per
-//! pair of its touch slots; a non-generic seam's, one per pair of neighbouring slots), one per rim (a convex edge between two faces), one per skeletal
-//! edge, each with the places its ends are at and the segment pairs along it.
+//! pair of its touch slots; a non-generic seam's, one per pair of neighbouring slots), one
+//! per rim (a convex edge between two faces), one per skeletal edge, one per round's axis (a
+//! degenerate curve touching a round along an arc), each with the places its ends are at and
+//! the segment pairs along it.
 
 use crate::classify::{Classification, EdgeKind};
 use crate::medial::axis::{MedialAxis, Node, Seam, SeamEnd, SeamPoint};
@@ -38,7 +40,7 @@ pub enum BoundaryRef {
     Degenerate(usize),
 }
 
-/// An arc: one side of a seam, a rim, or a skeletal edge.
+/// An arc: one side of a seam, a rim, a skeletal edge, or a round's axis.
 pub(super) struct Arc {
     pub(super) element: BoundaryRef,
     pub(super) solid: usize,
@@ -374,8 +376,8 @@ pub(super) fn ball_places(
 /// Adds the degenerate curves that touch along an arc (a fillet's axis) to `arcs`, each a
 /// free edge of the sheet of the two faces its round joins (the faces either side of the
 /// arc of contact, tangent to the balls there), from its place at one end to the other
-/// (`ends`, from [`ball_places`]). Returns the curves added. A curve whose ends are not both places, or whose two faces are
-/// not found, is left out (and the count withheld).
+/// (`ends`, from [`ball_places`]). Returns the curves added. A curve whose ends are not
+/// both places, or whose two sides are not found, is left out (and the count withheld).
 pub(super) fn add_degenerate(
     model: &Model,
     class: &Classification,
@@ -414,10 +416,12 @@ pub(super) fn add_degenerate(
 /// A round's curvature across is `1/r` to this, relative, at its axis's balls.
 const ROUND_CURVATURE_REL: f64 = 1e-3;
 
-/// The two faces a round joins, either side of the arc its degenerate curve `d`'s balls
-/// touch it along: the faces across its smooth edges whose surfaces the curve's middle ball
-/// is tangent to (at the distance `r` from its centre, to [`SAME_BALL_REL_DIAGONAL`] of the
-/// diagonal). `None` unless there are exactly two.
+/// The two sides of a round, either side of the arc its degenerate curve `d`'s balls touch
+/// it along: the faces across its smooth edges whose surfaces the curve's middle ball is
+/// tangent to, and its reflex edges the ball touches (each at the distance `r` from its
+/// centre, to [`SAME_BALL_REL_DIAGONAL`] of the diagonal). The round is the faces of the
+/// curve's segments the ball osculates (curvature across `1/r`). `None` unless there are
+/// exactly two sides.
 fn round_sides(
     model: &Model,
     class: &Classification,

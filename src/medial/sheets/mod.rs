@@ -10,8 +10,11 @@
 //!
 //! 1. every seam gives three *arcs* (one per pair of its touch slots; a non-generic seam one
 //!    per pair of neighbouring slots round it; a closed seam's arcs are loops on their own),
-//!    every convex edge one, every skeletal edge one;
-//! 2. at each node (a junction, a vertex where seams end or rims meet, a seam's end ball) the
+//!    every convex edge one, every skeletal edge one, every round's axis (a degenerate curve
+//!    touching a round along an arc: where the sheet of the faces either side of the round
+//!    ends) one;
+//! 2. at each node (a junction, a vertex where seams end or rims meet, a seam's end ball, the
+//!    ball where rounds' axes end) the
 //!    arc ends are
 //!    paired by the sheet they bound, named by the two *segment groups* touched: faces joined
 //!    by smooth or reflex edges (with those edges and the reflex vertices between them) form
@@ -27,7 +30,9 @@
 //! that loops of one group pair are one sheet; both hold for the reference parts (tests), and
 //! the count is withheld, with the reason, wherever the boundary is incomplete: open seam
 //! ends, curvature-limit ends whose skeletal edges are not traced (all but those at
-//! vertices), degenerate pieces (a cylinder's axis) or mixed edges.
+//! vertices), degenerate pieces not in the graph, sheets round a ball where rounds' axes end
+//! not told apart, or mixed edges. Curves that touch all round (a cylinder's axis) and
+//! degenerate points are added by inclusion–exclusion.
 
 mod arcs;
 mod which;
@@ -74,9 +79,9 @@ pub struct SolidEuler {
     pub solid_euler: i64,
     /// `V − E + Σ χ(sheet)` of the medial axis, when its sheets are complete.
     pub mat_euler: Option<i64>,
-    /// Nodes (junctions, the vertices seams, rims and skeletal edges end at, and the balls
-    /// where seams end at a pinch or a skeletal edge), arcs (seams, rims, skeletal edges) and
-    /// sheets counted.
+    /// Nodes (junctions, the vertices seams, rims and skeletal edges end at, the balls where
+    /// seams end at a pinch or a skeletal edge, and those where rounds' axes end), arcs
+    /// (seams, rims, skeletal edges, rounds' axes) and sheets counted.
     pub nodes: usize,
     pub arcs: usize,
     pub sheets: usize,
