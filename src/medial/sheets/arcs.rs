@@ -59,6 +59,8 @@ pub(super) struct Arc {
     pub(super) pieces: Vec<[Element; 2]>,
     /// A seam's side: the seam's index and the two touch slots.
     pub(super) slots: Option<(usize, [usize; 2])>,
+    /// A round's axis: the round (the faces its balls osculate), whose sides are `pair`.
+    pub(super) round: Vec<Element>,
 }
 
 impl Arc {
@@ -81,6 +83,7 @@ impl Arc {
             touch: [None, None],
             pieces: vec![pair],
             slots: None,
+            round: vec![],
         }
     }
 }
@@ -153,6 +156,7 @@ pub(super) fn seam_arcs(
                 touch: [touch(s.points.first()), touch(s.points.last())],
                 pieces: pairs_along(s, i, j),
                 slots: Some((n, [i, j])),
+                round: vec![],
             });
         }
     }
@@ -398,16 +402,12 @@ pub(super) fn add_degenerate(
         let Some([Some(a), Some(b)]) = ends.get(k) else {
             continue;
         };
-        let Some(pair) = round_sides(model, class, d) else {
+        let Some((round, pair)) = round_sides(model, class, d) else {
             continue;
         };
-        arcs.push(Arc::between(
-            BoundaryRef::Degenerate(k),
-            d.solid,
-            [*a, *b],
-            pair,
-            groups,
-        ));
+        let mut arc = Arc::between(BoundaryRef::Degenerate(k), d.solid, [*a, *b], pair, groups);
+        arc.round = round;
+        arcs.push(arc);
         added.insert(k);
     }
     added
@@ -420,13 +420,13 @@ const ROUND_CURVATURE_REL: f64 = 1e-3;
 /// it along: the faces across its smooth edges whose surfaces the curve's middle ball is
 /// tangent to, and its reflex edges the ball touches (each at the distance `r` from its
 /// centre, to [`SAME_BALL_REL_DIAGONAL`] of the diagonal). The round is the faces of the
-/// curve's segments the ball osculates (curvature across `1/r`). `None` unless there are
-/// exactly two sides.
+/// curve's segments the ball osculates (curvature across `1/r`). The round's faces and the
+/// two sides; `None` unless there are exactly two sides.
 fn round_sides(
     model: &Model,
     class: &Classification,
     d: &crate::medial::Degenerate,
-) -> Option<[Element; 2]> {
+) -> Option<(Vec<Element>, [Element; 2])> {
     let b = d.balls.get(d.balls.len() / 2)?;
     let (c, r) = (DVec3::new(b[0], b[1], b[2]), b[3]);
     let tol = SAME_BALL_REL_DIAGONAL * model.diagonal();
@@ -485,7 +485,10 @@ fn round_sides(
         }
     }
     match sides[..] {
-        [x, y] => Some(sorted_pair(x, y)),
+        [x, y] => Some((
+            on.iter().map(|&f| Element::Face(f)).collect(),
+            sorted_pair(x, y),
+        )),
         _ => None,
     }
 }

@@ -372,6 +372,12 @@ fn pair_list(
         unpaired,
         untold,
     } = out;
+    // The rounds whose axes end here, with their sides.
+    let rounds: Vec<(Vec<Element>, [Element; 2])> = list
+        .iter()
+        .filter(|&&(k, _)| !arcs[k].round.is_empty())
+        .map(|&(k, _)| (arcs[k].round.clone(), arcs[k].pair))
+        .collect();
     let mut tries = vec![list];
     if tries[0].len() > 2 {
         // Keyed by the pair's names: the order in which `unpaired` lists them.
@@ -395,6 +401,14 @@ fn pair_list(
                 }
             })
             .collect();
+    }
+    // At a ball where rounds' axes end, one sheet may be named by a round on one side and by
+    // the face beside it (a side of that round's) on the other: the two arc ends left alone
+    // whose pairs name the same two contacts that way, and no other, are one sheet's (below
+    // a mitred corner, the sheet of the top and the front runs on as the sheet of the two
+    // rounds beside them, along the mitre's free edge).
+    if let Place::Ball(_) = node {
+        tries = pair_across_rounds(arcs, &rounds, tries);
     }
     for list in tries {
         if let [(k1, e1), (k2, e2)] = list[..] {
@@ -421,6 +435,58 @@ fn pair_list(
             }
         }
     }
+}
+
+/// `tries` with the arc ends left alone (lists of one) paired where two of them name one
+/// sheet across the rounds whose axes end at the ball (`rounds`: each round's faces and its
+/// two sides): each element of one pair is the other's, or a round and one of its sides,
+/// and neither end has another such partner.
+fn pair_across_rounds(
+    arcs: &[Arc],
+    rounds: &[(Vec<Element>, [Element; 2])],
+    tries: Vec<Vec<(usize, usize)>>,
+) -> Vec<Vec<(usize, usize)>> {
+    if rounds.is_empty() {
+        return tries;
+    }
+    let one = |a: Element, b: Element| {
+        a == b
+            || rounds.iter().any(|(round, sides)| {
+                (round.contains(&a) && sides.contains(&b))
+                    || (round.contains(&b) && sides.contains(&a))
+            })
+    };
+    let pair_of = |(k, end): (usize, usize)| arcs[k].ends[end].map(|(_, p)| p);
+    let same = |x: (usize, usize), y: (usize, usize)| match (pair_of(x), pair_of(y)) {
+        (Some([a, b]), Some([c, d])) => (one(a, c) && one(b, d)) || (one(a, d) && one(b, c)),
+        _ => false,
+    };
+    let (alone, mut out): (Vec<_>, Vec<_>) = tries.into_iter().partition(|l| l.len() == 1);
+    let alone: Vec<(usize, usize)> = alone.into_iter().map(|l| l[0]).collect();
+    let partners = |i: usize| -> Vec<usize> {
+        (0..alone.len())
+            .filter(|&j| j != i && same(alone[i], alone[j]))
+            .collect()
+    };
+    let mut used = vec![false; alone.len()];
+    for i in 0..alone.len() {
+        if used[i] {
+            continue;
+        }
+        if let [j] = partners(i)[..] {
+            if !used[j] && partners(j) == [i] {
+                used[i] = true;
+                used[j] = true;
+                out.push(vec![alone[i], alone[j]]);
+            }
+        }
+    }
+    out.extend(
+        (0..alone.len())
+            .filter(|&i| !used[i])
+            .map(|i| vec![alone[i]]),
+    );
+    out
 }
 
 /// At the ball where one seam ends and a skeletal edge starts: the seam's side on the two
@@ -774,6 +840,7 @@ mod tests {
             touch: [Some(t), None],
             pieces: vec![[f0, f1]],
             slots: None,
+            round: vec![],
         };
         let twice = BTreeSet::from([(j, f0)]);
         let arcs = vec![
@@ -836,6 +903,7 @@ mod tests {
             touch: [None, None],
             pieces: vec![pair],
             slots,
+            round: vec![],
         };
         let mut arcs = vec![
             arc(BoundaryRef::Seam(0), [a, b], Some((0, [0, 1]))),
@@ -882,6 +950,7 @@ mod tests {
             touch: [None, None],
             pieces: vec![pair],
             slots: None,
+            round: vec![],
         };
         let arcs = vec![
             arc(BoundaryRef::Seam(128), [top, half1]),
@@ -954,6 +1023,7 @@ mod tests {
             touch: [Some(slots.map(|s| contacts[s])), None],
             pieces: vec![pair],
             slots: None,
+            round: vec![],
         };
         let arcs = vec![
             arc(11, [e10, top], [1, 2]),
@@ -1235,6 +1305,39 @@ mod tests {
                 mat.degenerate[k].segments
             );
         }
+    }
+
+    /// A box's corner with two rounds meeting in a mitre (`samples/trace`): at the ball where
+    /// the two rounds' axes end, the seam of the side, the top and the front ends, and the
+    /// mitre's free edge starts. The sheet of the top and the front (the seam's side there)
+    /// runs on past that ball as the sheet of the two rounds beside them, along the free
+    /// edge: named by the rounds on one side of the ball and by their sides on the other, it
+    /// is paired across them. χ = 1, every end paired.
+    #[test]
+    fn a_mitred_corner_pairs_the_sheet_named_by_its_rounds_and_their_sides() {
+        let (mat, s) = sheets_of("trace/box_with_a_mitred_corner.step");
+        assert!(s.unpaired.is_empty(), "{:?}", s.unpaired);
+        assert!(s.untold.is_empty(), "{:?}", s.untold);
+        assert_eq!(
+            (s.solids[0].solid_euler, s.solids[0].mat_euler),
+            (1, Some(1)),
+            "{:?}",
+            s.solids[0].unknown
+        );
+        let free = BoundaryRef::Skeletal(mat.skeletal_edges[0].id);
+        let sheet = s
+            .sheets
+            .iter()
+            .find(|sh| sh.boundary.contains(&free))
+            .unwrap();
+        assert!(
+            sheet
+                .boundary
+                .iter()
+                .any(|b| matches!(b, BoundaryRef::Seam(_))),
+            "the free edge's sheet is bounded by the seam too: {:?}",
+            sheet.boundary
+        );
     }
 
     /// A square pyramid: the seam from its apex is touched by the four side faces, so its
