@@ -172,20 +172,19 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
         });
     }
 
-    out.solids = (0..model.solids.len())
-        .map(|solid| {
-            let graph = Graph {
-                arcs: &arcs,
-                sheets: &out.sheets,
-                mixed: &mixed,
-                incomplete: &incomplete,
-                places: &places,
-                fillets: &fillets,
-                untold: &untold_solids,
-            };
-            solid_and_axis_euler(model, mat, &graph, solid)
-        })
+    let graph = Graph {
+        arcs: &arcs,
+        sheets: &out.sheets,
+        mixed: &mixed,
+        incomplete: &incomplete,
+        places: &places,
+        fillets: &fillets,
+        untold: &untold_solids,
+    };
+    let solids = (0..model.solids.len())
+        .map(|solid| solid_and_axis_euler(model, mat, &graph, solid))
         .collect();
+    out.solids = solids;
     out
 }
 
@@ -547,8 +546,6 @@ fn by_touch(arcs: &[Arc], list: Vec<(usize, usize)>, tol: f64) -> Vec<Vec<(usize
     out
 }
 
-/// The Euler characteristics of `solid` and of its medial axis (`V − E + Σ χ(sheet)`, or why
-/// that is withheld).
 /// What the count of one solid's Euler characteristic is made from.
 struct Graph<'a> {
     arcs: &'a [Arc],
@@ -565,6 +562,26 @@ struct Graph<'a> {
     untold: &'a BTreeSet<usize>,
 }
 
+impl Graph<'_> {
+    /// The degenerate pieces of `solid` that are not in the graph itself (as rounds' axes, or
+    /// as points at the balls where they meet): those counted by inclusion–exclusion.
+    fn pieces_apart<'m>(
+        &self,
+        mat: &'m MedialAxis,
+        solid: usize,
+    ) -> impl Iterator<Item = &'m crate::medial::Degenerate> + use<'_, 'm> {
+        mat.degenerate
+            .iter()
+            .enumerate()
+            .filter(move |(k, d)| {
+                d.solid == solid && !self.fillets.contains(k) && !self.places.points.contains(k)
+            })
+            .map(|(_, d)| d)
+    }
+}
+
+/// The Euler characteristics of `solid` and of its medial axis (`V − E + Σ χ(sheet)`, or why
+/// that is withheld).
 fn solid_and_axis_euler(model: &Model, mat: &MedialAxis, g: &Graph, solid: usize) -> SolidEuler {
     let (arcs, sheets) = (g.arcs, g.sheets);
     let solid_euler = solid_euler(model, solid);
@@ -587,12 +604,9 @@ fn solid_and_axis_euler(model: &Model, mat: &MedialAxis, g: &Graph, solid: usize
     // A closed seam is a loop with one node of its own: it adds 1 − 1 = 0.
     let chi_sheets: i64 = sheets.iter().map(|s| 2 - s.loops.len() as i64).sum();
     // Rounds' axes are arcs, and the points where they meet are nodes, counted above.
-    let chi_degenerate: i64 = mat
-        .degenerate
-        .iter()
-        .enumerate()
-        .filter(|(k, d)| d.solid == solid && !g.fillets.contains(k) && !g.places.points.contains(k))
-        .map(|(_, d)| degenerate_euler(d) - sheets_ending_inside(d, &sheets))
+    let chi_degenerate: i64 = g
+        .pieces_apart(mat, solid)
+        .map(|d| degenerate_euler(d) - sheets_ending_inside(d, &sheets))
         .sum();
     SolidEuler {
         solid,
@@ -703,13 +717,7 @@ fn degenerate_withheld(
     has_arcs: bool,
 ) -> Option<String> {
     use crate::medial::axis::DegenerateEnd;
-    let mine: Vec<_> = mat
-        .degenerate
-        .iter()
-        .enumerate()
-        .filter(|(k, d)| d.solid == solid && !g.fillets.contains(k) && !g.places.points.contains(k))
-        .map(|(_, d)| d)
-        .collect();
+    let mine: Vec<_> = g.pieces_apart(mat, solid).collect();
     let open = mine.iter().any(|d| {
         d.kind == crate::medial::DegenerateKind::Curve
             && (d.ends.is_empty()
