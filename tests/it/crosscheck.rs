@@ -38,9 +38,10 @@ const LCD_KNOB: &str = "no seam ends open and every ball passes both checkers; t
 const PINCHED: &str = "no seams end open: the seams under its holes, each inscribed in a \
     square pocket, end in pairs at pinches where the hole's wall meets the pocket's ceiling \
     edges (docs/design.md, Pinches); its non-generic seams (four elements touching every \
-    ball) bound the sheets of neighbouring contacts; four sheet-boundary ends stay open at a \
-    junction of three reflex edges and a vertex, and where a skeletal edge starts \
-    (`sheets_closed`, issue 20)";
+    ball) bound the sheets of neighbouring contacts; six sheet-boundary ends stay open: three \
+    at a junction of three reflex edges and a vertex, three at the ball where two seams end, \
+    one of three contacts, one of four whose touch points meet in two pairs at two vertices, \
+    each pair starting a skeletal edge (nine arc ends there: something is missing, issue 20)";
 
 const MOTOR_PLATE: &str = "22 faces whose edges lie off their surfaces by up to 3.9e-3 mm (the \
     accuracy is 7.4e-5 mm; the file declares 0.01 mm): both checkers hold the balls near them to \
@@ -110,9 +111,13 @@ const FLANGE_ON_A_SHAFT: &str = "no seam ends open and every ball passes both ch
     Euler characteristic 3 for the solid's 1 (its degenerate curves, the disc's and the \
     shaft's axes, are not joined to the sheets: issue 20)";
 
-const SPLIT_HUB: &str = "no seam ends open and every ball passes both checkers; where the \
-    plate leaves the hub, the sheets of the plate's faces and the hub's wall end along skeletal \
-    edges whose balls are not yet joined to the sheets' boundaries (issue 20)";
+const SLOT_OVER: &str = "no seam ends open, every ball passes both checkers and every sheet \
+    closes (where the plate leaves the hub, the seams of its four reflex edges end at balls \
+    starting two skeletal edges each, as on plate_through_a_split_hub); the medial axis counts \
+    Euler characteristic 3 for the solid's 1: the sheet of the hub's wall and the slot, \
+    bounded by the rims round the slot's mouth, by the closed seam where the hub's back comes \
+    in and by the seams along the plate, is counted as two sheets (the loop of rims names \
+    only faces, the other loops only the slot's edges and floor: no pair in common, issue 20)";
 
 const THREADED_BOTTLE: &str = "no seam ends open (the seam along the thread's feet ends in a \
     pinch at each of the thread's ends) and every seam ball passes both checkers; the bottle's \
@@ -162,7 +167,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
     ),
     (
         "prusa_y-rod-holder.stp",
-        &[("verify:sheets_closed", 4)],
+        &[("verify:sheets_closed", 6)],
         PINCHED,
     ),
     ("stepswift_dm1-id-214.stp", &[("verify:euler", 3)], DM1),
@@ -184,19 +189,9 @@ const EXPECTED_FAILURES: &[Expected] = &[
         SHRUNK_ARC_UNJOINED,
     ),
     (
-        "plate_through_a_split_hub.step",
-        &[("verify:sheets_closed", 8)],
-        SPLIT_HUB,
-    ),
-    (
-        "plate_end_off_its_edges_in_a_split_hub.step",
-        &[("verify:sheets_closed", 8)],
-        SPLIT_HUB,
-    ),
-    (
         "slot_over_a_split_hub.step",
-        &[("verify:sheets_closed", 8)],
-        SPLIT_HUB,
+        &[("verify:euler", 1)],
+        SLOT_OVER,
     ),
     (
         "threaded_bottle.step",

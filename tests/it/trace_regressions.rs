@@ -847,6 +847,45 @@ fn a_hip_roofs_seams_are_touched_by_four_faces_and_bound_the_sheets_of_neighbour
     sheets_close_with_euler_one(&report);
 }
 
+/// A plate 2 thick through a hub's front corner: where the plate leaves the hub's wall at
+/// its front face, the seam of the plate's four reflex edges there (two on top, two below)
+/// ends at the ball of r = 1 touching the two vertices where each pair meets, one at the
+/// top and one at the bottom. A skeletal edge runs from that ball to each vertex (the hub's
+/// bisector of its front and wall ends along them, above and below the plate's middle, which
+/// goes on round the ball): two per corner, four in all, and with them every sheet closes
+/// and the Euler characteristic is the solid's. (Before, one edge per ball: the sheet above
+/// ended open, and a free edge from the top vertex stopped 1.9e-5 mm short of the ball.)
+#[test]
+fn a_ball_whose_four_touch_points_meet_in_two_pairs_starts_two_skeletal_edges() {
+    let report = traced_and_verified("plate_through_a_split_hub");
+    let vertices = report["model"]["vertices"].as_array().unwrap();
+    let at_corner: Vec<&Value> = report["mat"]["skeletal_edges"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|k| {
+            let v = &vertices[k["vertex"].as_u64().unwrap() as usize]["point"];
+            v[0].as_f64().unwrap().abs() < 1e-9
+        })
+        .collect();
+    let mut ends = vec![];
+    for k in &at_corner {
+        let starts = k["starts"].as_array().unwrap();
+        assert_eq!(starts.len(), 1, "{k}: started by the seam's end");
+        let ball = &k["balls"][0];
+        assert!((ball[3].as_f64().unwrap() - 1.0).abs() < 1e-6, "{ball}");
+        assert!(ball[2].as_f64().unwrap().abs() < 1e-6, "{ball}");
+        let v = &vertices[k["vertex"].as_u64().unwrap() as usize]["point"];
+        ends.push([
+            v[1].as_f64().unwrap().signum() as i64,
+            v[2].as_f64().unwrap().round() as i64,
+        ]);
+    }
+    ends.sort();
+    assert_eq!(ends, [[-1, -1], [-1, 1], [1, -1], [1, 1]], "{at_corner:?}");
+    sheets_close_with_euler_one(&report);
+}
+
 /// Every sheet boundary of the (one-solid) report closes, and the medial axis's Euler
 /// characteristic is counted and is 1, the solid's.
 fn sheets_close_with_euler_one(report: &Value) {

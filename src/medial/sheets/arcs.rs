@@ -94,14 +94,16 @@ fn group_pair(groups: &SegmentGroups, a: Element, b: Element) -> [usize; 2] {
     [g.min(h), g.max(h)]
 }
 
-/// The ball each seam end a skeletal edge starts from is: `[seam, end]` → place. (Other
+/// The ball each seam end a skeletal edge starts from is: `[seam, end]` → place, named by the
+/// first skeletal edge starting there (two start at a ball of four contacts whose touch
+/// points meet in two pairs, each at its vertex). (Other
 /// pinches are not nodes yet: where two seams end at one, on segments of different groups,
 /// the sheets round it are not paired there; the count is withheld.)
 pub(super) fn end_balls(mat: &MedialAxis) -> HashMap<[usize; 2], Place> {
     let mut out = HashMap::new();
     for k in &mat.skeletal_edges {
         for start in &k.starts {
-            out.insert(*start, Place::Skeletal(k.id));
+            out.entry(*start).or_insert(Place::Skeletal(k.id));
         }
     }
     out
@@ -500,6 +502,7 @@ fn round_sides(
 pub(super) fn add_skeletal(
     mat: &MedialAxis,
     groups: &SegmentGroups,
+    balls: &HashMap<[usize; 2], Place>,
     starts: &HashMap<usize, Place>,
     arcs: &mut Vec<Arc>,
 ) {
@@ -511,7 +514,12 @@ pub(super) fn add_skeletal(
             k.segments,
             groups,
         );
-        if k.starts.is_empty() && !k.meets.is_empty() {
+        if let Some(start) = k.starts.first() {
+            // The place of the seam end it starts at (where two start, the first's).
+            if let Some(place) = balls.get(start) {
+                arc.ends[0] = Some((*place, arc.pair));
+            }
+        } else if !k.meets.is_empty() {
             arc.ends[0] = starts.get(&k.id).map(|p| (*p, arc.pair));
         }
         arcs.push(arc);

@@ -113,7 +113,7 @@ pub fn sheets(model: &Model, class: &Classification, mat: &MedialAxis) -> Sheets
     let mut arcs = seam_arcs(mat, &groups, &balls);
     let kinks = convex_kinks(model, class, mat);
     let mixed = add_rims(model, class, &groups, &kinks, &mut arcs);
-    add_skeletal(mat, &groups, &places.skeletal_starts, &mut arcs);
+    add_skeletal(mat, &groups, &balls, &places.skeletal_starts, &mut arcs);
     let fillets = add_degenerate(model, class, mat, &groups, &places.curve_ends, &mut arcs);
     add_witnesses(model, class, mat, &balls, &mut arcs);
     // Elements a junction touches in two places.
@@ -488,38 +488,42 @@ fn pair_across_rounds(
     out
 }
 
-/// At the ball where one seam ends and a skeletal edge starts: the seam's side on the two
-/// segments that meet there goes on along the skeletal edge, and its two sides on the third
-/// segment are one sheet round the ball (the plate's middle sheet round the ball below a
-/// box's corner). Told by the segments, not the groups, which may all be one (three reflex
-/// edges of one part of the boundary). `None` elsewhere, and where more seams end there.
+/// At the ball where one seam ends and skeletal edges start: the seam's side on the two
+/// segments that meet at each edge's vertex goes on along that edge, and the two sides left
+/// are one sheet round the ball (of a generic seam, its two sides on the third segment: the
+/// plate's middle sheet round the ball below a box's corner; of a seam of four contacts
+/// meeting in two pairs, the two sides between the pairs: the plate's middle sheet round a
+/// hub's corner, the hub's bisector ending above and below it). Told by the segments, not
+/// the groups, which may all be one (three reflex edges of one part of the boundary).
+/// `None` elsewhere, and where more seams end there.
 fn at_skeletal_ball(
     arcs: &[Arc],
     node: Place,
     ends: &[(usize, usize)],
-) -> Option<[[(usize, usize); 2]; 2]> {
+) -> Option<Vec<[(usize, usize); 2]>> {
     let Place::Skeletal(_) = node else {
         return None;
     };
-    let edge = ends
-        .iter()
-        .copied()
-        .find(|&(k, _)| matches!(arcs[k].element, BoundaryRef::Skeletal(_)))?;
-    let sides: Vec<(usize, usize)> = ends.iter().copied().filter(|&e| e != edge).collect();
-    let [a, b, c] = sides[..] else { return None };
+    let is_edge = |&(k, _): &(usize, usize)| matches!(arcs[k].element, BoundaryRef::Skeletal(_));
+    let (edges, mut sides): (Vec<_>, Vec<_>) = ends.iter().copied().partition(is_edge);
     let seam = |(k, _): (usize, usize)| arcs[k].slots.map(|(n, _)| n);
-    if seam(a).is_none() || seam(a) != seam(b) || seam(b) != seam(c) {
+    let first = seam(*sides.first()?);
+    if edges.is_empty() || first.is_none() || sides.iter().any(|&e| seam(e) != first) {
         return None;
     }
     let pair = |(k, end): (usize, usize)| arcs[k].ends[end].map(|(_, p)| p);
-    let on_edge = pair(edge)?;
-    let (along, round): (Vec<_>, Vec<_>) = [a, b, c]
-        .into_iter()
-        .partition(|&e| pair(e) == Some(on_edge));
-    match (&along[..], &round[..]) {
-        (&[x], &[y, z]) => Some([[edge, x], [y, z]]),
-        _ => None,
+    let mut out = vec![];
+    for edge in edges {
+        let on_edge = pair(edge)?;
+        let along: Vec<usize> = (0..sides.len())
+            .filter(|&i| pair(sides[i]) == Some(on_edge))
+            .collect();
+        let [i] = along[..] else { return None };
+        out.push([edge, sides.remove(i)]);
     }
+    let [y, z] = sides[..] else { return None };
+    out.push([y, z]);
+    Some(out)
 }
 
 /// Splits arc ends at one node that have one segment pair into the pairs that run between the
@@ -934,6 +938,74 @@ mod tests {
         assert_eq!(uf.find(0), uf.find(3), "along the skeletal edge");
         assert_eq!(uf.find(1), uf.find(2), "round the ball");
         assert_ne!(uf.find(0), uf.find(1));
+    }
+
+    /// A plate through a hub's corner (samples/trace/plate_through_a_split_hub): the seam of
+    /// the plate's four reflex edges at the hub (two on top, two below) ends at the ball
+    /// touching the two vertices where each pair meets. Each pair's side goes on along the
+    /// skeletal edge to its vertex (the hub's bisector ends there, above and below); the two
+    /// sides between the pairs are the plate's middle sheet, one round the ball. A third
+    /// skeletal edge naming no side leaves the ends unpaired.
+    #[test]
+    fn a_ball_of_four_contacts_pairs_each_skeletal_edge_and_the_two_sides_left() {
+        let ball = Place::Skeletal(4);
+        let (lo, hi) = (Place::Node(Node::Vertex(14)), Place::Node(Node::Vertex(21)));
+        let (a, b, c, d) = (
+            Element::Edge(16),
+            Element::Edge(15),
+            Element::Edge(24),
+            Element::Edge(25),
+        );
+        let arc = |element: BoundaryRef, pair: [Element; 2], ends, slots| Arc {
+            element,
+            solid: 0,
+            ends,
+            groups: [0, 0],
+            closed: false,
+            pair,
+            touch: [None, None],
+            pieces: vec![pair],
+            slots,
+            round: vec![],
+        };
+        let j = Place::Node(Node::Junction(6));
+        let side = |pair: [Element; 2], s: [usize; 2]| {
+            arc(
+                BoundaryRef::Seam(19),
+                pair,
+                [Some((j, pair)), Some((ball, pair))],
+                Some((19, s)),
+            )
+        };
+        let edge = |k: usize, pair: [Element; 2], v: Place| {
+            arc(
+                BoundaryRef::Skeletal(k),
+                pair,
+                [Some((ball, pair)), Some((v, pair))],
+                None,
+            )
+        };
+        let mut arcs = vec![
+            side([a, b], [0, 1]),
+            side([b, c], [1, 2]),
+            side([c, d], [2, 3]),
+            side([d, a], [3, 0]),
+            edge(4, [a, b], lo),
+            edge(7, [c, d], hi),
+        ];
+        let (mut uf, paired, _, _) =
+            pair_ends(&arcs, &BTreeSet::new(), 1e-9, &|_| None, &BTreeMap::new());
+        assert!((0..4).all(|k| paired[k][1]) && paired[4][0] && paired[5][0]);
+        assert_eq!(uf.find(0), uf.find(4), "down the lower edge");
+        assert_eq!(uf.find(2), uf.find(5), "up the upper edge");
+        assert_eq!(uf.find(1), uf.find(3), "round the ball");
+        assert_ne!(uf.find(0), uf.find(1));
+        assert_ne!(uf.find(2), uf.find(1));
+        // An edge naming a pair no side has: nothing is paired at the ball by the segments.
+        arcs.push(edge(8, [a, c], hi));
+        let (_, paired, _, _) =
+            pair_ends(&arcs, &BTreeSet::new(), 1e-9, &|_| None, &BTreeMap::new());
+        assert!(!paired[6][0], "{paired:?}");
     }
 
     /// The Prusa extruder idler's vertex V64, where the corner of a hexagonal nut pocket (two

@@ -56,9 +56,19 @@ pub(super) fn add_witnesses(
                 .into_iter()
                 .map(|x| sorted_pair(x, third))
                 .collect();
-            let sides = arcs
-                .iter_mut()
-                .filter(|a| matches!(a.slots, Some((m, [i, j])) if m == n && (i == o || j == o)));
+            // Not the sides that go on along a skeletal edge from this ball (of a seam of
+            // four contacts meeting in two pairs, the far touch point is one of the other
+            // pair's, whose side ends along its own edge).
+            let along: Vec<[Element; 2]> = mat
+                .skeletal_edges
+                .iter()
+                .filter(|k| k.starts.contains(&[n, end]))
+                .map(|k| sorted_pair(k.segments[0], k.segments[1]))
+                .collect();
+            let sides = arcs.iter_mut().filter(|a| {
+                matches!(a.slots, Some((m, [i, j])) if m == n && (i == o || j == o))
+                    && !along.contains(&sorted_pair(a.pair[0], a.pair[1]))
+            });
             for arc in sides {
                 for w in &witnessed {
                     if !arc.pieces.contains(w) {

@@ -62,32 +62,39 @@ impl Tracer<'_> {
                 }
                 let (point, segs) = seam.at_end(end);
                 let Some(point) = point else { continue };
-                let Some((pair, v)) = self.met_at_vertex(segs, &point.touch, near) else {
+                let met = self.met_at_vertices(segs, &point.touch, near);
+                let Some(&(_, first)) = met.first() else {
                     continue;
                 };
                 let ball = point.point;
                 let solid = seam.solid;
                 if let SeamEnd::CurvatureLimit { segment } = &mut self.seams[s].ends[end] {
-                    *segment = Element::Vertex(v);
+                    *segment = Element::Vertex(first);
                 }
                 let at = DVec3::new(ball[0], ball[1], ball[2]);
-                let same = out.iter_mut().find(|k| {
-                    let b = k.balls[0];
-                    k.vertex == v
-                        && DVec3::new(b[0], b[1], b[2]).distance(at) <= near
-                        && (b[3] - ball[3]).abs() <= near
-                });
-                match same {
-                    Some(k) => k.starts.push([s, end]),
-                    None => out.push(SkeletalEdge {
-                        id: out.len(),
-                        solid,
-                        starts: vec![[s, end]],
-                        segments: pair,
-                        vertex: v,
-                        balls: self.vertex_line(ball, v),
-                        meets: vec![],
-                    }),
+                // A non-generic seam's ball may have two pairs meeting, each at its own
+                // vertex (a plate through a hub's corner: the touch points on the plate's two
+                // reflex edges at the top meet at one vertex, those at the bottom at another):
+                // a free edge runs to each.
+                for (pair, v) in met {
+                    let same = out.iter_mut().find(|k| {
+                        let b = k.balls[0];
+                        k.vertex == v
+                            && DVec3::new(b[0], b[1], b[2]).distance(at) <= near
+                            && (b[3] - ball[3]).abs() <= near
+                    });
+                    match same {
+                        Some(k) => k.starts.push([s, end]),
+                        None => out.push(SkeletalEdge {
+                            id: out.len(),
+                            solid,
+                            starts: vec![[s, end]],
+                            segments: pair,
+                            vertex: v,
+                            balls: self.vertex_line(ball, v),
+                            meets: vec![],
+                        }),
+                    }
                 }
             }
         }
@@ -408,37 +415,61 @@ impl Tracer<'_> {
         out
     }
 
-    /// Two of `touch` (on `segs`) on one group of segments, at a vertex both reach: the two
-    /// segments and the vertex.
-    fn met_at_vertex(
+    /// The pairs of `touch` (on `segs`) on one group of segments that meet at a vertex both
+    /// reach, each with its vertex: of a generic seam's three, the first pair that does; of
+    /// a non-generic seam's, every slot in one such pair, each at its own vertex (a plate
+    /// through a hub's corner: the touch points on the plate's two reflex edges at the top
+    /// meet at one vertex, those at the bottom at another), or else as of a generic seam's
+    /// first three (where the sheets round the ball are not yet told apart).
+    fn met_at_vertices(
         &self,
         segs: &[Element],
         touch: &[[f64; 3]],
         near: f64,
-    ) -> Option<([Element; 2], usize)> {
-        for (i, k) in [(0, 1), (0, 2), (1, 2)] {
-            let (Some(&a), Some(&b)) = (segs.get(i), segs.get(k)) else {
-                continue;
-            };
+    ) -> Vec<([Element; 2], usize)> {
+        let n = segs.len().min(touch.len());
+        let met = |i: usize, k: usize| -> Option<([Element; 2], usize)> {
+            let (a, b) = (segs[i], segs[k]);
             if self.groups.of(a) != self.groups.of(b) {
-                continue;
+                return None;
             }
-            let (Some(&ta), Some(&tb)) = (touch.get(i), touch.get(k)) else {
-                continue;
-            };
-            let (ta, tb) = (DVec3::from_array(ta), DVec3::from_array(tb));
-            let v = (0..self.model.vertices.len()).find(|&v| {
-                let p = self.model.vertices[v].point;
-                p.distance(ta) <= near
-                    && p.distance(tb) <= near
-                    && self.reaches(a, v)
-                    && self.reaches(b, v)
-            });
-            if let Some(v) = v {
-                return Some(([a, b], v));
+            let (ta, tb) = (DVec3::from_array(touch[i]), DVec3::from_array(touch[k]));
+            (0..self.model.vertices.len())
+                .find(|&v| {
+                    let p = self.model.vertices[v].point;
+                    p.distance(ta) <= near
+                        && p.distance(tb) <= near
+                        && self.reaches(a, v)
+                        && self.reaches(b, v)
+                })
+                .map(|v| ([a, b], v))
+        };
+        if n > 3 {
+            let mut pairs: Vec<([Element; 2], usize)> = vec![];
+            let mut used = vec![false; n];
+            for i in 0..n {
+                for k in i + 1..n {
+                    if used[i] || used[k] {
+                        continue;
+                    }
+                    if let Some((pair, v)) = met(i, k) {
+                        if pairs.iter().all(|&(_, w)| w != v) {
+                            pairs.push((pair, v));
+                            (used[i], used[k]) = (true, true);
+                        }
+                    }
+                }
+            }
+            if used.iter().all(|&u| u) {
+                return pairs;
             }
         }
-        None
+        [(0, 1), (0, 2), (1, 2)]
+            .into_iter()
+            .filter(|&(_, k)| k < n)
+            .find_map(|(i, k)| met(i, k))
+            .into_iter()
+            .collect()
     }
 
     /// The balls from `ball` to vertex `v` along the straight line through their centres.
