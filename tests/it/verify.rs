@@ -977,6 +977,69 @@ fn a_degenerate_curves_end_ball_that_does_not_osculate_at_its_vertex_fails() {
     assert!(failed.iter().any(|f| f == "degenerate_ends"), "{failed:?}");
 }
 
+/// The seams on an elliptic boss whose two touch points on its half walls meet at the end of
+/// its major axis end at the wall's centre of curvature there: r = 2.5 (b²/a), centre
+/// (27.5, 15, 4.5) and (12.5, 15, 4.5). An end moved along the major axis to a smaller
+/// ball still tangent to the top and to the wall at that line (r 2.359, where a step once
+/// landed) is a medial ball, and every ball check passes it; `curvature_limits` fails it.
+#[test]
+fn a_seam_end_at_a_curvature_limit_that_does_not_osculate_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let name = "trace/elliptic_boss_in_halves.step";
+    let part = sample(name);
+    let genuine = genuine(name, dir.path());
+    let path = write(dir.path(), "genuine", &genuine);
+    assert_eq!(verify(&part, &path), (1, vec!["sheets_closed".to_string()]));
+    let seams = genuine["mat"]["seams"].as_array().unwrap();
+    let limits: Vec<usize> = seams
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s["ends"][1].get("curvature_limit").is_some())
+        .map(|(k, _)| k)
+        .collect();
+    assert_eq!(limits.len(), 2, "{limits:?}");
+    let mut xs = vec![];
+    for &k in &limits {
+        let last = seams[k]["points"].as_array().unwrap().last().unwrap();
+        let b: Vec<f64> = (0..4).map(|c| last["point"][c].as_f64().unwrap()).collect();
+        assert!((b[3] - 2.5).abs() < 1e-6, "{b:?}: r = b²/a");
+        assert!(
+            (b[1] - 15.0).abs() < 1e-6 && (b[2] - 4.5).abs() < 1e-6,
+            "{b:?}"
+        );
+        xs.push((b[0] * 2.0).round() / 2.0);
+    }
+    xs.sort_by(f64::total_cmp);
+    assert_eq!(xs, [12.5, 27.5]);
+
+    let k = limits[0];
+    let mut early = genuine.clone();
+    let last = early["mat"]["seams"][k]["points"]
+        .as_array_mut()
+        .unwrap()
+        .last_mut()
+        .unwrap();
+    let x = last["point"][0].as_f64().unwrap();
+    // Towards the wall, along the major axis: r falls as the centre moves out and up.
+    let out = if x > 20.0 { 1.0 } else { -1.0 };
+    let d = 0.141;
+    let (cx, cz, r) = (x + out * d, 4.5 + d, 2.5 - d);
+    last["point"] = json!([cx, 15.0, cz, r]);
+    last["touch"] = json!([
+        [cx, 15.0, 7.0],
+        [cx + out * r, 15.0, cz],
+        [cx + out * r, 15.0, cz]
+    ]);
+    let path = write(dir.path(), "early", &early);
+    let (code, failed) = verify(&part, &path);
+    assert_eq!(code, 1, "{failed:?}");
+    assert_eq!(
+        failed,
+        ["curvature_limits", "sheets_closed"],
+        "only the curvature limit's check sees it"
+    );
+}
+
 /// The OCCT cross-check's count of failures of `check` on the sheet-mesh vertices of `obj`
 /// (`--mesh`), with the genuine report of `part`.
 fn occt_mesh_failures(part: &Path, report: &Path, obj: &Path, check: &str) -> u64 {

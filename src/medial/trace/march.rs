@@ -949,7 +949,16 @@ impl Tracer<'_> {
                         if a.distance(b) <= MERGED_TOUCH_REL_RADIUS * xn[3])
             });
             if let Some((i, k)) = merged {
-                m.points.push(self.seam_point(&m.sys, xn));
+                // The step may have passed the meeting: past it the corrector converges to
+                // balls tangent at one point twice over (any ball tangent at the meeting
+                // point satisfies both rows there), which are no seam points. On OCCT's
+                // sample sink it lands there; on an elliptic boss in halves, a step from
+                // r 2.76 landed at r 2.36 on the split line, 0.2 mm short of the centre of
+                // curvature (r 2.5) where the seam ends. The meeting, bisected on the step
+                // to the accuracy, as `poked`'s is below, and solved for where it is
+                // nearly osculating.
+                let end = self.merge_before(m, xn);
+                m.points.push(self.seam_point(&m.sys, &end));
                 // The curve or surface that curves: not a vertex joining two edges.
                 let segment = match m.triplet[i] {
                     Element::Vertex(_) => m.triplet[k],
@@ -992,6 +1001,35 @@ impl Tracer<'_> {
         Some(SeamEnd::CurvatureLimit {
             segment: m.triplet[i],
         })
+    }
+
+    /// Where the step from the march's point to `xn`, whose touch points on two elements of
+    /// one group have met, first has them met: the last ball with them apart, by bisection
+    /// of the step to the accuracy (each ball empty), then the osculating ball near it where
+    /// there is one; `xn` where no shorter step has them apart.
+    fn merge_before(&mut self, m: &March, xn: &DVector<f64>) -> DVector<f64> {
+        let (mut lo, mut hi) = (0.0, m.h);
+        let mut last = None;
+        while hi - lo > self.opts.accuracy {
+            let mid = 0.5 * (lo + hi);
+            match self.centre_step(&m.sys, &m.x, &m.t, mid) {
+                Some(xm)
+                    if !self.coincident(&m.triplet, &xm, false)
+                        && self.ball_is_empty(m.solid, &xm) =>
+                {
+                    lo = mid;
+                    last = Some(xm);
+                }
+                _ => hi = mid,
+            }
+        }
+        let Some(xm) = last else {
+            return xn.clone();
+        };
+        match self.osculating_near(&m.sys, m.solid, &xm) {
+            Some((_, y)) => y,
+            None => xm,
+        }
     }
 
     /// The touch points of `y` on `triplet`.

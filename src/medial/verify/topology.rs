@@ -289,6 +289,7 @@ pub(super) fn check_graph(
         }
     }
     check_skeletal_edges(model, axis, v);
+    check_curvature_limits(model, axis, v);
     check_degenerate_ends(model, boundary, axis, v);
     check_faces_touched(model, class, boundary, axis, v);
     check_convex_vertices(model, class, axis, v);
@@ -368,6 +369,113 @@ fn check_skeletal_edges(model: &Model, axis: &MedialAxis, v: &mut Verification) 
                     k.id, k.segments[0], k.segments[1], k.vertex
                 )
             });
+        }
+    }
+}
+
+/// A seam end at a face's curvature limit has the radius of curvature of the face at one of
+/// its touch points within this many accuracies (plus the face's gap). The tracer locates
+/// the end by bisection to the accuracy along the centre's travel, where `r` changes about
+/// as fast, and takes a ball within an accuracy of osculating as osculating; the touch point
+/// is on the face to the accuracy, where the curvature is taken: four accuracies, and as
+/// many again for a margin.
+const CURVATURE_LIMIT_ACCURACIES: f64 = 8.0;
+
+/// Every seam end at the curvature limit of a face where two of its touch points have met is
+/// a ball that osculates the face where they met: `r = 1/κ1` there, `κ1` the larger principal curvature towards the
+/// ball, to [`CURVATURE_LIMIT_ACCURACIES`]. A ball tangent to the face at one point with a
+/// smaller radius lies on a sheet, not at the end of a seam (two touch points taken to have
+/// met too early: a corrector converged to a ball tangent once, twice over). Ends at an
+/// edge's or a vertex's limit are not checked here (their skeletal edges are:
+/// `skeletal_edges`).
+fn check_curvature_limits(model: &Model, axis: &MedialAxis, v: &mut Verification) {
+    let a = v.accuracy;
+    for s in &axis.seams {
+        for end in 0..2 {
+            let SeamEnd::CurvatureLimit {
+                segment: Element::Face(f),
+            } = s.ends[end]
+            else {
+                continue;
+            };
+            let (Some(p), _) = s.at_end(end) else {
+                continue;
+            };
+            let Some(face) = model.faces.get(f) else {
+                continue;
+            };
+            let tol = CURVATURE_LIMIT_ACCURACIES * a + face.gap_mm();
+            let r = p.point[3];
+            // Where two touch points have met (one place at the accuracy): the end's claim.
+            // (Where none have, the end is where the ball first osculates the face beside
+            // its touch points, at a ridge of a B-spline face: not checked here.)
+            let touch: Vec<DVec3> = p.touch.iter().map(|t| DVec3::from_array(*t)).collect();
+            let apart = super::balls::separation(r, a);
+            let met: Vec<DVec3> = (0..touch.len())
+                .flat_map(|i| (i + 1..touch.len()).map(move |k| (i, k)))
+                .filter(|&(i, k)| touch[i].distance(touch[k]) <= apart)
+                .map(|(i, k)| touch[i].lerp(touch[k], 0.5))
+                .collect();
+            if met.is_empty() {
+                continue;
+            }
+            // The face, a neighbour of it through the meeting place (a round beside it, where
+            // they met on their common edge) or an edge of it there, whose radius of curvature
+            // there is nearest the ball's: the end is named by a face the touch point was on
+            // or was handed to.
+            let mut faces = vec![f];
+            for e in model.edges.iter().filter(|e| e.faces.contains(&f)) {
+                for &g in &e.faces {
+                    if !faces.contains(&g) {
+                        faces.push(g);
+                    }
+                }
+            }
+            let centre = DVec3::new(p.point[0], p.point[1], p.point[2]);
+            let edges: Vec<usize> = (0..model.edges.len())
+                .filter(|&e| model.edges[e].faces.contains(&f))
+                .collect();
+            let on_faces = met.iter().flat_map(|t| faces.iter().map(move |&g| (g, *t)));
+            let on_faces = on_faces.filter_map(|(g, t)| {
+                let (_, rho, [u, v]) = osculating_ball(model, g, t)?;
+                // Through the meeting place: the point it projects to is the point.
+                let face = &model.faces[g];
+                let on = crate::geom::eval_face(face, u, v).p.distance(t) <= tol;
+                on.then_some(rho)
+            });
+            // Or an edge of the face there (two touch points on a reflex edge, met), whose
+            // radius of curvature towards the centre is `|C'|² / (−C''·n)`, `n` the outward
+            // normal there (from the centre to the point).
+            let on_edges = met.iter().flat_map(|t| edges.iter().map(move |&e| (e, *t)));
+            let on_edges = on_edges.filter_map(|(e, t)| {
+                let (at, x, d) = crate::geom::distance::nearest_on_edge(model, e, t, None);
+                let n = (x - centre).try_normalize()?;
+                let c = crate::geom::eval_curve(&model.edges[e].curve, at);
+                let bend = -c.d2.dot(n) / c.d1.length_squared();
+                (d <= tol && bend > 0.0 && bend.is_finite()).then(|| 1.0 / bend)
+            });
+            let best = on_faces
+                .chain(on_edges)
+                .min_by(|x, y| (x - r).abs().total_cmp(&(y - r).abs()));
+            v.record(
+                "curvature_limits",
+                best.is_some_and(|rho| (rho - r).abs() <= tol),
+                || {
+                    let what = match best {
+                        Some(rho) => format!(
+                            "its ball's radius {r:.6} is not F{f}'s radius of curvature {rho:.6} \
+                         where two of its touch points meet"
+                        ),
+                        None => format!(
+                            "F{f} does not bend towards its ball where its touch points meet"
+                        ),
+                    };
+                    format!(
+                        "seam {} end {end} at F{f}'s curvature limit: {what} (allowed {tol:.1e})",
+                        s.id
+                    )
+                },
+            );
         }
     }
 }
