@@ -381,13 +381,17 @@ fn check_skeletal_edges(model: &Model, axis: &MedialAxis, v: &mut Verification) 
 /// many again for a margin.
 const CURVATURE_LIMIT_ACCURACIES: f64 = 8.0;
 
-/// Every seam end at the curvature limit of a face where two of its touch points have met is
-/// a ball that osculates the face where they met: `r = 1/κ1` there, `κ1` the larger principal curvature towards the
-/// ball, to [`CURVATURE_LIMIT_ACCURACIES`]. A ball tangent to the face at one point with a
-/// smaller radius lies on a sheet, not at the end of a seam (two touch points taken to have
-/// met too early: a corrector converged to a ball tangent once, twice over). Ends at an
-/// edge's or a vertex's limit are not checked here (their skeletal edges are:
-/// `skeletal_edges`).
+/// Every seam end at the curvature limit of a face where two of its touch points have met
+/// (one place at the accuracy) is a ball that osculates the boundary there: `r` is the radius
+/// of curvature `1/κ1` (`κ1` the larger principal curvature towards the ball) of the face
+/// named, of a face next to it through that place or of an edge of it, at one of the two
+/// touch points or between them, or lies between two such radii of one element (where a
+/// B-spline's curvature jumps at a knot); to [`CURVATURE_LIMIT_ACCURACIES`]. A ball tangent to
+/// the face at one point with a smaller radius lies on a sheet, not at the end of a seam (two
+/// touch points taken to have met too early: a corrector converged to a ball tangent once,
+/// twice over). Ends whose touch points are still apart (the ball osculates the face beside
+/// them, at a ridge) and ends at an edge's or a vertex's limit are not checked here (the
+/// latter's skeletal edges are: `skeletal_edges`).
 fn check_curvature_limits(model: &Model, axis: &MedialAxis, v: &mut Verification) {
     let a = v.accuracy;
     for s in &axis.seams {
@@ -411,10 +415,13 @@ fn check_curvature_limits(model: &Model, axis: &MedialAxis, v: &mut Verification
             // its touch points, at a ridge of a B-spline face: not checked here.)
             let touch: Vec<DVec3> = p.touch.iter().map(|t| DVec3::from_array(*t)).collect();
             let apart = super::balls::separation(r, a);
+            // Each point of that place will do (the two touch points and the point between
+            // them): on a B-spline whose curvature peaks there, the ball osculates at one of
+            // the two, still a few thousandths apart.
             let met: Vec<DVec3> = (0..touch.len())
                 .flat_map(|i| (i + 1..touch.len()).map(move |k| (i, k)))
                 .filter(|&(i, k)| touch[i].distance(touch[k]) <= apart)
-                .map(|(i, k)| touch[i].lerp(touch[k], 0.5))
+                .flat_map(|(i, k)| [touch[i], touch[k], touch[i].lerp(touch[k], 0.5)])
                 .collect();
             if met.is_empty() {
                 continue;
@@ -441,7 +448,7 @@ fn check_curvature_limits(model: &Model, axis: &MedialAxis, v: &mut Verification
                 // Through the meeting place: the point it projects to is the point.
                 let face = &model.faces[g];
                 let on = crate::geom::eval_face(face, u, v).p.distance(t) <= tol;
-                on.then_some(rho)
+                on.then_some((Element::Face(g), rho))
             });
             // Or an edge of the face there (two touch points on a reflex edge, met), whose
             // radius of curvature towards the centre is `|C'|² / (−C''·n)`, `n` the outward
@@ -452,30 +459,40 @@ fn check_curvature_limits(model: &Model, axis: &MedialAxis, v: &mut Verification
                 let n = (x - centre).try_normalize()?;
                 let c = crate::geom::eval_curve(&model.edges[e].curve, at);
                 let bend = -c.d2.dot(n) / c.d1.length_squared();
-                (d <= tol && bend > 0.0 && bend.is_finite()).then(|| 1.0 / bend)
+                (d <= tol && bend > 0.0 && bend.is_finite()).then(|| (Element::Edge(e), 1.0 / bend))
             });
-            let best = on_faces
-                .chain(on_edges)
+            let radii: Vec<(Element, f64)> = on_faces.chain(on_edges).collect();
+            // Osculating there: `r` is one element's radius of curvature at a point of the
+            // place, or lies between two of them (a B-spline's curvature jumps at a knot: the
+            // limit is where `r` passes from one side's radius to the other's).
+            let osculates = radii.iter().any(|&(g, _)| {
+                let (lo, hi) = radii
+                    .iter()
+                    .filter(|&&(h, _)| h == g)
+                    .fold((f64::INFINITY, 0.0f64), |(lo, hi), &(_, rho)| {
+                        (lo.min(rho), hi.max(rho))
+                    });
+                lo - tol <= r && r <= hi + tol
+            });
+            let best = radii
+                .iter()
+                .map(|&(_, rho)| rho)
                 .min_by(|x, y| (x - r).abs().total_cmp(&(y - r).abs()));
-            v.record(
-                "curvature_limits",
-                best.is_some_and(|rho| (rho - r).abs() <= tol),
-                || {
-                    let what = match best {
-                        Some(rho) => format!(
-                            "its ball's radius {r:.6} is not F{f}'s radius of curvature {rho:.6} \
+            v.record("curvature_limits", osculates, || {
+                let what = match best {
+                    Some(rho) => format!(
+                        "its ball's radius {r:.6} is not F{f}'s radius of curvature {rho:.6} \
                          where two of its touch points meet"
-                        ),
-                        None => format!(
-                            "F{f} does not bend towards its ball where its touch points meet"
-                        ),
-                    };
-                    format!(
-                        "seam {} end {end} at F{f}'s curvature limit: {what} (allowed {tol:.1e})",
-                        s.id
-                    )
-                },
-            );
+                    ),
+                    None => {
+                        format!("F{f} does not bend towards its ball where its touch points meet")
+                    }
+                };
+                format!(
+                    "seam {} end {end} at F{f}'s curvature limit: {what} (allowed {tol:.1e})",
+                    s.id
+                )
+            });
         }
     }
 }
