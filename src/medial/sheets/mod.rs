@@ -895,6 +895,28 @@ mod tests {
         );
     }
 
+    /// An arc of solid 0 between `places`, its segments all of one group, its one piece its
+    /// pair.
+    fn one_group_arc(
+        element: BoundaryRef,
+        pair: [Element; 2],
+        places: [Place; 2],
+        slots: Option<(usize, [usize; 2])>,
+    ) -> Arc {
+        Arc {
+            element,
+            solid: 0,
+            ends: places.map(|p| Some((p, pair))),
+            groups: [0, 0],
+            closed: false,
+            pair,
+            touch: [None, None],
+            pieces: vec![pair],
+            slots,
+            round: vec![],
+        }
+    }
+
     /// At the ball where a seam ends and a skeletal edge starts, with all three segments in
     /// one group (three reflex edges of one part of the boundary, as on the Prusa LCD knob):
     /// the group pairs cannot tell the four arc ends apart, the segments do. The seam's side
@@ -905,17 +927,8 @@ mod tests {
         let ball = Place::Skeletal(0);
         let v = Place::Node(Node::Vertex(9));
         let (a, b, c) = (Element::Edge(1), Element::Edge(8), Element::Edge(152));
-        let arc = |element: BoundaryRef, pair: [Element; 2], slots| Arc {
-            element,
-            solid: 0,
-            ends: [Some((v, pair)), Some((ball, pair))],
-            groups: [0, 0],
-            closed: false,
-            pair,
-            touch: [None, None],
-            pieces: vec![pair],
-            slots,
-            round: vec![],
+        let arc = |element: BoundaryRef, pair: [Element; 2], slots| {
+            one_group_arc(element, pair, [v, ball], slots)
         };
         let mut arcs = vec![
             arc(BoundaryRef::Seam(0), [a, b], Some((0, [0, 1]))),
@@ -956,34 +969,12 @@ mod tests {
             Element::Edge(24),
             Element::Edge(25),
         );
-        let arc = |element: BoundaryRef, pair: [Element; 2], ends, slots| Arc {
-            element,
-            solid: 0,
-            ends,
-            groups: [0, 0],
-            closed: false,
-            pair,
-            touch: [None, None],
-            pieces: vec![pair],
-            slots,
-            round: vec![],
-        };
         let j = Place::Node(Node::Junction(6));
         let side = |pair: [Element; 2], s: [usize; 2]| {
-            arc(
-                BoundaryRef::Seam(19),
-                pair,
-                [Some((j, pair)), Some((ball, pair))],
-                Some((19, s)),
-            )
+            one_group_arc(BoundaryRef::Seam(19), pair, [j, ball], Some((19, s)))
         };
         let edge = |k: usize, pair: [Element; 2], v: Place| {
-            arc(
-                BoundaryRef::Skeletal(k),
-                pair,
-                [Some((ball, pair)), Some((v, pair))],
-                None,
-            )
+            one_group_arc(BoundaryRef::Skeletal(k), pair, [ball, v], None)
         };
         let mut arcs = vec![
             side([a, b], [0, 1]),

@@ -973,21 +973,7 @@ impl Tracer<'_> {
         // must also be empty there: where a face's curvature peaks beside the touch point
         // (a B-spline's ridge), the ball passes through the face near the touch point
         // before the curvature at the touch point reaches 1/r.
-        let (mut lo, mut hi) = (0.0, m.h);
-        let mut last = None;
-        while hi - lo > self.opts.accuracy {
-            let mid = 0.5 * (lo + hi);
-            match self.centre_step(&m.sys, &m.x, &m.t, mid) {
-                Some(xm)
-                    if self.poked(&m.triplet, &before, &xm).is_none()
-                        && self.ball_is_empty(m.solid, &xm) =>
-                {
-                    lo = mid;
-                    last = Some(xm);
-                }
-                _ => hi = mid,
-            }
-        }
+        let last = self.last_on_step(m, |t, xm| t.poked(&m.triplet, &before, xm).is_none());
         // The bisection on the centre's travel leaves the end short of the osculating ball by
         // up to ten accuracies there (the ball's contact changes like the square root of the
         // travel): the osculating ball itself, where it is solved for from there.
@@ -1008,21 +994,7 @@ impl Tracer<'_> {
     /// of the step to the accuracy (each ball empty), then the osculating ball near it where
     /// there is one; `xn` where no shorter step has them apart.
     fn merge_before(&mut self, m: &March, xn: &DVector<f64>) -> DVector<f64> {
-        let (mut lo, mut hi) = (0.0, m.h);
-        let mut last = None;
-        while hi - lo > self.opts.accuracy {
-            let mid = 0.5 * (lo + hi);
-            match self.centre_step(&m.sys, &m.x, &m.t, mid) {
-                Some(xm)
-                    if !self.coincident(&m.triplet, &xm, false)
-                        && self.ball_is_empty(m.solid, &xm) =>
-                {
-                    lo = mid;
-                    last = Some(xm);
-                }
-                _ => hi = mid,
-            }
-        }
+        let last = self.last_on_step(m, |t, xm| !t.coincident(&m.triplet, xm, false));
         let Some(xm) = last else {
             return xn.clone();
         };
@@ -1030,6 +1002,29 @@ impl Tracer<'_> {
             Some((_, y)) => y,
             None => xm,
         }
+    }
+
+    /// The farthest ball along the march's step (from its point, up to its step length) that
+    /// is `still` so and empty, by bisection of the step to the accuracy; `None` where no
+    /// shorter step gives one.
+    fn last_on_step(
+        &mut self,
+        m: &March,
+        still: impl Fn(&Self, &DVector<f64>) -> bool,
+    ) -> Option<DVector<f64>> {
+        let (mut lo, mut hi) = (0.0, m.h);
+        let mut last = None;
+        while hi - lo > self.opts.accuracy {
+            let mid = 0.5 * (lo + hi);
+            match self.centre_step(&m.sys, &m.x, &m.t, mid) {
+                Some(xm) if still(self, &xm) && self.ball_is_empty(m.solid, &xm) => {
+                    lo = mid;
+                    last = Some(xm);
+                }
+                _ => hi = mid,
+            }
+        }
+        last
     }
 
     /// The touch points of `y` on `triplet`.
