@@ -174,8 +174,18 @@ fn swings(fit: &SeamFit, q: &[[f64; 4]]) -> bool {
         .windows(2)
         .map(|w| dist3(w[0], [w[1][0], w[1][1], w[1][2]]))
         .sum();
+    // A polygon through N samples of the curve is shorter than the curve by O(1/N²): the
+    // lengths through 4 and 8 samples per point extrapolate (Richardson) to the curve's
+    // length, so that a fit at the limit is not passed for its polygon's shortfall.
+    let coarse = sampled_length(fit, 4 * q.len());
+    let fine = sampled_length(fit, 8 * q.len());
+    fine + (fine - coarse) / 3.0 > MAX_LENGTH_REL_POLYLINE * polyline
+}
+
+/// The length of the polygon through `samples + 1` points of `fit` evenly spaced in its
+/// parameter.
+fn sampled_length(fit: &SeamFit, samples: usize) -> f64 {
     let (lo, hi) = fit.range();
-    let samples = 8 * q.len();
     let mut length = 0.0;
     let mut prev = fit.subs(lo);
     for i in 1..=samples {
@@ -183,7 +193,7 @@ fn swings(fit: &SeamFit, q: &[[f64; 4]]) -> bool {
         length += dist3(prev, [c[0], c[1], c[2]]);
         prev = c;
     }
-    length > MAX_LENGTH_REL_POLYLINE * polyline
+    length
 }
 
 /// The polyline through `q` as a degree-1 B-spline (knots at the chord parameters).
