@@ -612,7 +612,12 @@ impl Tracer<'_> {
             return flow;
         }
         // Where two touch points meet at a vertex, the seam ends at that pinch.
-        if let HandOverError::Stop(_) = e {
+        // So too where the next face bends into the ball too tightly to take the touch
+        // point (`Osculates`) at a vertex where two touch points meet: a blend tapering to a
+        // point between two faces tangent there, which the touch points on them reach
+        // together (the Voron Manta mount's: its radius of curvature 0.26 at the tip, the
+        // ball's 0.75); the ball is not that face's centre of curvature.
+        if let HandOverError::Stop(_) | HandOverError::Osculates(_) = e {
             if let Some(end) = self.end_in_pinch(m, xc) {
                 return Flow::End(end);
             }
