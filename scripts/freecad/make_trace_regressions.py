@@ -52,7 +52,10 @@ same sliver cut into a block as a crack (360), each turned so that rounding clas
 other way, and an IC package body drafted in and out of its parting line with a lead out of its
 front (a seam of four contacts, symmetric about the parting line, that splits where it meets the
 lead's edge; and, the lead moved under its end, one whose symmetry a hand-over breaks a step
-before its junction).
+before its junction), and a plate whose side walls are tangent to a boss whose foot is rounded
+(a wall and the round meet at a convex edge flattening to a vertex where they are tangent: a
+pinch with a skeletal edge) and the same with that edge rounded (a blend tapering to a point
+between two faces tangent there: a pinch with none).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -1755,6 +1758,73 @@ def package_corner_split_at_a_lead():
       "lead's edge) leave it.")
 def package_lead_under_the_corner_seam():
     return package_with_a_lead(1.0)
+
+# A boss on a plate whose side walls are tangent to it, its foot rounded into the plate's top
+# (after the Voron Manta DIN mount's F146/F147/F173 at V275): boss r TB_R about the z axis up
+# to TB_H, plate x 0..TB_L, y -TB_R..TB_R, z 0..TB_TOP, the foot round r TB_FOOT a torus
+# (major TB_R + TB_FOOT, centre z = TB_TOP + TB_FOOT) tangent to the boss at that height.
+TB_R, TB_TOP, TB_FOOT, TB_H, TB_L, TB_ROUND = 3.0, 4.0, 2.0, 6.8, 10.0, 0.5
+
+
+def tangent_walls_and_foot_round():
+    plate = Part.makeBox(TB_L, 2 * TB_R, TB_TOP, V(0, -TB_R, 0))
+    boss = Part.makeCylinder(TB_R, TB_H, V(0, 0, 0))
+    # The foot round as a solid ring (the annulus outside the torus) cut to the plate's
+    # outline; the torus turned half a turn so that its parameter seam lies off the plate.
+    torus = Part.makeTorus(TB_R + TB_FOOT, TB_FOOT, V(0, 0, TB_TOP + TB_FOOT))
+    torus.rotate(V(0, 0, 0), V(0, 0, 1), 180)
+    ring = (Part.makeCylinder(TB_R + TB_FOOT, TB_FOOT, V(0, 0, TB_TOP))
+            .cut(Part.makeCylinder(TB_R, TB_FOOT, V(0, 0, TB_TOP)))
+            .cut(torus))
+    ring = ring.common(Part.makeBox(TB_L, 2 * TB_R, TB_FOOT, V(0, -TB_R, TB_TOP)))
+    solid = plate.fuse(boss).fuse(ring).removeSplitter()
+    tips = [V(0, s * TB_R, TB_TOP + TB_FOOT) for s in (1, -1)]
+    if not all(any(v.Point.distanceToPoint(t) < 1e-7 for v in solid.Vertexes) for t in tips):
+        raise RuntimeError("no vertex where a wall and the foot round are tangent")
+    return solid
+
+
+@part("wall_tangent_to_a_foot_round",
+      "A boss r=3 about the z axis, 6.8 high, on a plate x 0..10, y -3..3, 4 thick whose side "
+      "walls y = +-3 are tangent to the boss; the boss's foot rounded r=2 into the plate's "
+      "top (a torus, major radius 5, tangent to the boss at z = 6). Each wall meets the round "
+      "along a convex edge from (4, +-3, 4) whose angle opens to 180 degrees at (0, +-3, 6), "
+      "where the wall, the round and the boss are tangent.",
+      None,
+      "The seam of balls touching a wall, the foot round and the boss's top runs to the ball "
+      "at (0, +-2.2, 6), r 0.8, where its touch points on the wall and the round meet at the "
+      "tangent vertex: a pinch. The wall and the round share the convex edge that flattens "
+      "out there: their sheet ends on the line of balls tangent at that vertex, a skeletal "
+      "edge from the pinch down to it.")
+def wall_tangent_to_a_foot_round():
+    return tangent_walls_and_foot_round()
+
+
+@part("blend_tapering_between_tangent_faces",
+      "wall_tangent_to_a_foot_round with the walls' convex edges above the plate's top (their "
+      "top edges, and the edges with the foot round) rounded r=0.5: a cylinder along each top "
+      "edge and a B-spline blend up each wall/round edge that tapers to a point at "
+      "(0, +-3, 6), where the wall and the round, which share no edge, are tangent.",
+      None,
+      "The seam of balls touching a wall, the foot round and the boss's top runs to the ball "
+      "at (0, +-2.2, 6), r 0.8, where its touch points on the wall and the round meet at the "
+      "tangent vertex: a pinch, not the blend's curvature limit (its radius there is 0.49, "
+      "the ball's 0.8). No reflex edge ends at that vertex and the wall and the round share "
+      "no edge there: a ball touching the vertex alone has one contact, so no skeletal edge "
+      "starts; the sheets close at the pinch's ball, as at a curvature limit.")
+def blend_tapering_between_tangent_faces():
+    solid = tangent_walls_and_foot_round()
+    edges = []
+    for e in solid.Edges:
+        pts = e.discretize(9)
+        in_wall = any(all(abs(p.y - s * TB_R) < 1e-6 for p in pts) for s in (1, -1))
+        if (in_wall and all(p.z > TB_TOP - 1e-6 for p in pts)
+                and not all(p.x > TB_L - 1e-6 for p in pts)):
+            edges.append(e)
+    if len(edges) != 4:
+        raise RuntimeError(f"expected 4 edges to round, found {len(edges)}")
+    return solid.makeFillet(TB_ROUND, edges)
+
 
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))

@@ -1544,3 +1544,70 @@ fn a_four_contact_seam_ends_where_a_hand_over_breaks_its_symmetry() {
     sorted.sort();
     assert_eq!(sorted, [3, 3, 4], "seam ends at the junction, by contacts");
 }
+
+/// The pinch balls of a plate whose side walls y = ±3 are tangent to a boss (r 3, 6.8 high)
+/// whose foot is rounded into the plate's top (a torus tangent to the boss at z = 6): the
+/// seam of a wall, the round and the boss's top ends where its touch points on the wall and
+/// the round meet at the vertex (0, ±3, 6) where they are tangent, its ball centred
+/// (0, ±2.2, 6) with r = 0.8; with the skeletal edges at those vertices and every sheet
+/// boundary closed.
+fn pinches_at_the_tangent_vertices(name: &str) -> Vec<Value> {
+    let report = traced_and_verified(name);
+    let vertices = report["model"]["vertices"].as_array().unwrap();
+    let mut at = vec![];
+    for s in seams(&report) {
+        for (k, end) in s["ends"].as_array().unwrap().iter().enumerate() {
+            let Some(v) = end["pinch"]["vertex"].as_u64() else {
+                continue;
+            };
+            let points = s["points"].as_array().unwrap();
+            let ball = &points[if k == 0 { 0 } else { points.len() - 1 }]["point"];
+            let y = vertices[v as usize]["point"][1].as_f64().unwrap();
+            let centre = [0.0, y.signum() * 2.2, 6.0];
+            assert!(
+                distance(&vertices[v as usize]["point"], [0.0, y.signum() * 3.0, 6.0]) < 1e-9,
+                "{name}: seam {} pinches at vertex {v}, not a tangent vertex",
+                s["id"]
+            );
+            assert!(
+                distance(ball, centre) < 1e-7 && (ball[3].as_f64().unwrap() - 0.8).abs() < 1e-7,
+                "{name}: seam {} ends at {ball}, not {centre:?} r 0.8",
+                s["id"]
+            );
+            at.push(y.signum() as i64);
+        }
+    }
+    at.sort();
+    assert_eq!(at, [-1, 1], "{name}: one pinch at each tangent vertex");
+    let unpaired = report["mat"]["topology"]["unpaired"].as_array().unwrap();
+    assert!(unpaired.is_empty(), "{name}: {unpaired:?}");
+    report["mat"]["skeletal_edges"].as_array().unwrap().clone()
+}
+
+/// Where the wall's convex edge with the foot round is left sharp, it flattens out at the
+/// tangent vertex: the sheet of the wall and the round, which starts at that edge, ends on
+/// the line of balls tangent at the vertex, a skeletal edge from the pinch down to it.
+#[test]
+fn a_wall_tangent_to_a_foot_round_pinches_with_a_skeletal_edge_to_the_vertex() {
+    let edges = pinches_at_the_tangent_vertices("wall_tangent_to_a_foot_round");
+    assert_eq!(edges.len(), 2, "{edges:?}");
+    assert!(
+        edges
+            .iter()
+            .all(|k| k["starts"].as_array().unwrap().len() == 1),
+        "{edges:?}"
+    );
+}
+
+/// Where that edge is rounded, a B-spline blend runs up it and tapers to a point at the
+/// tangent vertex (the Voron Manta mount's blend between a wall and a torus): the seam's touch
+/// point on the round, crossing onto the blend whose radius of curvature there (0.49) is less
+/// than the ball's, ends the seam at the same pinch, not at a curvature limit of the blend;
+/// the wall and the round share no edge there and no reflex edge ends there, so a ball
+/// touching the vertex alone has one contact: no skeletal edge starts, and the sheets close
+/// at the pinch's ball.
+#[test]
+fn a_blend_tapering_between_tangent_faces_ends_its_seams_at_pinches_without_skeletal_edges() {
+    let edges = pinches_at_the_tangent_vertices("blend_tapering_between_tangent_faces");
+    assert!(edges.is_empty(), "{edges:?}");
+}

@@ -416,8 +416,9 @@ impl Tracer<'_> {
     }
 
     /// The pairs of `touch` (on `segs`) on one group of segments that meet at a vertex both
-    /// reach, each with its vertex: of a generic seam's three, the first pair that does; of
-    /// a non-generic seam's, every slot in one such pair, each at its own vertex (a plate
+    /// reach where the line of balls to it is medial ([`Self::line_to_vertex_is_medial`]),
+    /// each with its vertex: of a generic seam's three, the first pair that does; of a
+    /// non-generic seam's, every slot in one such pair, each at its own vertex (a plate
     /// through a hub's corner: the touch points on the plate's two reflex edges at the top
     /// meet at one vertex, those at the bottom at another), or else as of a generic seam's
     /// first three (where the sheets round the ball are not yet told apart).
@@ -441,6 +442,7 @@ impl Tracer<'_> {
                         && p.distance(tb) <= near
                         && self.reaches(a, v)
                         && self.reaches(b, v)
+                        && self.line_to_vertex_is_medial(a, b, v)
                 })
                 .map(|v| ([a, b], v))
         };
@@ -470,6 +472,33 @@ impl Tracer<'_> {
             .find_map(|(i, k)| met(i, k))
             .into_iter()
             .collect()
+    }
+
+    /// True when the balls touching vertex `v` alone, on the line from a ball where touch
+    /// points on `a` and `b` met there down to `v`, are medial (a skeletal edge): where a
+    /// reflex edge ends at `v` (by its classification's sample there), the boundary sharp
+    /// towards the material; where `a` and `b` are faces joined at `v` by an edge (a convex
+    /// one flattening out there: their sheet from that edge ends on the line, as
+    /// [`Self::flat_rim_ends`] has it); where either is not a face. Not where two faces that
+    /// share no edge at `v` are tangent there and no reflex edge ends: a ball touching `v`
+    /// alone then has one contact, and the touch points that met there (on a plane and a
+    /// torus, a blend tapering to a point between them, on the Voron Manta mount) close
+    /// their sheet at that ball, as at a curvature limit.
+    fn line_to_vertex_is_medial(&self, a: Element, b: Element, v: usize) -> bool {
+        let (Element::Face(fa), Element::Face(fb)) = (a, b) else {
+            return true;
+        };
+        self.vertex_edges[v].iter().any(|&(e, at_end)| {
+            let faces = &self.model.edges[e].faces;
+            let samples = &self.class.edges[e].samples;
+            let there = if at_end {
+                samples.last()
+            } else {
+                samples.first()
+            };
+            (faces.contains(&fa) && faces.contains(&fb))
+                || there.is_some_and(|s| s.kind == EdgeKind::Reflex)
+        })
     }
 
     /// The balls from `ball` to vertex `v` along the straight line through their centres.
