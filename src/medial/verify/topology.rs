@@ -430,18 +430,16 @@ fn check_curvature_limits(model: &Model, axis: &MedialAxis, v: &mut Verification
             // they met on their common edge) or an edge of it there, whose radius of curvature
             // there is nearest the ball's: the end is named by a face the touch point was on
             // or was handed to.
-            let mut faces = vec![f];
-            for e in model.edges.iter().filter(|e| e.faces.contains(&f)) {
-                for &g in &e.faces {
-                    if !faces.contains(&g) {
-                        faces.push(g);
-                    }
-                }
-            }
-            let centre = DVec3::new(p.point[0], p.point[1], p.point[2]);
             let edges: Vec<usize> = (0..model.edges.len())
                 .filter(|&e| model.edges[e].faces.contains(&f))
                 .collect();
+            let mut faces = vec![f];
+            for &g in edges.iter().flat_map(|&e| &model.edges[e].faces) {
+                if !faces.contains(&g) {
+                    faces.push(g);
+                }
+            }
+            let centre = DVec3::new(p.point[0], p.point[1], p.point[2]);
             let on_faces = met.iter().flat_map(|t| faces.iter().map(move |&g| (g, *t)));
             let on_faces = on_faces.filter_map(|(g, t)| {
                 let (_, rho, [u, v]) = osculating_ball(model, g, t)?;
@@ -476,13 +474,12 @@ fn check_curvature_limits(model: &Model, axis: &MedialAxis, v: &mut Verification
             });
             let best = radii
                 .iter()
-                .map(|&(_, rho)| rho)
-                .min_by(|x, y| (x - r).abs().total_cmp(&(y - r).abs()));
+                .min_by(|x, y| (x.1 - r).abs().total_cmp(&(y.1 - r).abs()));
             v.record("curvature_limits", osculates, || {
                 let what = match best {
-                    Some(rho) => format!(
-                        "its ball's radius {r:.6} is not F{f}'s radius of curvature {rho:.6} \
-                         where two of its touch points meet"
+                    Some((g, rho)) => format!(
+                        "its ball's radius {r:.6} is not a radius of curvature there (the \
+                         nearest: {g}'s, {rho:.6}, where two of its touch points meet)"
                     ),
                     None => {
                         format!("F{f} does not bend towards its ball where its touch points meet")
