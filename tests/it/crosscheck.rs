@@ -24,10 +24,12 @@ const OPEN_AND_SHALLOW: &str = "no seam ends open; seams leaving a vertex betwee
     on one B-spline reflex edge meet end at its curvature limit (they ended open before, where \
     another face came closer at the same step, with those two touches unexplained: \
     `separated`), and one whose touch point, handed across a smooth edge, meets the other \
-    touch point on that smooth surface ends there too; three sheet boundaries stay open where \
-    free edges from vertices meet no traced curve (`sheets_closed`, issue 20); five seams end at \
-    balls of r 0.75 taken for curvature limits of faces whose radius of curvature where the \
-    touch points met is 0.08 to 3 (`curvature_limits`, issue 19)";
+    touch point on that smooth surface ends there too; the seams whose touch points on a wall \
+    and a torus meet where a blend tapers to a point between the two, tangent there, end at \
+    pinches at those tips with no skeletal edge, and every sheet boundary closes; one such \
+    seam, its touch point handed onto the blend first, ends at a ball of r 0.75 taken for the \
+    blend's curvature limit (`curvature_limits`, issue 19): the blend is collapsed to a point at \
+    the tip, where its normal depends on the way in, and the pinch there is not solved";
 
 /// No seam end open since a reflex edge's arc of normals lies in its normal plane; what is
 /// left is issue 20's.
@@ -180,7 +182,7 @@ const EXPECTED_FAILURES: &[Expected] = &[
     ("stepswift_dm1-id-214.stp", &[("verify:euler", 3)], DM1),
     (
         "voron0_Manta_M4P_Din_Mount_2pc.step",
-        &[("verify:curvature_limits", 5), ("verify:sheets_closed", 3)],
+        &[("verify:curvature_limits", 1)],
         OPEN_AND_SHALLOW,
     ),
     (
