@@ -386,7 +386,9 @@ const CURVATURE_LIMIT_ACCURACIES: f64 = 8.0;
 /// of curvature `1/κ1` (`κ1` the larger principal curvature towards the ball) of the face
 /// named, of a face next to it through that place or of an edge of it, at one of the two
 /// touch points or between them, or lies between two such radii of one element (where a
-/// B-spline's curvature jumps at a knot); to [`CURVATURE_LIMIT_ACCURACIES`]. A ball tangent to
+/// B-spline's curvature jumps at a knot), or is the named face's radius of curvature at the
+/// foot of the ball's centre on it (the ball touching it there); to
+/// [`CURVATURE_LIMIT_ACCURACIES`]. A ball tangent to
 /// the face at one point with a smaller radius lies on a sheet, not at the end of a seam (two
 /// touch points taken to have met too early: a corrector converged to a ball tangent once,
 /// twice over). Ends whose touch points are still apart (the ball osculates the face beside
@@ -459,7 +461,15 @@ fn check_curvature_limits(model: &Model, axis: &MedialAxis, v: &mut Verification
                 let bend = -c.d2.dot(n) / c.d1.length_squared();
                 (d <= tol && bend > 0.0 && bend.is_finite()).then(|| (Element::Edge(e), 1.0 / bend))
             });
-            let radii: Vec<(Element, f64)> = on_faces.chain(on_edges).collect();
+            // Or the face named where the ball touches it, nearest its centre: where the
+            // touch points that met are elsewhere (two reflex edges' at their common vertex,
+            // on an IC package's corner), the ball may still osculate the face it was handed
+            // towards (the corner's round, of the ball's radius), which the end names.
+            let at_foot = osculating_ball(model, f, centre).and_then(|(_, rho, [u, v])| {
+                let foot = crate::geom::eval_face(&model.faces[f], u, v).p;
+                ((foot.distance(centre) - r).abs() <= tol).then_some((Element::Face(f), rho))
+            });
+            let radii: Vec<(Element, f64)> = on_faces.chain(on_edges).chain(at_foot).collect();
             // Osculating there: `r` is one element's radius of curvature at a point of the
             // place, or lies between two of them (a B-spline's curvature jumps at a knot: the
             // limit is where `r` passes from one side's radius to the other's).
