@@ -469,10 +469,11 @@ fn check_curvature_limits(model: &Model, axis: &MedialAxis, v: &mut Verification
                 let foot = crate::geom::eval_face(&model.faces[f], u, v).p;
                 ((foot.distance(centre) - r).abs() <= tol).then_some((Element::Face(f), rho))
             });
-            let radii: Vec<(Element, f64)> = on_faces.chain(on_edges).chain(at_foot).collect();
+            let radii: Vec<(Element, f64)> = on_faces.chain(on_edges).collect();
             // Osculating there: `r` is one element's radius of curvature at a point of the
             // place, or lies between two of them (a B-spline's curvature jumps at a knot: the
-            // limit is where `r` passes from one side's radius to the other's).
+            // limit is where `r` passes from one side's radius to the other's); or, at the
+            // foot, that radius itself (not a range with the place's).
             let osculates = radii.iter().any(|&(g, _)| {
                 let (lo, hi) = radii
                     .iter()
@@ -481,9 +482,10 @@ fn check_curvature_limits(model: &Model, axis: &MedialAxis, v: &mut Verification
                         (lo.min(rho), hi.max(rho))
                     });
                 lo - tol <= r && r <= hi + tol
-            });
+            }) || at_foot.is_some_and(|(_, rho)| (rho - r).abs() <= tol);
             let best = radii
                 .iter()
+                .chain(&at_foot)
                 .min_by(|x, y| (x.1 - r).abs().total_cmp(&(y.1 - r).abs()));
             v.record("curvature_limits", osculates, || {
                 let what = match best {
