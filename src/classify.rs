@@ -113,6 +113,19 @@ pub struct EdgeClass {
     pub samples: Vec<DihedralSample>,
 }
 
+impl EdgeClass {
+    /// The edge's kind at its last vertex (`at_end`) or its first: the sample nearest that
+    /// end.
+    pub fn kind_at(&self, at_end: bool) -> Option<EdgeKind> {
+        let sample = if at_end {
+            self.samples.last()
+        } else {
+            self.samples.first()
+        };
+        sample.map(|s| s.kind)
+    }
+}
+
 /// Classification of a model.
 #[derive(Clone, Debug)]
 pub struct Classification {
@@ -265,10 +278,7 @@ fn classify_vertices(model: &Model, edges: &[EdgeClass]) -> Vec<VertexKind> {
     for (e, class) in edges.iter().enumerate() {
         let vs = model.edges[e].vertices;
         // The kind at each end: the sample nearest that end.
-        let ends = [
-            class.samples.first().map(|s| s.kind),
-            class.samples.last().map(|s| s.kind),
-        ];
+        let ends = [class.kind_at(false), class.kind_at(true)];
         for (v, kind) in vs.into_iter().zip(ends) {
             match kind {
                 Some(EdgeKind::Convex) => convex[v] += 1,

@@ -151,6 +151,12 @@ fn seams(report: &Value) -> &[Value] {
     report["mat"]["seams"].as_array().unwrap()
 }
 
+/// Seam `s`'s point at its end `k` (0 the first, 1 the last).
+fn end_point(s: &Value, k: usize) -> &Value {
+    let points = s["points"].as_array().unwrap();
+    &points[if k == 0 { 0 } else { points.len() - 1 }]
+}
+
 /// The distance between the point `p` of a report (its first three numbers) and `q`.
 fn distance(p: &Value, q: [f64; 3]) -> f64 {
     (0..3)
@@ -174,12 +180,7 @@ fn seams_end_in_pairs_at_the_pinches_of_a_hole_tangent_to_a_pocket() {
             let Some(pinch) = end.get("pinch") else {
                 continue;
             };
-            let points = s["points"].as_array().unwrap();
-            let p = if k == 0 {
-                &points[0]
-            } else {
-                points.last().unwrap()
-            };
+            let p = end_point(s, k);
             let b: Vec<f64> = p["point"]
                 .as_array()
                 .unwrap()
@@ -766,8 +767,7 @@ fn a_fillet_ending_at_a_walls_end_face_ends_its_seam_in_a_pinch_at_the_cusp() {
             };
             let at = &vertices[v as usize]["point"];
             let at: Vec<f64> = (0..3).map(|c| at[c].as_f64().unwrap()).collect();
-            let points = s["points"].as_array().unwrap();
-            let ball = &points[if k == 0 { 0 } else { points.len() - 1 }]["point"];
+            let ball = &end_point(s, k)["point"];
             let ball: Vec<f64> = (0..4).map(|c| ball[c].as_f64().unwrap()).collect();
             let off = [ball[0] - at[0], ball[1] - at[1], ball[2] + 3.0 - at[2]];
             assert!(
@@ -1560,8 +1560,7 @@ fn pinches_at_the_tangent_vertices(name: &str) -> Vec<Value> {
             let Some(v) = end["pinch"]["vertex"].as_u64() else {
                 continue;
             };
-            let points = s["points"].as_array().unwrap();
-            let ball = &points[if k == 0 { 0 } else { points.len() - 1 }]["point"];
+            let ball = &end_point(s, k)["point"];
             let y = vertices[v as usize]["point"][1].as_f64().unwrap();
             let centre = [0.0, y.signum() * 2.2, 6.0];
             assert!(

@@ -490,14 +490,8 @@ impl Tracer<'_> {
         };
         self.vertex_edges[v].iter().any(|&(e, at_end)| {
             let faces = &self.model.edges[e].faces;
-            let samples = &self.class.edges[e].samples;
-            let there = if at_end {
-                samples.last()
-            } else {
-                samples.first()
-            };
             (faces.contains(&fa) && faces.contains(&fb))
-                || there.is_some_and(|s| s.kind == EdgeKind::Reflex)
+                || self.class.edges[e].kind_at(at_end) == Some(EdgeKind::Reflex)
         })
     }
 
