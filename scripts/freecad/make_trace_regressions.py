@@ -1826,6 +1826,41 @@ def blend_tapering_between_tangent_faces():
     return solid.makeFillet(TB_ROUND, edges)
 
 
+# A step whose upper block's corner is a quadratic Bezier from (-PK_L, 0) to (0, -PK_L) with
+# its control point at the corner (0, 0): a parabola, radius of curvature 2*PK_L at its ends
+# and PK_L/sqrt(2) at its apex, the peak. Base z 0..PK_BASE, the upper block PK_STEP higher
+# (after the Voron Dragon mount's F54/F70/F95 at E156).
+PK_L, PK_BASE, PK_STEP, PK_SIDE = 0.54 * math.sqrt(2.0), 6.0, 0.5, 10.0
+
+
+@part("step_round_corner_curvature_peak",
+      "A base x, y -10..10, z 0..6; on it, a block 0.5 high over x, y -10..0 whose corner at "
+      "(0, 0) is a parabola (a quadratic Bezier from (-0.764, 0) to (0, -0.764), control point "
+      "(0, 0)): the block's foot is a reflex B-spline edge whose radius of curvature is 1.53 "
+      "at its ends and 0.54 at its apex (-0.191, -0.191, 6).",
+      2 * PK_SIDE * 2 * PK_SIDE * PK_BASE + PK_STEP * (PK_SIDE * PK_SIDE - PK_L * PK_L / 6),
+      "Under the block, balls touch its top and its foot twice, their centres below the "
+      "base's top: where they touch the parabola twice, its two touch points meet at the "
+      "apex at the ball of r 0.5416 (centre 0.0416 below z = 6, 0.54 from the apex in plan), "
+      "its curvature limit, a step before the touch points reach the end of the edge's arc "
+      "of normals (r 0.5, the centre in the base's top plane).")
+def step_round_corner_curvature_peak():
+    base = Part.makeBox(2 * PK_SIDE, 2 * PK_SIDE, PK_BASE, V(-PK_SIDE, -PK_SIDE, 0))
+    z = PK_BASE
+    corner = Part.BSplineCurve()
+    corner.buildFromPolesMultsKnots([V(-PK_L, 0, z), V(0, 0, z), V(0, -PK_L, z)],
+                                    [3, 3], [0.0, 1.0], False, 2)
+    outline = Part.Wire([
+        Part.LineSegment(V(-PK_SIDE, 0, z), V(-PK_L, 0, z)).toShape(),
+        corner.toShape(),
+        Part.LineSegment(V(0, -PK_L, z), V(0, -PK_SIDE, z)).toShape(),
+        Part.LineSegment(V(0, -PK_SIDE, z), V(-PK_SIDE, -PK_SIDE, z)).toShape(),
+        Part.LineSegment(V(-PK_SIDE, -PK_SIDE, z), V(-PK_SIDE, 0, z)).toShape(),
+    ])
+    block = Part.Face(outline).extrude(V(0, 0, PK_STEP))
+    return base.fuse(block).removeSplitter()
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

@@ -1610,3 +1610,47 @@ fn a_blend_tapering_between_tangent_faces_ends_its_seams_at_pinches_without_skel
     let edges = pinches_at_the_tangent_vertices("blend_tapering_between_tangent_faces");
     assert!(edges.is_empty(), "{edges:?}");
 }
+
+/// Under the upper block of a step whose corner is a parabola (radius of curvature 0.54 at
+/// its apex (-0.191, -0.191, 6), the block 0.5 high), the balls touching the block's top and
+/// its foot edge twice have their centres below the base's top, at r = 0.5 + depth. The two
+/// touch points on the parabola meet at its apex where the ball's distance to it in plan is
+/// its radius of curvature: r 0.5416, the centre 0.0416 below z = 6 and 0.54 from the apex
+/// along the diagonal. One step further the touch points reach the end of the edge's arc of
+/// normals together (the centre in the base's top plane, r 0.5); the seam ended there, taken
+/// for the block's wall's curvature limit, which `verify` rejected (as on the Voron Dragon
+/// mount's stepped face).
+#[test]
+fn a_reflex_edge_touched_twice_ends_at_its_curvature_peak_before_its_arc_of_normals_ends() {
+    let report = traced_and_verified("step_round_corner_curvature_peak");
+    let rho = 0.54_f64;
+    let apex = -rho * 2f64.sqrt() / 4.0;
+    let depth = (rho * rho - 0.25) / (2.0 * 0.5);
+    let xy = apex - rho / 2f64.sqrt();
+    let centre = [xy, xy, 6.0 - depth];
+    let mut at_peak = 0;
+    for s in seams(&report) {
+        for (k, end) in s["ends"].as_array().unwrap().iter().enumerate() {
+            if end.get("curvature_limit").is_none() {
+                continue;
+            }
+            let ball = &end_point(s, k)["point"];
+            let r = ball[3].as_f64().unwrap();
+            assert!(
+                (r - 0.5).abs() > 1e-3,
+                "seam {} ends at {ball}: the arc of normals' end, not a curvature limit",
+                s["id"]
+            );
+            if (ball[2].as_f64().unwrap() - 6.0).abs() < 0.5 {
+                assert!(
+                    distance(ball, centre) < 1e-3 && (r - 0.5 - depth).abs() < 1e-3,
+                    "seam {} ends at {ball}, not at {centre:?} r {}",
+                    s["id"],
+                    0.5 + depth
+                );
+                at_peak += 1;
+            }
+        }
+    }
+    assert_eq!(at_peak, 1, "one seam ends at the parabola's curvature peak");
+}

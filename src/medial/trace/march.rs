@@ -530,12 +530,20 @@ impl Tracer<'_> {
             // of a wall's end face, where a fillet along the wall runs into that end), the
             // meeting is located exactly there: a pinch, where the sheet's skeletal edge to
             // the vertex starts. The crossing is only as near as the hand-over's step.
+            // But where two touch points on one element had already met on the way (a
+            // reflex edge touched twice, its two touch points meeting where its curvature
+            // peaks, a step before both reach the end of its arc of normals together: the
+            // Voron Dragon mount's), that element's curvature limit comes first; the balls
+            // past it, both touches at one point, are no seam points.
             Some(_) => match self.end_in_pinch(m, crossing) {
                 Some(end) => end,
-                None => {
-                    m.points.push(self.seam_point(&m.sys, crossing));
-                    SeamEnd::CurvatureLimit { segment: to }
-                }
+                None => match self.limit_before_crossing(m, crossing) {
+                    Some(end) => end,
+                    None => {
+                        m.points.push(self.seam_point(&m.sys, crossing));
+                        SeamEnd::CurvatureLimit { segment: to }
+                    }
+                },
             },
             // Elsewhere they meet at the vertex the touch point was handed over at: a pinch.
             // Or two touch points on one element had already met on the way to the crossing
