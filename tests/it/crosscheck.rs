@@ -18,19 +18,6 @@ use crate::tools::{occt_python, Tool};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-const OPEN_AND_SHALLOW: &str = "no seam ends open; seams leaving a vertex between faces at a \
-    shallow angle have points whose touch points on those faces lie closer than \
-    √(8·r·accuracy), listed as unresolved and verified as such; seams whose two touch points \
-    on one B-spline reflex edge meet end at its curvature limit (they ended open before, where \
-    another face came closer at the same step, with those two touches unexplained: \
-    `separated`), and one whose touch point, handed across a smooth edge, meets the other \
-    touch point on that smooth surface ends there too; the seams whose touch points on a wall \
-    and a torus meet where a blend tapers to a point between the two, tangent there, end at \
-    pinches at those tips with no skeletal edge, and every sheet boundary closes; one such \
-    seam, its touch point handed onto the blend first, ends at a ball of r 0.75 taken for the \
-    blend's curvature limit (`curvature_limits`, issue 19): the blend is collapsed to a point at \
-    the tip, where its normal depends on the way in, and the pinch there is not solved";
-
 /// No seam end open since a reflex edge's arc of normals lies in its normal plane; what is
 /// left is issue 20's.
 const LCD_KNOB: &str = "no seam ends open and every ball passes both checkers; the medial \
@@ -175,11 +162,6 @@ const EXPECTED_FAILURES: &[Expected] = &[
         MOTOR_PLATE,
     ),
     ("stepswift_dm1-id-214.stp", &[("verify:euler", 3)], DM1),
-    (
-        "voron0_Manta_M4P_Din_Mount_2pc.step",
-        &[("verify:curvature_limits", 1)],
-        OPEN_AND_SHALLOW,
-    ),
     // The tracer's regression parts (scripts/freecad/make_trace_regressions.py): no seam
     // ends open on any of them; what is left is issue 20's.
     (

@@ -47,7 +47,7 @@ impl Tracer<'_> {
                 let y = self
                     .pinch_on_normal(sys, triplet, x, [i, k], v)
                     .or_else(|| self.pinch_held(sys, triplet, x, [i, k], v));
-                if let Some(y) = y.filter(|y| self.pinch_is_medial(triplet, y, 3 - i - k)) {
+                if let Some(y) = y.filter(|y| self.pinch_is_medial(triplet, y, 3 - i - k, v)) {
                     let end = SeamEnd::Pinch {
                         segments: [triplet[i], triplet[k]],
                         vertex: v,
@@ -142,12 +142,23 @@ impl Tracer<'_> {
         v: usize,
     ) -> Option<DVec3> {
         let p = self.model.vertices[v].point;
-        if let Some(f) = pair.iter().find_map(|&s| match triplet[s] {
-            Element::Face(f) => Some(f),
-            _ => None,
-        }) {
-            let uv = project_point(&self.model.faces[f].surface, p, None)?;
-            return Some(Element::Face(f).eval(self.model, [uv.0, uv.1])?.n);
+        // A face collapsed to a point at the vertex (a blend tapering to a tip) has no one
+        // normal there: the other face's fixes the ball's.
+        let faces: Vec<usize> = pair
+            .iter()
+            .filter_map(|&s| match triplet[s] {
+                Element::Face(f) => Some(f),
+                _ => None,
+            })
+            .collect();
+        if !faces.is_empty() {
+            return faces.into_iter().find_map(|f| {
+                let uv = project_point(&self.model.faces[f].surface, p, None)?;
+                if collapsed_side(&self.model.faces[f], uv).is_some() {
+                    return None;
+                }
+                Some(Element::Face(f).eval(self.model, [uv.0, uv.1])?.n)
+            });
         }
         let tangent = |s: usize| match triplet[s] {
             Element::Edge(g) => {
@@ -178,7 +189,11 @@ impl Tracer<'_> {
         match e {
             Element::Face(f) => {
                 let uv = project_point(&self.model.faces[f].surface, p, Some((now[0], now[1])))?;
-                Some([uv.0, uv.1])
+                let face = &self.model.faces[f];
+                match collapsed_side(face, uv) {
+                    Some(side) => params_on_collapsed_side(face, uv, side, n, self.opts.accuracy),
+                    None => Some([uv.0, uv.1]),
+                }
             }
             Element::Edge(g) => {
                 let t = self.edge_end_at(g, v, now[0])?;
@@ -234,15 +249,198 @@ impl Tracer<'_> {
             .then_some(y)
     }
 
-    /// True when the pinch `y` is medial: the third touch point on its element, nothing of
-    /// the boundary closer than `r`, and no touched face curving into the ball. (The two
-    /// touch points at the vertex are on their elements there: rounding may put one a hair
-    /// past a face's boundary, which `is_medial` would refuse.)
-    fn pinch_is_medial(&self, triplet: &[Element; 3], y: &DVector<f64>, third: usize) -> bool {
+    /// True when the pinch `y` at vertex `v` is medial: the third touch point on its element,
+    /// nothing of the boundary closer than `r`, and no touched face curving into the ball.
+    /// (The two touch points at the vertex are on their elements there: rounding may put one
+    /// a hair past a face's boundary, which `is_medial` would refuse. A face collapsed to a
+    /// point at the vertex — a blend tapering to a tip, the Voron Manta mount's — bends as
+    /// tightly as its width there allows, which says nothing of the ball: that the ball is
+    /// empty does.)
+    fn pinch_is_medial(
+        &self,
+        triplet: &[Element; 3],
+        y: &DVector<f64>,
+        third: usize,
+        v: usize,
+    ) -> bool {
         let r = y[3];
+        let p = self.model.vertices[v].point;
+        let tip = |s: usize| match triplet[s] {
+            Element::Face(f) if s != third => project_point(
+                &self.model.faces[f].surface,
+                p,
+                Some((slot(y, s)[0], slot(y, s)[1])),
+            )
+            .is_some_and(|uv| collapsed_side(&self.model.faces[f], uv).is_some()),
+            _ => false,
+        };
         r > UNIT_ROUNDING
             && self.on_segment(triplet[third], slot(y, third))
             && self.ball_is_empty(self.solid_of(triplet[third]), y)
-            && (0..3).all(|s| curvature_allows(self.model, triplet[s], slot(y, s), r))
+            && (0..3).all(|s| tip(s) || curvature_allows(self.model, triplet[s], slot(y, s), r))
+    }
+}
+
+/// Which parameter of a face's surface moves the point no more along a side of its domain
+/// collapsed to a point: `AlongV` where `Sv` vanishes (the side is `u` = constant), `AlongU`
+/// where `Su` does.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Collapsed {
+    AlongU,
+    AlongV,
+}
+
+/// Whether `face`'s surface is collapsed to a point at `uv` (one of its first derivatives
+/// below a millionth of the other: a blend written as a B-spline tapering to a tip, a cone's
+/// apex, a sphere's pole), and along which parameter.
+fn collapsed_side(face: &crate::model::Face, uv: (f64, f64)) -> Option<Collapsed> {
+    let d = crate::geom::eval_face(face, uv.0, uv.1);
+    let (lu, lv) = (d.su.length(), d.sv.length());
+    if lv <= 1e-6 * lu {
+        Some(Collapsed::AlongV)
+    } else if lu <= 1e-6 * lv {
+        Some(Collapsed::AlongU)
+    } else {
+        None
+    }
+}
+
+/// The parameters of `face` at `uv`, on a side of its domain that `side` says is collapsed
+/// to a point ([`collapsed_side`]), where its outward normal is `n`: along that side a hair
+/// inside the domain (the point moves by a thousandth of `accuracy`; on the side itself the
+/// normal is undefined), the normal nearest `n` by sampling and then golden section. `None`
+/// when none along the side is within a milliradian of `n`.
+fn params_on_collapsed_side(
+    face: &crate::model::Face,
+    uv: (f64, f64),
+    side: Collapsed,
+    n: DVec3,
+    accuracy: f64,
+) -> Option<[f64; 2]> {
+    let d = crate::geom::eval_face(face, uv.0, uv.1);
+    // `fixed`: the parameter constant along the side; `free`: the one along it.
+    let (fixed, range, free, speed) = match side {
+        Collapsed::AlongV => (uv.0, face.domain.u, face.domain.v, d.su.length()),
+        Collapsed::AlongU => (uv.1, face.domain.v, face.domain.u, d.sv.length()),
+    };
+    if !(speed > 0.0) {
+        return None;
+    }
+    let inward = if fixed - range.0 <= range.1 - fixed {
+        1.0
+    } else {
+        -1.0
+    };
+    let fixed = fixed + inward * 1e-3 * accuracy / speed;
+    let at = |t: f64| match side {
+        Collapsed::AlongV => [fixed, t],
+        Collapsed::AlongU => [t, fixed],
+    };
+    let fit = |t: f64| {
+        let [u, v] = at(t);
+        let d = crate::geom::eval_face(face, u, v);
+        (d.su.cross(d.sv) * face.sign)
+            .try_normalize()
+            .map_or(f64::NEG_INFINITY, |m| m.dot(n))
+    };
+    const SAMPLES: usize = 64;
+    let step = (free.1 - free.0) / SAMPLES as f64;
+    let best = (0..=SAMPLES)
+        .map(|k| free.0 + k as f64 * step)
+        .max_by(|a, b| fit(*a).total_cmp(&fit(*b)))?;
+    let (mut lo, mut hi) = ((best - step).max(free.0), (best + step).min(free.1));
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..60 {
+        let (a, b) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        if fit(a) >= fit(b) {
+            hi = b;
+        } else {
+            lo = a;
+        }
+    }
+    let t = 0.5 * (lo + hi);
+    (fit(t) >= (1e-3f64).cos()).then_some(at(t))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Face, Surface, UvDomain};
+    use truck_geometry::prelude::{BSplineSurface, KnotVec, Point3};
+
+    /// A B-spline patch collapsed to its apex along its side u = 0 (every pole of that row at
+    /// the apex: a blend tapering to a tip, as exporters write one), its side u = 1 a
+    /// quadratic arc in the plane z = 0: its normal at the apex turns with v, as a cone's.
+    fn tip_patch() -> Face {
+        let apex = Point3::new(0.0, 0.0, 1.0);
+        let poles = vec![
+            vec![apex; 3],
+            vec![
+                Point3::new(1.0, 0.0, 0.0),
+                Point3::new(1.0, 1.0, 0.0),
+                Point3::new(0.0, 1.0, 0.0),
+            ],
+        ];
+        let surface =
+            BSplineSurface::new((KnotVec::bezier_knot(1), KnotVec::bezier_knot(2)), poles);
+        Face {
+            source_id: 0,
+            shell: 0,
+            surface: Surface::BSplineSurface(Box::new(surface)),
+            sign: 1.0,
+            same_sense: true,
+            loops: vec![],
+            outer: None,
+            domain: UvDomain {
+                u: (0.0, 1.0),
+                v: (0.0, 1.0),
+                u_period: None,
+                v_period: None,
+            },
+        }
+    }
+
+    /// The touch point at a collapsed tip is put where the face's normal is the ball's (the
+    /// Voron Manta mount's blend F164 at its tip V291, a pinch with the plane F172: projecting
+    /// the tip gave a normal 60 degrees off, and the pinch was not found), for normals all
+    /// along the side; a regular point is not collapsed.
+    #[test]
+    fn a_patch_collapsed_to_a_tip_takes_the_touch_point_with_the_balls_normal() {
+        let face = tip_patch();
+        let accuracy = 1e-6;
+        let normal = |u: f64, v: f64| {
+            let d = crate::geom::eval_face(&face, u, v);
+            (d.su.cross(d.sv) * face.sign).normalize()
+        };
+        assert_eq!(collapsed_side(&face, (0.0, 0.3)), Some(Collapsed::AlongV));
+        assert_eq!(collapsed_side(&face, (0.5, 0.3)), None);
+        let tip = crate::geom::eval_face(&face, 0.0, 0.0).p;
+        let mut seen = vec![];
+        for v in [0.1, 0.5, 0.9] {
+            let n = normal(1e-3, v);
+            // Projecting the tip lands anywhere along the side: start at its other end.
+            let found =
+                params_on_collapsed_side(&face, (0.0, 1.0 - v), Collapsed::AlongV, n, accuracy)
+                    .unwrap_or_else(|| panic!("v {v}: no parameters with the normal {n}"));
+            let p = crate::geom::eval_face(&face, found[0], found[1]).p;
+            assert!(
+                p.distance(tip) <= accuracy,
+                "v {v}: {} off the tip",
+                p.distance(tip)
+            );
+            let m = normal(found[0], found[1]);
+            assert!(
+                m.angle_between(n) < 1e-3,
+                "v {v}: the normal {} rad off",
+                m.angle_between(n)
+            );
+            seen.push(n);
+        }
+        assert!(seen[0].angle_between(seen[2]) > 0.5, "{seen:?}");
+        // A normal the tip does not have.
+        assert_eq!(
+            params_on_collapsed_side(&face, (0.0, 0.5), Collapsed::AlongV, DVec3::Z, accuracy),
+            None
+        );
     }
 }

@@ -480,17 +480,20 @@ impl Tracer<'_> {
     /// towards the material; where `a` and `b` are faces joined at `v` by an edge (a convex
     /// one flattening out there: their sheet from that edge ends on the line, as
     /// [`Self::flat_rim_ends`] has it); where either is not a face. Not where two faces that
-    /// share no edge at `v` are tangent there and no reflex edge ends: a ball touching `v`
-    /// alone then has one contact, and the touch points that met there (on a plane and a
-    /// torus, a blend tapering to a point between them, on the Voron Manta mount) close
-    /// their sheet at that ball, as at a curvature limit.
+    /// share no edge at `v`, or only a smooth one, are tangent there and no reflex edge ends:
+    /// a ball touching `v` alone then has one contact, and the touch points that met there
+    /// (on a plane and a torus, a blend tapering to a point between them, on the Voron Manta
+    /// mount; on that blend and the plane it runs into smoothly) close their sheet at that
+    /// ball, as at a curvature limit.
     fn line_to_vertex_is_medial(&self, a: Element, b: Element, v: usize) -> bool {
         let (Element::Face(fa), Element::Face(fb)) = (a, b) else {
             return true;
         };
         self.vertex_edges[v].iter().any(|&(e, at_end)| {
             let faces = &self.model.edges[e].faces;
-            (faces.contains(&fa) && faces.contains(&fb))
+            (faces.contains(&fa)
+                && faces.contains(&fb)
+                && self.class.edges[e].kind != EdgeKind::Smooth)
                 || self.class.edges[e].kind_at(at_end) == Some(EdgeKind::Reflex)
         })
     }
