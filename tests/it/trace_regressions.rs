@@ -1654,3 +1654,31 @@ fn a_reflex_edge_touched_twice_ends_at_its_curvature_peak_before_its_arc_of_norm
     }
     assert_eq!(at_peak, 1, "one seam ends at the parabola's curvature peak");
 }
+
+/// With the walls' edges rounded 0.9 (wider than the balls near the tip), the blend up each
+/// wall/round edge tapers to the tip with its radius of curvature falling below 0.9: the seam
+/// of the foot round, a wall and the boss's top reaches it at r 0.8726, the blend's radius
+/// there to a few accuracies. The hand-over onto the blend solved for a foot 2.4e-3 mm off it
+/// (where the ball nearly osculates, the foot runs 1/(1 − r·κ) times as far as the centre)
+/// and the seam ended open; it ends at the blend's curvature limit.
+#[test]
+fn a_seam_handed_onto_a_blend_it_nearly_osculates_ends_at_its_curvature_limit() {
+    let report = traced_and_verified("blend_wider_than_the_ball_tapering_to_a_tip");
+    let mut near_tips = vec![];
+    for s in seams(&report) {
+        for (k, end) in s["ends"].as_array().unwrap().iter().enumerate() {
+            if end.get("curvature_limit").is_none() {
+                continue;
+            }
+            let ball = &end_point(s, k)["point"];
+            let y = ball[1].as_f64().unwrap();
+            if distance(ball, [0.0625, y.signum() * 2.1274, 5.9274]) < 1e-3 {
+                let r = ball[3].as_f64().unwrap();
+                assert!((r - 0.8726).abs() < 1e-3, "seam {}: r {r}", s["id"]);
+                near_tips.push(y.signum() as i64);
+            }
+        }
+    }
+    near_tips.sort();
+    assert_eq!(near_tips, [-1, 1], "one such end beside each tip");
+}

@@ -643,6 +643,21 @@ impl Tracer<'_> {
                 d <= off || (d <= off + slide && self.on_segment(to, slot(&sol.x, i)))
             });
         if !same {
+            // The ball osculates the new segment to within a few accuracies (its radius of
+            // curvature at the crossing within NEARLY_OSCULATING_ACCURACIES of `r`): the foot
+            // of the centre on it is then indeterminate along the arc where the two nearly
+            // coincide (it runs 1/(1 − r·κ) times as far as on a flat face), and the solve
+            // lands off the segment; the seam is at that segment's curvature limit, to the
+            // accuracy the limit is located to (a B-spline blend of nominal radius 0.9 whose
+            // radius falls to the ball's 0.8726 where it tapers to a point).
+            if !curvature_allows(
+                self.model,
+                to,
+                params,
+                xc[3] + NEARLY_OSCULATING_ACCURACIES * acc,
+            ) {
+                return Err(HandOverError::Osculates(to));
+            }
             return Err(HandOverError::Stop(OpenReason::NoSeamPointAfterHandover {
                 from: seg,
                 to,
@@ -653,6 +668,11 @@ impl Tracer<'_> {
         Ok((to, sol.x))
     }
 }
+
+/// How many accuracies a new segment's radius of curvature at a hand-over's crossing may
+/// exceed the ball's for the ball to count as osculating it, where the hand-over's solve
+/// finds no seam point (half the margin `verify` allows a curvature limit).
+const NEARLY_OSCULATING_ACCURACIES: f64 = 4.0;
 
 /// Which end of an edge's arc of normals `fan` the normal `n` is nearer (the first on a tie).
 fn nearer_end(fan: &[DVec3; 2], n: DVec3) -> usize {

@@ -323,7 +323,7 @@ fn params_on_collapsed_side(
         Collapsed::AlongV => (uv.0, face.domain.u, face.domain.v, d.su.length()),
         Collapsed::AlongU => (uv.1, face.domain.v, face.domain.u, d.sv.length()),
     };
-    if !(speed > 0.0) {
+    if !speed.is_finite() || speed <= 0.0 {
         return None;
     }
     let inward = if fixed - range.0 <= range.1 - fixed {
