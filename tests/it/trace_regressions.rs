@@ -157,6 +157,19 @@ fn end_point(s: &Value, k: usize) -> &Value {
     &points[if k == 0 { 0 } else { points.len() - 1 }]
 }
 
+/// Every seam end of a report: the seam, the end (its report object) and the seam's point
+/// there.
+fn seam_ends(report: &Value) -> impl Iterator<Item = (&Value, &Value, &Value)> {
+    seams(report).iter().flat_map(|s| {
+        s["ends"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .enumerate()
+            .map(move |(k, end)| (s, end, end_point(s, k)))
+    })
+}
+
 /// The distance between the point `p` of a report (its first three numbers) and `q`.
 fn distance(p: &Value, q: [f64; 3]) -> f64 {
     (0..3)
@@ -1629,27 +1642,25 @@ fn a_reflex_edge_touched_twice_ends_at_its_curvature_peak_before_its_arc_of_norm
     let xy = apex - rho / 2f64.sqrt();
     let centre = [xy, xy, 6.0 - depth];
     let mut at_peak = 0;
-    for s in seams(&report) {
-        for (k, end) in s["ends"].as_array().unwrap().iter().enumerate() {
-            if end.get("curvature_limit").is_none() {
-                continue;
-            }
-            let ball = &end_point(s, k)["point"];
-            let r = ball[3].as_f64().unwrap();
+    for (s, end, point) in seam_ends(&report) {
+        if end.get("curvature_limit").is_none() {
+            continue;
+        }
+        let ball = &point["point"];
+        let r = ball[3].as_f64().unwrap();
+        assert!(
+            (r - 0.5).abs() > 1e-3,
+            "seam {} ends at {ball}: the arc of normals' end, not a curvature limit",
+            s["id"]
+        );
+        if (ball[2].as_f64().unwrap() - 6.0).abs() < 0.5 {
             assert!(
-                (r - 0.5).abs() > 1e-3,
-                "seam {} ends at {ball}: the arc of normals' end, not a curvature limit",
-                s["id"]
+                distance(ball, centre) < 1e-3 && (r - 0.5 - depth).abs() < 1e-3,
+                "seam {} ends at {ball}, not at {centre:?} r {}",
+                s["id"],
+                0.5 + depth
             );
-            if (ball[2].as_f64().unwrap() - 6.0).abs() < 0.5 {
-                assert!(
-                    distance(ball, centre) < 1e-3 && (r - 0.5 - depth).abs() < 1e-3,
-                    "seam {} ends at {ball}, not at {centre:?} r {}",
-                    s["id"],
-                    0.5 + depth
-                );
-                at_peak += 1;
-            }
+            at_peak += 1;
         }
     }
     assert_eq!(at_peak, 1, "one seam ends at the parabola's curvature peak");
@@ -1665,18 +1676,16 @@ fn a_reflex_edge_touched_twice_ends_at_its_curvature_peak_before_its_arc_of_norm
 fn a_seam_handed_onto_a_blend_it_nearly_osculates_ends_at_its_curvature_limit() {
     let report = traced_and_verified("blend_wider_than_the_ball_tapering_to_a_tip");
     let mut near_tips = vec![];
-    for s in seams(&report) {
-        for (k, end) in s["ends"].as_array().unwrap().iter().enumerate() {
-            if end.get("curvature_limit").is_none() {
-                continue;
-            }
-            let ball = &end_point(s, k)["point"];
-            let y = ball[1].as_f64().unwrap();
-            if distance(ball, [0.0625, y.signum() * 2.1274, 5.9274]) < 1e-3 {
-                let r = ball[3].as_f64().unwrap();
-                assert!((r - 0.8726).abs() < 1e-3, "seam {}: r {r}", s["id"]);
-                near_tips.push(y.signum() as i64);
-            }
+    for (s, end, point) in seam_ends(&report) {
+        if end.get("curvature_limit").is_none() {
+            continue;
+        }
+        let ball = &point["point"];
+        let y = ball[1].as_f64().unwrap();
+        if distance(ball, [0.0625, y.signum() * 2.1274, 5.9274]) < 1e-3 {
+            let r = ball[3].as_f64().unwrap();
+            assert!((r - 0.8726).abs() < 1e-3, "seam {}: r {r}", s["id"]);
+            near_tips.push(y.signum() as i64);
         }
     }
     near_tips.sort();

@@ -338,9 +338,7 @@ fn params_on_collapsed_side(
     };
     let fit = |t: f64| {
         let [u, v] = at(t);
-        let d = crate::geom::eval_face(face, u, v);
-        (d.su.cross(d.sv) * face.sign)
-            .try_normalize()
+        crate::geom::unit_normal(&crate::geom::eval_face(face, u, v), face.sign)
             .map_or(f64::NEG_INFINITY, |m| m.dot(n))
     };
     const SAMPLES: usize = 64;
@@ -409,8 +407,8 @@ mod tests {
         let face = tip_patch();
         let accuracy = 1e-6;
         let normal = |u: f64, v: f64| {
-            let d = crate::geom::eval_face(&face, u, v);
-            (d.su.cross(d.sv) * face.sign).normalize()
+            crate::geom::unit_normal(&crate::geom::eval_face(&face, u, v), face.sign)
+                .expect("a regular point")
         };
         assert_eq!(collapsed_side(&face, (0.0, 0.3)), Some(Collapsed::AlongV));
         assert_eq!(collapsed_side(&face, (0.5, 0.3)), None);
