@@ -1886,6 +1886,51 @@ def blend_wider_than_the_ball_tapering_to_a_tip():
     return tapering_blends(TB_WIDE)
 
 
+# The foot outline of a 0.5 mm boss under the Prusa extruder motor plate (its faces F17-F24,
+# edges E102-E123): eight quadratic B-splines of two spans each, joined tangent at their
+# ends, whose curvature jumps there; poles in the plate's x, y less (-47, -20.4).
+MOTOR_BOSS_POLES = [
+    [(-0.80913, 0.001323), (-0.80913, 0.29792), (-0.660832, 0.683495), (-0.527364, 0.79719)],
+    [(-0.527364, 0.79719), (-0.388952, 0.915829), (-0.047866, 1.0), (0.144922, 1.0)],
+    [(0.144922, 1.0), (0.30805, 1.0), (0.644192, 0.915829), (0.792491, 0.85651)],
+    [(0.792491, 0.85651), (0.792491, 0.816963), (0.802377, 0.629119), (0.802377, 0.485764)],
+    [(0.802377, 0.485764), (0.802377, -0.043166), (0.619476, -0.680849), (0.476121, -0.843977)],
+    [(0.476121, -0.843977), (0.372312, -0.977445), (0.095489, -1.09114), (-0.052809, -1.09114)],
+    [(-0.052809, -1.09114), (-0.176391, -1.09114), (-0.463101, -0.967559), (-0.561966, -0.843977)],
+    [(-0.561966, -0.843977), (-0.680605, -0.695679), (-0.80913, -0.349649), (-0.80913, 0.001323)],
+]
+MB_H, MB_PLATE, MB_SIDE = 0.5, 2.0, 3.0
+
+
+@part("boss_whose_foot_tightens_at_a_tangent_joint",
+      "A plate x, y -3..3, z 0.5..2.5 with a boss 0.5 high under it (z 0..0.5), about "
+      "1.6 x 2.1, whose outline is the Prusa extruder motor plate's: eight quadratic "
+      "B-splines joined tangent, their radius of curvature jumping at the joints; at "
+      "(-0.0528, -1.0911) from 0.774 to 0.494.",
+      None,
+      "Inside the boss, balls touch its bottom and its foot edge (the reflex edge where it "
+      "meets the plate) twice, on the two B-splines either side of the joint at "
+      "(-0.0528, -1.0911), their centres above the foot's plane (r > 0.5). As the seam comes "
+      "down towards that plane (r 0.5, where both touch points reach the end of their "
+      "edges' arcs of normals at the joint), the touch point past the joint runs to where "
+      "that edge bends tighter than the ball (its radius of curvature 0.503 at 0.009 from "
+      "the joint, 0.494 at it): the ball osculates the edge there (r·κ = 1) at r 0.5001, "
+      "centre (-0.0528, -0.5910, 0.5001), and the seam ends at that edge's curvature limit, "
+      "within the step that crosses the arcs' end. (It ended 0.05 short, at the last point "
+      "before that step, r 0.5496; on the motor plate itself, at the crossing, r 0.5, whose "
+      "ball pokes through that edge.) The seam from the plate's top ends alike at r 1.0618.")
+def boss_whose_foot_tightens_at_a_tangent_joint():
+    edges = []
+    for poles in MOTOR_BOSS_POLES:
+        c = Part.BSplineCurve()
+        c.buildFromPolesMultsKnots([V(x, y, 0) for x, y in poles], [3, 1, 3],
+                                   [0.0, 1.0, 2.0], False, 2)
+        edges.append(c.toShape())
+    boss = Part.Face(Part.Wire(edges)).extrude(V(0, 0, MB_H))
+    plate = Part.makeBox(2 * MB_SIDE, 2 * MB_SIDE, MB_PLATE, V(-MB_SIDE, -MB_SIDE, MB_H))
+    return plate.fuse(boss).removeSplitter()
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

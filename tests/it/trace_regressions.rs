@@ -157,6 +157,22 @@ fn end_point(s: &Value, k: usize) -> &Value {
     &points[if k == 0 { 0 } else { points.len() - 1 }]
 }
 
+/// The segments seam `s` touches at its point `point`, one of its ends: the first point's
+/// (`segments`) or the last's (`end_segments`).
+fn end_segments<'a>(s: &'a Value, point: &Value) -> Vec<&'a str> {
+    let key = if std::ptr::eq(point, end_point(s, 0)) {
+        "segments"
+    } else {
+        "end_segments"
+    };
+    s[key]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|g| g.as_str().unwrap())
+        .collect()
+}
+
 /// Every seam end of a report: the seam, the end (its report object) and the seam's point
 /// there.
 fn seam_ends(report: &Value) -> impl Iterator<Item = (&Value, &Value, &Value)> {
@@ -1690,4 +1706,66 @@ fn a_seam_handed_onto_a_blend_it_nearly_osculates_ends_at_its_curvature_limit() 
     }
     near_tips.sort();
     assert_eq!(near_tips, [-1, 1], "one such end beside each tip");
+}
+
+/// Inside a boss under a plate, whose foot outline is the Prusa extruder motor plate's
+/// (quadratic B-splines joined tangent, the radius of curvature jumping from 0.774 to 0.494
+/// at (-0.0528, -1.0911)), the seam of balls touching the boss's bottom and the foot edges
+/// either side of that joint comes down towards the foot's plane (r 0.5, where both touch
+/// points reach the end of their edges' arcs of normals). Within the step that crosses it, the
+/// touch point past the joint runs to where that edge bends tighter than the ball: the seam
+/// ends there, at the edge's curvature limit, its ball osculating the edge (r·κ = 1 at its
+/// touch point) at r 0.5001, centre (-0.0528, -0.5910, r). It ended at the point before that
+/// step (r 0.5496, 0.05 short; on the motor plate, at the crossing, whose ball pokes through
+/// the edge: r·κ 1.011).
+#[test]
+fn a_curvature_limit_within_a_step_that_crosses_an_arcs_end_ends_the_seam() {
+    let name = "boss_whose_foot_tightens_at_a_tangent_joint";
+    let report = traced_and_verified(name);
+    let model = matrace::read_model(&root().join(format!("samples/trace/{name}.step"))).unwrap();
+    let mut at_joint = 0;
+    for (s, end, point) in seam_ends(&report) {
+        let Some(segment) = end["curvature_limit"]["segment"].as_str() else {
+            continue;
+        };
+        let ball = &point["point"];
+        let r = ball[3].as_f64().unwrap();
+        // The seam under the plate whose centre comes down towards the foot's plane at the
+        // joint: its centre is at height r (touching the bottom).
+        if !(distance(ball, [-0.0528, -0.591, r]) < 0.01 && r < 0.6) {
+            continue;
+        }
+        at_joint += 1;
+        assert!(
+            r > 0.5 && r < 0.5005,
+            "seam {} ends at {ball}: not where its ball osculates the foot edge, just above \
+             r 0.5",
+            s["id"]
+        );
+        // The ball osculates the edge named at its touch point there.
+        let e: usize = segment
+            .strip_prefix('E')
+            .and_then(|k| k.parse().ok())
+            .expect("an edge's curvature limit");
+        let k = end_segments(s, point)
+            .iter()
+            .position(|g| *g == segment)
+            .expect("the edge is one of the end's segments");
+        let touch = glam::DVec3::from_array(std::array::from_fn(|c| {
+            point["touch"][k][c].as_f64().unwrap()
+        }));
+        let centre = glam::DVec3::from_array(std::array::from_fn(|c| ball[c].as_f64().unwrap()));
+        let (t, _, off) = matrace::geom::nearest_on_edge(&model, e, touch, None);
+        assert!(off < 1e-6, "touch point {touch} is {off} off E{e}");
+        let c = matrace::geom::eval_curve(&model.edges[e].curve, t);
+        let n = (touch - centre) / r;
+        let bend = -c.d2.dot(n) / c.d1.length_squared();
+        assert!(
+            (r * bend - 1.0).abs() < 0.01,
+            "seam {} ends at {ball} with r·κ {} on E{e}: not osculating it",
+            s["id"],
+            r * bend
+        );
+    }
+    assert_eq!(at_joint, 1, "one seam under the plate ends at the joint");
 }

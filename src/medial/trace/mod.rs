@@ -53,6 +53,7 @@ mod entry;
 mod handover;
 mod join;
 mod junctions;
+mod limits;
 mod march;
 mod merge;
 pub mod options;
