@@ -1931,6 +1931,21 @@ def boss_whose_foot_tightens_at_a_tangent_joint():
     return plate.fuse(boss).removeSplitter()
 
 
+@part("blend_of_radius_one_tapering_to_a_tip",
+      "blend_tapering_between_tangent_faces with the rounds r=1.0: a cylinder along each "
+      "wall's top edge and a B-spline blend up each wall/round edge, tapering to a point at "
+      "(0, +-3, 6).",
+      None,
+      "The seams of balls touching a wall, the boss's top and the blend up that wall end where "
+      "their touch points on the wall and on the blend meet at the blend's edge with the "
+      "wall: the ball osculates the blend there, r 0.962905 (the blend's radius of curvature "
+      "at that point), centre (0.1352, +-2.0371, 5.8371). (The march's point was within a "
+      "step of that meeting, no shorter step had the two apart, and the seam ended at the "
+      "step's ball, r 0.962774, 8.2 accuracies short of osculating; `verify` rejected it.)")
+def blend_of_radius_one_tapering_to_a_tip():
+    return tapering_blends(1.0)
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

@@ -1769,3 +1769,48 @@ fn a_curvature_limit_within_a_step_that_crosses_an_arcs_end_ends_the_seam() {
     }
     assert_eq!(at_joint, 1, "one seam under the plate ends at the joint");
 }
+
+/// With the walls' edges rounded 1.0, the seam of balls touching a wall, the boss's top and
+/// the blend up that wall ends where its touch points on the wall and the blend meet, at the
+/// blend's edge with the wall: the ball osculates the blend there (r 0.962905, the blend's
+/// radius of curvature at that point; centre (0.1352, ±2.0371, 5.8371)). The march's point
+/// was within a step of the meeting and no shorter step had the two apart: the seam ended at
+/// the step's ball, r 0.962774, 8.2 accuracies short of osculating, which `verify` rejected.
+#[test]
+fn touch_points_met_within_a_step_of_the_last_point_end_at_the_osculating_ball() {
+    let name = "blend_of_radius_one_tapering_to_a_tip";
+    let report = traced_and_verified(name);
+    let model = matrace::read_model(&root().join(format!("samples/trace/{name}.step"))).unwrap();
+    let mut osculating = 0;
+    for (s, end, point) in seam_ends(&report) {
+        if end.get("curvature_limit").is_none() {
+            continue;
+        }
+        let ball = &point["point"];
+        let y = ball[1].as_f64().unwrap();
+        if distance(ball, [0.1352, y.signum() * 2.0371, 5.8371]) > 1e-3 {
+            continue;
+        }
+        // The blend: the face touched there whose radius of curvature is nearest the ball's.
+        let r = ball[3].as_f64().unwrap();
+        let rho = end_segments(s, point)
+            .iter()
+            .enumerate()
+            .filter_map(|(k, g)| {
+                let f: usize = g.strip_prefix('F')?.parse().ok()?;
+                let touch = glam::DVec3::from_array(std::array::from_fn(|c| {
+                    point["touch"][k][c].as_f64().unwrap()
+                }));
+                matrace::medial::maximal::osculating_ball(&model, f, touch).map(|o| o.1)
+            })
+            .min_by(|a, b| (a - r).abs().total_cmp(&(b - r).abs()))
+            .expect("a touched face that bends towards the ball");
+        assert!(
+            (rho - r).abs() < 1e-5,
+            "seam {} ends at {ball}: r {r} is not the blend's radius of curvature {rho} there",
+            s["id"]
+        );
+        osculating += 1;
+    }
+    assert_eq!(osculating, 2, "one seam ends so beside each wall");
+}

@@ -202,12 +202,12 @@ impl Tracer<'_> {
     /// there is one; `xn` where no shorter step has them apart.
     pub(super) fn merge_before(&mut self, m: &March, xn: &DVector<f64>) -> DVector<f64> {
         let last = self.last_on_step(m, m.h, |t, xm| !t.coincident(&m.triplet, xm, false));
-        let Some(xm) = last else {
-            return xn.clone();
-        };
-        match self.osculating_near(&m.sys, m.solid, &xm) {
+        // Where no shorter step has them apart (the march's point was within a step of the
+        // meeting), the osculating ball is solved for from the step's end.
+        let from = last.unwrap_or_else(|| xn.clone());
+        match self.osculating_near(&m.sys, m.solid, &from) {
             Some((_, y)) => y,
-            None => xm,
+            None => from,
         }
     }
 
