@@ -1946,6 +1946,24 @@ def blend_of_radius_one_tapering_to_a_tip():
     return tapering_blends(1.0)
 
 
+@part("blend_of_radius_one_and_a_half_tapering_to_a_tip",
+      "blend_tapering_between_tangent_faces with the rounds r=1.5: a cylinder along each "
+      "wall's top edge and a B-spline blend up each wall/round edge, tapering to a point at "
+      "(0, +-3, 6).",
+      None,
+      "The seams of balls touching the foot round, a wall and the boss's top hand their touch "
+      "point on the round onto the blend where the ball is within 0.4 % of osculating it "
+      "(r·κ 0.9964): the same ball's foot on the blend lies 280 times as far along it as the "
+      "kink between the faces moves it on a flat face. They go on, and end where two touch "
+      "points on the blend meet, at its curvature limit, r 1.3846, centre "
+      "(0.4084, +-1.6154, 5.4154). (With that factor capped at 10 the hand-overs were "
+      "refused, though the ball was the same to 1e-6 mm, and both seams ended open.) The "
+      "degenerate curve along the axis of one top edge's cylinder (r 1.5) ends open where "
+      "the blend comes in (issue 20).")
+def blend_of_radius_one_and_a_half_tapering_to_a_tip():
+    return tapering_blends(1.5)
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

@@ -1814,3 +1814,36 @@ fn touch_points_met_within_a_step_of_the_last_point_end_at_the_osculating_ball()
     }
     assert_eq!(osculating, 2, "one seam ends so beside each wall");
 }
+
+/// With the walls' edges rounded 1.5, the seams of balls touching the foot round, a wall and
+/// the boss's top hand their touch point on the round onto the blend where the ball is within
+/// 0.4 % of osculating it: the same ball's foot on the blend lies about 280 times as far along
+/// it as the kink between the two faces moves it on a flat face (`1/(1 − r·κ)`). The
+/// hand-overs go on, and the seams end at the blend's curvature limit, r 1.3846, centre
+/// (0.4084, ±1.6154, 5.4154), two touch points on the blend met. With that factor capped at
+/// 10 the hand-overs were refused (the ball the same to 1e-6 mm) and both seams ended open.
+#[test]
+fn a_hand_over_onto_a_segment_the_ball_nearly_osculates_allows_its_foot_to_run_far() {
+    let (out, report) = trace_part("blend_of_radius_one_and_a_half_tapering_to_a_tip", false);
+    assert_eq!(out.status.code(), Some(0));
+    let mut at_limit = 0;
+    for (s, end, point) in seam_ends(&report) {
+        assert!(
+            end.get("open").is_none(),
+            "seam {} ends open: {end}",
+            s["id"]
+        );
+        let ball = &point["point"];
+        let y = ball[1].as_f64().unwrap();
+        if end.get("curvature_limit").is_some()
+            && distance(ball, [0.4084, y.signum() * 1.6154, 5.4154]) < 1e-3
+        {
+            assert!((ball[3].as_f64().unwrap() - 1.3846).abs() < 1e-3, "{ball}");
+            at_limit += 1;
+        }
+    }
+    assert_eq!(
+        at_limit, 2,
+        "one seam ends at the blend's limit beside each wall"
+    );
+}

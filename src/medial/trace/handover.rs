@@ -629,7 +629,7 @@ impl Tracer<'_> {
             .filter_map(|s| crate::medial::maximal::bending(self.model, to, s))
             .filter(|k| k.is_finite())
             .fold(0.0_f64, f64::max);
-        let bend = 1.0 / (1.0 - xc[3] * bend).max(0.1);
+        let bend = 1.0 / (1.0 - xc[3] * bend).max(MIN_OSCULATION_GAP);
         let (slide, sink) = (xc[3] * kink.sin() * bend, xc[3] * (1.0 - kink.cos()));
         // Where the file's edge between the two follows one surface and not the other, the
         // ball moves by up to that gap as it passes from one to the other, and its foot on
@@ -668,6 +668,14 @@ impl Tracer<'_> {
         Ok((to, sol.x))
     }
 }
+
+/// The least `1 − r·κ` the factor `1/(1 − r·κ)` by which a foot on a segment bending
+/// towards the ball runs farther than on a flat one is taken at (a hand-over's slide
+/// tolerance; below it the ball nearly osculates the segment, see
+/// [`NEARLY_OSCULATING_ACCURACIES`]). A foot on a blend of radius 1.5 tapering to a point ran
+/// 280 times as far (`r·κ` 0.9964): with the factor capped at 10 the hand-over onto it was
+/// refused, though its ball was the same to 1e-6 mm.
+const MIN_OSCULATION_GAP: f64 = 1e-3;
 
 /// How many accuracies a new segment's radius of curvature at a hand-over's crossing may
 /// exceed the ball's for the ball to count as osculating it, where the hand-over's solve
