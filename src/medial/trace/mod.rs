@@ -39,7 +39,8 @@
 //!
 //! The files: [`options`] (options and budgets), `entry` (the public functions), `tracer`
 //! (state and model queries), `unknowns` (the layout of the unknowns), `queue`, `starts`,
-//! `seeds`, `arcs` (seeds on reflex edges' sheets), `march`, `handover`, `junctions`, `pinch`,
+//! `seeds`, `arcs` (seeds on reflex edges' sheets), `march`, `limits` (curvature limits of a
+//! march), `handover`, `junctions`, `pinch`,
 //! `skeletal` (skeletal edges at vertices), `degenerate` (degenerate curves traced), `apex` (cone apexes at vertices),
 //! `join` (seam halves that stop at one place, joined), `contacts` (non-generic seams: more
 //! than three elements touching every ball), `merge` (junctions found twice, merged), `through` (seams carried across a junction, dropped).
