@@ -186,6 +186,18 @@ fn seam_ends(report: &Value) -> impl Iterator<Item = (&Value, &Value, &Value)> {
     })
 }
 
+/// Regression part `name`'s model, as `trace` reads it.
+fn regression_model(name: &str) -> matrace::Model {
+    matrace::read_model(&root().join(format!("samples/trace/{name}.step"))).unwrap()
+}
+
+/// The `k`-th touch point of a seam point of a report.
+fn touch_point(point: &Value, k: usize) -> glam::DVec3 {
+    glam::DVec3::from_array(std::array::from_fn(|c| {
+        point["touch"][k][c].as_f64().unwrap()
+    }))
+}
+
 /// The distance between the point `p` of a report (its first three numbers) and `q`.
 fn distance(p: &Value, q: [f64; 3]) -> f64 {
     (0..3)
@@ -1722,7 +1734,7 @@ fn a_seam_handed_onto_a_blend_it_nearly_osculates_ends_at_its_curvature_limit() 
 fn a_curvature_limit_within_a_step_that_crosses_an_arcs_end_ends_the_seam() {
     let name = "boss_whose_foot_tightens_at_a_tangent_joint";
     let report = traced_and_verified(name);
-    let model = matrace::read_model(&root().join(format!("samples/trace/{name}.step"))).unwrap();
+    let model = regression_model(name);
     let mut at_joint = 0;
     for (s, end, point) in seam_ends(&report) {
         let Some(segment) = end["curvature_limit"]["segment"].as_str() else {
@@ -1751,9 +1763,7 @@ fn a_curvature_limit_within_a_step_that_crosses_an_arcs_end_ends_the_seam() {
             .iter()
             .position(|g| *g == segment)
             .expect("the edge is one of the end's segments");
-        let touch = glam::DVec3::from_array(std::array::from_fn(|c| {
-            point["touch"][k][c].as_f64().unwrap()
-        }));
+        let touch = touch_point(point, k);
         let centre = glam::DVec3::from_array(std::array::from_fn(|c| ball[c].as_f64().unwrap()));
         let (t, _, off) = matrace::geom::nearest_on_edge(&model, e, touch, None);
         assert!(off < 1e-6, "touch point {touch} is {off} off E{e}");
@@ -1780,7 +1790,7 @@ fn a_curvature_limit_within_a_step_that_crosses_an_arcs_end_ends_the_seam() {
 fn touch_points_met_within_a_step_of_the_last_point_end_at_the_osculating_ball() {
     let name = "blend_of_radius_one_tapering_to_a_tip";
     let report = traced_and_verified(name);
-    let model = matrace::read_model(&root().join(format!("samples/trace/{name}.step"))).unwrap();
+    let model = regression_model(name);
     let mut osculating = 0;
     for (s, end, point) in seam_ends(&report) {
         if end.get("curvature_limit").is_none() {
@@ -1798,9 +1808,7 @@ fn touch_points_met_within_a_step_of_the_last_point_end_at_the_osculating_ball()
             .enumerate()
             .filter_map(|(k, g)| {
                 let f: usize = g.strip_prefix('F')?.parse().ok()?;
-                let touch = glam::DVec3::from_array(std::array::from_fn(|c| {
-                    point["touch"][k][c].as_f64().unwrap()
-                }));
+                let touch = touch_point(point, k);
                 matrace::medial::maximal::osculating_ball(&model, f, touch).map(|o| o.1)
             })
             .min_by(|a, b| (a - r).abs().total_cmp(&(b - r).abs()))
