@@ -26,9 +26,9 @@ const OSCULATION_DIFF_STEP: f64 = 1e-6;
 impl Tracer<'_> {
     /// True when the ball of seam point `x` osculates its `i`-th segment to the accuracy:
     /// the segment's radius of curvature towards the ball at the touch point (see
-    /// [`crate::medial::maximal::bending`]) is at most `r` plus the accuracy.
+    /// [`bending`]) is at most `r` plus the accuracy.
     pub(super) fn osculates(&self, triplet: &[Element; 3], i: usize, x: &DVector<f64>) -> bool {
-        crate::medial::maximal::bending(self.model, triplet[i], slot(x, i))
+        bending(self.model, triplet[i], slot(x, i))
             .is_some_and(|k| k > 0.0 && k.is_finite() && 1.0 / k <= x[3] + self.opts.accuracy)
     }
 
@@ -200,7 +200,7 @@ impl Tracer<'_> {
     /// one group have met, first has them met: the last ball with them apart, by bisection
     /// of the step to the accuracy (each ball empty), then the osculating ball near it where
     /// there is one; `xn` where no shorter step has them apart.
-    pub(super) fn merge_before(&mut self, m: &March, xn: &DVector<f64>) -> DVector<f64> {
+    fn merge_before(&mut self, m: &March, xn: &DVector<f64>) -> DVector<f64> {
         let last = self.last_on_step(m, m.h, |t, xm| !t.coincident(&m.triplet, xm, false));
         // Where no shorter step has them apart (the march's point was within a step of the
         // meeting), the osculating ball is solved for from the step's end.
