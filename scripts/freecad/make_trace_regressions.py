@@ -55,7 +55,10 @@ lead's edge; and, the lead moved under its end, one whose symmetry a hand-over b
 before its junction), and a plate whose side walls are tangent to a boss whose foot is rounded
 (a wall and the round meet at a convex edge flattening to a vertex where they are tangent: a
 pinch with a skeletal edge) and the same with that edge rounded (a blend tapering to a point
-between two faces tangent there: a pinch with none).
+between two faces tangent there: a pinch with none), and a chip body between two caps whose
+edges are rounded with the radius they stand out by (seams of four contacts whose touch points
+on the body's two edges meet at the corner's vertex on the round's axis, whichever slots the
+two edges have).
 
 Run with Debian's python (not freecadcmd, not the pyenv python):
 
@@ -1962,6 +1965,39 @@ def blend_of_radius_one_tapering_to_a_tip():
       "the blend comes in (issue 20).")
 def blend_of_radius_one_and_a_half_tapering_to_a_tip():
     return tapering_blends(1.5)
+
+
+# A chip resistor's body between two terminal caps (after FreeCAD's IDF library 2225_SMD):
+# the body x -5..5, y -4..4, z 1..5; each cap 3 long, larger than the body by its edges'
+# round radius CAP_ROUND on every side, its four long edges rounded CAP_ROUND, so that each
+# round's axis runs into the body's corner, the vertex where the cap's inner face meets two
+# of the body's edges.
+CAP_ROUND = 1.0
+
+
+def capped_body():
+    body = Part.makeBox(10, 8, 4, V(-5, -4, 1))
+    solid = body
+    for x in (5, -8):
+        cap = Part.makeBox(3, 10, 6, V(x, -5, 0))
+        cap = cap.makeFillet(CAP_ROUND, [e for e in cap.Edges if abs(e.tangentAt(0).x) > 0.99])
+        solid = solid.fuse(cap)
+    return solid.removeSplitter()
+
+
+@part("body_between_rounded_caps",
+      "A box 10x8x4 (x -5..5, y -4..4, z 1..5) between two caps 3x10x6 (x 5..8 and -8..-5, "
+      "y -5..5, z 0..6) whose four edges along x are rounded r=1: each round's axis runs "
+      "into a corner of the body, where the cap's inner face meets two of the body's edges.",
+      10 * 8 * 4 + 2 * 3 * (10 * 6 - (4 - PI) * CAP_ROUND ** 2),
+      "The seam of balls touching a cap's two faces beside a round and the body's two edges "
+      "at a corner (four contacts) runs along x to the ball of r 1 on the round's axis at "
+      "x = +-6, touching the corner's vertex: its touch points on the two edges meet there, "
+      "and it ends at that vertex's curvature limit, with a skeletal edge down to the vertex "
+      "(it was named for the cap's inner face, a plane, when the two edges were its first "
+      "and last touch points). The round's axis, a degenerate curve, meets the same ball.")
+def body_between_rounded_caps():
+    return capped_body()
 
 
 def main():

@@ -140,6 +140,13 @@ const BLEND_ONE_AND_A_HALF: &str = "no seam ends open and every seam ball passes
     comes in, while its twin on the other wall ends where it osculates the blend \
     (`degenerate_ends`, in both: issue 20's degenerate pieces)";
 
+const ROUNDED_CAPS: &str = "no seam ends open and every ball passes both checkers: at each of \
+    the body's eight corners under a cap, the seam of four contacts ends where its touch points \
+    on the body's two edges meet at the corner's vertex, on the cap round's axis, with a \
+    skeletal edge down to the vertex; the round's axis (a degenerate curve) and that skeletal \
+    edge start at the same ball but are not joined in the sheet graph (issue 20): the sheet of \
+    the cap's two faces beside the round stays open there at every corner";
+
 /// Parts known not to pass: every failing check with its count, and why.
 type Expected = (&'static str, &'static [(&'static str, usize)], &'static str);
 const SHRUNK_ARC_UNJOINED: &str = "no seam ends open and every ball passes both checkers; the \
@@ -218,6 +225,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
         "package_lead_under_the_corner_seam.step",
         &[("verify:euler", 1)],
         PACKAGE_LEAD_UNDER,
+    ),
+    (
+        "body_between_rounded_caps.step",
+        &[("verify:sheets_closed", 8)],
+        ROUNDED_CAPS,
     ),
     (
         "flange_on_a_shaft.step",

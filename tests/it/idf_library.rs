@@ -41,6 +41,13 @@ use std::path::PathBuf;
 ///   one edge to the next through their vertex just past it, and was kept beside the seams
 ///   leaving that junction (the junction counted five seam ends): a vertex touched is named
 ///   by a seam naming an edge at it now (`trace::through`);
+/// - 2225 lost its `curvature_limits` (3): at the body's corners under its terminal caps,
+///   seams of four contacts end where their touch points on the body's two edges meet at the
+///   corner's vertex, on the axis of the cap's round of r 0.04. Three were named for the
+///   cap's inner face (a plane) or for the round, where the two edges were not among the
+///   seam's first three touch points; all eight name the vertex now, with a skeletal edge
+///   down to it, whose sheet is not yet joined to the round's axis (`sheets_closed` 8,
+///   issue 20; `samples/trace/body_between_rounded_caps.step`);
 /// - TCMT1107_4 passes now, and SOT428_DPAK and the TSM headers lost their
 ///   `junction_seams`: where a seam of four contacts (from a corner between two pairs of
 ///   shallow creases, as on a body drafted in and out of its parting line) splits into two
@@ -58,13 +65,7 @@ use std::path::PathBuf;
 ///   points lie 3.3e-3 mm off their planes, which the reader refuses with the entity named.
 const EXPECTED: &[(&str, &[(&str, usize)])] = &[
     ("1210_SMD.stp", &[("verify:sheets_closed", 16)]),
-    // Three seams end as curvature limits of a plane where two touch points meet at a
-    // corner's rounds of r 0.04: no ball osculates a plane (`curvature_limits`, issue 19;
-    // the fourth corner's names the round, which its ball osculates).
-    (
-        "2225_SMD.stp",
-        &[("verify:curvature_limits", 3), ("verify:sheets_closed", 4)],
-    ),
+    ("2225_SMD.stp", &[("verify:sheets_closed", 8)]),
     (
         "CAP_50SGV_8_10.stp",
         &[("verify:sheets_closed", 4), ("verify:touch_on_boundary", 9)],

@@ -1855,3 +1855,56 @@ fn a_hand_over_onto_a_segment_the_ball_nearly_osculates_allows_its_foot_to_run_f
         "one seam ends at the blend's limit beside each wall"
     );
 }
+
+/// A chip body between two rounded caps: at each of the body's eight corners where a cap's
+/// inner face meets it, the seam of four contacts (the cap's two faces beside a round, the
+/// body's two edges at the corner) ends at the ball of r 1 on the round's axis that touches
+/// the corner's vertex, where its touch points on the two edges meet. Each ends at that
+/// vertex's curvature limit, whichever slots the two edges have (they were the seam's first
+/// and last on two corners, and the end was named for the cap's inner face, a plane), with a
+/// skeletal edge down to the vertex; and no seam ends at a plane's curvature limit.
+#[test]
+fn a_seam_whose_touch_points_on_two_edges_meet_at_their_vertex_ends_there_in_any_slots() {
+    let name = "body_between_rounded_caps";
+    let (_, report) = trace_part(name, false);
+    let model = regression_model(name);
+    let mut corners = vec![];
+    for (s, end, point) in seam_ends(&report) {
+        let Some(segment) = end["curvature_limit"]["segment"].as_str() else {
+            continue;
+        };
+        let index: usize = segment[1..].parse().unwrap();
+        if segment.starts_with('F') {
+            assert_ne!(
+                report["model"]["faces"][index]["surface"], "plane",
+                "seam {} ends at the curvature limit of the plane {segment}",
+                s["id"]
+            );
+        }
+        if end_segments(s, point).len() != 4 {
+            continue;
+        }
+        assert!(segment.starts_with('V'), "seam {}: {end}", s["id"]);
+        let vertex = model.vertices[index].point;
+        let ball = &point["point"];
+        let r = ball[3].as_f64().unwrap();
+        assert!((r - 1.0).abs() < 1e-6, "seam {}: r {r}", s["id"]);
+        let centre = [0, 1, 2].map(|c| ball[c].as_f64().unwrap());
+        let d = distance(ball, vertex.to_array());
+        assert!((d - r).abs() < 1e-6, "seam {}: {d} from {segment}", s["id"]);
+        // On the round's axis, beside the corner: x = ±6, y = ±4, z = 1 or 5.
+        assert!((centre[0].abs() - 6.0).abs() < 1e-6, "{centre:?}");
+        corners.push(vertex.to_array().map(|c| c.round() as i64));
+    }
+    corners.sort();
+    corners.dedup();
+    assert_eq!(corners.len(), 8, "{corners:?}");
+    let skeletal = report["mat"]["skeletal_edges"].as_array().unwrap();
+    for v in &corners {
+        let at = skeletal.iter().any(|k| {
+            let p = model.vertices[k["vertex"].as_u64().unwrap() as usize].point;
+            p.to_array().map(|c| c.round() as i64) == *v
+        });
+        assert!(at, "no skeletal edge down to the corner {v:?}");
+    }
+}

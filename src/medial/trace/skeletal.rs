@@ -420,8 +420,10 @@ impl Tracer<'_> {
     /// each with its vertex: of a generic seam's three, the first pair that does; of a
     /// non-generic seam's, every slot in one such pair, each at its own vertex (a plate
     /// through a hub's corner: the touch points on the plate's two reflex edges at the top
-    /// meet at one vertex, those at the bottom at another), or else as of a generic seam's
-    /// first three (where the sheets round the ball are not yet told apart).
+    /// meet at one vertex, those at the bottom at another), or else the first pair of any
+    /// two slots that does (where the sheets round the ball are not yet told apart; a
+    /// package's corner whose seam of four contacts names the two reflex edges meeting at
+    /// the corner's vertex first and last).
     fn met_at_vertices(
         &self,
         segs: &[Element],
@@ -466,9 +468,8 @@ impl Tracer<'_> {
                 return pairs;
             }
         }
-        [(0, 1), (0, 2), (1, 2)]
-            .into_iter()
-            .filter(|&(_, k)| k < n)
+        (0..n)
+            .flat_map(|i| (i + 1..n).map(move |k| (i, k)))
             .find_map(|(i, k)| met(i, k))
             .into_iter()
             .collect()
