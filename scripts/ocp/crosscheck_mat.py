@@ -65,6 +65,22 @@ The report must describe a medial axis, not merely hold no wrong point:
   junction_seams     every junction with 4 segments has 4 seam ends (unless a seam of more than
                      3 contacts ends there: it splits there into two seams of 3), and every
                      junction a seam ends at exists.
+  curvature_limits   every seam end at a curvature limit is where its ball osculates the
+                     boundary: at a face's or an edge's limit, over the places near one of its
+                     touch points (or of the boundary points nearest its centre) where the
+                     boundary stays within 2 tol (plus the file's gap there) of the ball's
+                     sphere and is tangent to it -- rays in eight directions across each face
+                     there and both ways along each edge, a 64th of a place apart over the
+                     first place (two touch points about to meet may lie closer than a quarter
+                     place, a B-spline's curvature peaking between them) and a quarter place
+                     apart beyond, out to 17 places -- the faces' radius of curvature towards
+                     the centre (1/k, k the larger principal curvature, OCCT's, signed by the
+                     face's orientation) or the edges' (1/(k N.u), u the unit vector to the
+                     centre) come within 8 tol (plus the gap) of r or lie on both sides of it
+                     (a B-spline whose curvature jumps at a knot, or two edges or faces joined
+                     there whose curvatures differ); at a vertex's limit, the ball touches a
+                     vertex of the part (within tol plus the gap of a touch point, and OCCT's
+                     tolerance of the vertex, at r);
   degenerate_ends    every degenerate curve is traced to two located ends (its ball touching
                      another element on the boundary at distance r, r = 0 at a vertex of the
                      part, or, where its arc of contact shrinks to a point, the ball osculating
@@ -107,7 +123,7 @@ from OCP.BRepTools import BRepTools
 from OCP.BRepClass3d import BRepClass3d_SolidClassifier
 from OCP.BRepExtrema import BRepExtrema_DistShapeShape, BRepExtrema_SupportType
 from OCP.GeomAPI import GeomAPI_ProjectPointOnCurve, GeomAPI_ProjectPointOnSurf
-from OCP.GeomLProp import GeomLProp_SLProps
+from OCP.GeomLProp import GeomLProp_CLProps, GeomLProp_SLProps
 from OCP.GeomAbs import (GeomAbs_Cone, GeomAbs_Cylinder, GeomAbs_Sphere, GeomAbs_SurfaceOfRevolution,
                          GeomAbs_Torus)
 from OCP.gp import gp_Ax1, gp_Dir, gp_Lin, gp_Pnt, gp_Pnt2d, gp_Vec
@@ -135,6 +151,20 @@ REFLEX_STEP_REL = 1e-5
 SHEET_SAMPLE_GRID = 8
 SHEET_BALL_REL = 1e-9
 CURVATURE_END_PLACES = 2
+# curvature_limits: how far from r (in tol, plus the gap) a radius of curvature near the end
+# ball's touch points may be; how close to the ball's sphere (in tol, plus the gap) the boundary
+# must stay for its radius to count; the step (in places) and the reach (in steps) of the rays.
+CURVATURE_LIMIT_TOLS = 8.0
+OSCULATION_NEAR_TOLS = 2.0
+OSCULATION_FINE_STEP_PLACES = 1.0 / 64.0
+OSCULATION_COARSE_STEP_PLACES = 0.25
+OSCULATION_STEPS = 64
+# The distances from a touch point (in places) at which the curvature is taken: fine steps over
+# the first place (two touch points about to meet may lie closer than a quarter place, and a
+# B-spline's curvature peak between them), coarse ones beyond.
+OSCULATION_OFFSETS = ([m * OSCULATION_FINE_STEP_PLACES for m in range(OSCULATION_STEPS + 1)]
+                      + [OSCULATION_STEPS * OSCULATION_FINE_STEP_PLACES + m * OSCULATION_COARSE_STEP_PLACES
+                         for m in range(1, OSCULATION_STEPS + 1)])
 PINCH_END_PLACES = 2
 JUNCTION_PLACES = 4
 DEGENERATE_PLACES = 2
@@ -245,11 +275,15 @@ class Part:
         self.vertex_faces = ShapeListMap()
         TopExp.MapShapesAndAncestors_s(self.shape, TopAbs_VERTEX, TopAbs_FACE, self.vertex_faces)
         self.vertex_points = []
+        # OCCT's tolerance of each vertex (its extent: at least the gap to its edges' curves).
+        self.vertex_tolerances = []
         # The vertices (indices from 1) of each face (indices from 1).
         self.face_vertices = {}
         for i in range(1, self.vertex_faces.Extent() + 1):
-            q = BRep_Tool.Pnt_s(TopoDS.Vertex(self.vertex_faces.FindKey(i)))
+            vertex_shape = TopoDS.Vertex(self.vertex_faces.FindKey(i))
+            q = BRep_Tool.Pnt_s(vertex_shape)
             self.vertex_points.append((q.X(), q.Y(), q.Z()))
+            self.vertex_tolerances.append(BRep_Tool.Tolerance_s(vertex_shape))
             for f in self.vertex_faces.FindFromIndex(i):
                 self.face_vertices.setdefault(self.faces.FindIndex(f), set()).add(i)
         # Several solids (an assembly's parts often touch): a ball is checked against the
@@ -855,6 +889,158 @@ def check_pinch(part, checks, what, touch, tol):
                   f"of the part (within {tol:.3e} mm)")
 
 
+def face_radii_near(part, i, t, c, r, near, place):
+    """The radii of curvature of face i (index from 1) towards the centre c (1/k, k its larger
+    principal curvature where positive) at its surface's point nearest t and along rays from
+    there in eight directions (at OSCULATION_OFFSETS places), while the surface stays within
+    `near` of the sphere of radius r about c."""
+    face = TopoDS.Face(part.faces.FindKey(i))
+    surface = BRep_Tool.Surface_s(face)
+    proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(*t), surface)
+    if proj.NbPoints() == 0:
+        return []
+    u0, v0 = proj.LowerDistanceParameters()
+    first = GeomLProp_SLProps(surface, u0, v0, 1, 1e-9)
+    su, sv = first.D1U().Magnitude(), first.D1V().Magnitude()
+    if not (su > 0 and sv > 0):
+        return []
+    sign = -1.0 if face.Orientation() == TopAbs_REVERSED else 1.0
+    u1, u2, v1, v2 = surface.Bounds()
+
+    def radius(u, v):
+        props = GeomLProp_SLProps(surface, u, v, 2, 1e-9)
+        x = props.Value()
+        d = (x.X() - c[0], x.Y() - c[1], x.Z() - c[2])
+        dn = math.sqrt(sum(z * z for z in d))
+        if abs(dn - r) > near:
+            return False
+        if not (props.IsNormalDefined() and props.IsCurvatureDefined()) or not dn > 0:
+            return None
+        # Touched there: the face tangent to the sphere (its outward normal along the way
+        # from the centre, to the angle over which a place stays within `near` of it).
+        n = props.Normal()
+        if sign * (n.X() * d[0] + n.Y() * d[1] + n.Z() * d[2]) / dn < math.cos(min(near / place, 0.5)):
+            return None
+        k = max(-sign * props.MaxCurvature(), -sign * props.MinCurvature())
+        return 1.0 / k if k > 0 else None
+
+    out = []
+    for j in range(8):
+        a = j * math.pi / 4
+        for offset in OSCULATION_OFFSETS[0 if j == 0 else 1:]:
+            step = offset * place
+            u, v = u0 + math.cos(a) * step / su, v0 + math.sin(a) * step / sv
+            if not (u1 <= u <= u2 and v1 <= v <= v2):
+                break
+            rho = radius(u, v)
+            if rho is False:
+                break
+            if rho is not None:
+                out.append(rho)
+    return out
+
+
+def edge_radii_near(curve, s0, c, r, near, place):
+    """The radii of curvature of an edge's curve towards the centre c (1/(k N.u), u the unit
+    vector to c, where positive) at parameter s0 and both ways along it (at OSCULATION_OFFSETS
+    places), while it stays within `near` of the sphere of radius r about c."""
+    speed = GeomLProp_CLProps(curve, s0, 1, 1e-9).D1().Magnitude()
+    if not speed > 0:
+        return []
+    first, last = curve.FirstParameter(), curve.LastParameter()
+
+    def radius(s):
+        props = GeomLProp_CLProps(curve, s, 2, 1e-9)
+        x = props.Value()
+        d = (c[0] - x.X(), c[1] - x.Y(), c[2] - x.Z())
+        dn = math.sqrt(sum(z * z for z in d))
+        if abs(dn - r) > near:
+            return False
+        if not props.IsTangentDefined() or not dn > 0:
+            return None
+        # Touched there: square to the way to the centre (to the angle over which a place
+        # stays within `near` of the sphere).
+        tangent = gp_Dir()
+        props.Tangent(tangent)
+        if abs(tangent.X() * d[0] + tangent.Y() * d[1] + tangent.Z() * d[2]) / dn > math.sin(min(near / place, 0.5)):
+            return None
+        k = props.Curvature()
+        if not 1e-12 < k < 1e12:
+            return None
+        n = gp_Dir()
+        props.Normal(n)
+        bend = k * (n.X() * d[0] + n.Y() * d[1] + n.Z() * d[2]) / dn
+        return 1.0 / bend if bend > 0 else None
+
+    out = []
+    for sign in (-1, 1):
+        for offset in OSCULATION_OFFSETS[0 if sign < 0 else 1:]:
+            s = s0 + sign * offset * place / speed
+            if not first <= s <= last:
+                break
+            rho = radius(s)
+            if rho is False:
+                break
+            if rho is not None:
+                out.append(rho)
+    return out
+
+
+def check_curvature_limit(part, checks, what, segment, centre, r, touch, tol):
+    """A seam end at a curvature limit (`curvature_limits`): its ball osculates the boundary
+    near one of its touch points -- at a face's or an edge's limit, the radii of curvature
+    towards the centre of the faces (or of the edges) there, where the boundary stays within
+    OSCULATION_NEAR_TOLS of the sphere, come within CURVATURE_LIMIT_TOLS of r or lie on both
+    sides of it; at a vertex's, the ball touches a vertex of the part. All plus the file's gap
+    near the touch point."""
+    touch = [t for t in touch if t is not None and finite(t)]
+    if not (finite(centre, r) and touch and isinstance(segment, str)):
+        checks.record("curvature_limits", False, lambda: f"{what}: no ball or touch points")
+        return
+    # The boundary's points nearest the centre are touch points too (the ball may osculate
+    # the face it was handed towards away from the touch points listed).
+    d, sols = part.nearest(centre)
+    if abs(d - r) <= tol + part.largest_gap():
+        touch = touch + [q for q, _, _ in sols]
+    place = separation(r, tol)
+    nearest = None
+    for t in touch:
+        gap = part.gap_near(t, tol)
+        reach = tol + gap
+        if segment.startswith("V"):
+            # A vertex within its own tolerance (OCCT's, which the reader widens to cover
+            # the file's gap between the vertex and its edges' curves).
+            if any(dist3(q, t) <= reach + vt and abs(dist3(q, centre) - r) <= reach + vt
+                   for q, vt in zip(part.vertex_points, part.vertex_tolerances)):
+                checks.record("curvature_limits", True, None)
+                return
+            continue
+        near = OSCULATION_NEAR_TOLS * tol + gap
+        allowed = CURVATURE_LIMIT_TOLS * tol + gap
+        faces = [rho for i in part.faces_within(t, reach)
+                 for rho in face_radii_near(part, i, t, centre, r, near, place)]
+        edges = [rho for curve, s0 in part.edges_near(t, reach).values()
+                 for rho in edge_radii_near(curve, s0, centre, r, near, place)]
+        for radii in (faces, edges):
+            if not radii:
+                continue
+            lo, hi = min(radii), max(radii)
+            if lo - allowed <= r <= hi + allowed:
+                checks.record("curvature_limits", True, None)
+                return
+            off = min(abs(lo - r), abs(hi - r))
+            if nearest is None or off < nearest[0]:
+                nearest = (off, lo, hi)
+    if segment.startswith("V"):
+        why = "its ball touches no vertex of the part"
+    elif nearest is None:
+        why = "no face or edge there bends towards its ball"
+    else:
+        why = (f"r {r:.6f} is no radius of curvature there (the nearest range {nearest[1]:.6f} "
+               f"to {nearest[2]:.6f})")
+    checks.record("curvature_limits", False, lambda: f"{what} at {segment}'s curvature limit: {why}")
+
+
 def on_polyline(balls, b, tol):
     """True when ball b ([x, y, z, r]) is within tol (centre and radius) of a point of the
     polyline of balls (or of its one ball)."""
@@ -1229,6 +1415,10 @@ def main():
             need = SEAM_PLACES
             if isinstance(end, dict) and "curvature_limit" in end:
                 need = CURVATURE_END_PLACES
+                segment = (end["curvature_limit"] or {}).get("segment") \
+                    if isinstance(end["curvature_limit"], dict) else None
+                check_curvature_limit(part, checks, f"seam {s['id']} point {k}", segment,
+                                      p["point"][:3], p["point"][3], p["touch"], tol)
             elif isinstance(end, dict) and "pinch" in end:
                 need = PINCH_END_PLACES
                 check_pinch(part, checks, f"seam {s['id']} point {k}", p["touch"], tol)

@@ -47,7 +47,12 @@ const MOTOR_PLATE: &str = "22 faces whose edges lie off their surfaces by up to 
     crosses the end of their arcs of normals (it ended at that crossing, r 0.5, taken for \
     the wall's curvature limit: a ball poking through the edge), and the seam whose two \
     touch points on one foot edge met at its curvature peak a step before the end of its \
-    arc of normals ends there, r 0.515";
+    arc of normals ends there, r 0.515; two seams in a 177.5-degree crease between a \
+    cylinder and a plane end at the curvature limit of the B-spline face below, F71, at r \
+    0.5008, where its radius of curvature is 1.52 (`curvature_limits` in both), and OCCT \
+    finds a third, r 1.598, where matrace's curvatures of F71 and the cylinder F80 beside it \
+    range from 1.517 to 1.637 along the stretch the ball touches and OCCT's do not reach r: \
+    the two checkers' curvatures of that B-spline disagree, still to be looked into (issue 19)";
 
 const GAPS_ACCEPTED: &str = "a vertex 8.7e-3 mm off its curve, accepted within the file's \
     uncertainty (0.01 mm), and 12 faces whose edges lie off their surfaces by up to 2.2e-3 mm \
@@ -62,7 +67,17 @@ const GAPS_ACCEPTED: &str = "a vertex 8.7e-3 mm off its curve, accepted within t
     contacts leaves four sheet boundaries open beside the four elsewhere (`sheets_closed`, \
     issue 20; a seam from it along F4 and F6 twice returns to it, ending at F6's curvature \
     limit); one sheet-mesh vertex, r 0.195, on the B-spline faces F7 and F10 near there, \
-    has no second contact for OCCT";
+    has no second contact for OCCT; a seam ends at the curvature limit of a straight edge, \
+    E103, with r 0.3385 (in both), and one by the 0.2 mm round at r 0.19979, where OCCT's \
+    radius of curvature of the B-spline round F5 is 0.2028 at the least (matrace's reaches \
+    r: the round's curvature varies by a few percent; `curvature_limits`, issue 19)";
+
+/// Seam ends at curvature limits whose balls osculate nothing near their touch points
+/// (`curvature_limits`, both checkers since they check every such end: issue 19).
+const REVO_MOUNT: &str = "no seam ends open and every ball passes both checkers, but one \
+    seam ends at the curvature limit of a face its ball does not reach: r 0.312223, where the \
+    face's radius of curvature towards the ball is 0.3243 to 0.3644 along the stretch the \
+    ball touches (`curvature_limits`, in both: issue 19)";
 
 const DM1: &str = "seven I-DEAS solids: three solids' Euler characteristics differ (−2 for \
     0; issue 20)";
@@ -159,9 +174,11 @@ const EXPECTED_FAILURES: &[Expected] = &[
     (
         "prusa_adapter-printer.stp",
         &[
+            ("occt:curvature_limits", 2),
             ("occt:mesh_contacts", 1),
             ("occt:seam_ends", 1),
             ("occt:touch_on_boundary", 1),
+            ("verify:curvature_limits", 1),
             ("verify:seam_ends", 1),
             ("verify:sheets_closed", 8),
         ],
@@ -169,10 +186,20 @@ const EXPECTED_FAILURES: &[Expected] = &[
     ),
     (
         "prusa_extruder-motor-plate.stp",
-        &[("occt:mesh_contacts", 1), ("verify:sheets_closed", 6)],
+        &[
+            ("occt:curvature_limits", 3),
+            ("occt:mesh_contacts", 1),
+            ("verify:curvature_limits", 2),
+            ("verify:sheets_closed", 6),
+        ],
         MOTOR_PLATE,
     ),
     ("stepswift_dm1-id-214.stp", &[("verify:euler", 3)], DM1),
+    (
+        "voron0_Hotend_Mount_Revo_Voron.step",
+        &[("occt:curvature_limits", 1), ("verify:curvature_limits", 1)],
+        REVO_MOUNT,
+    ),
     // The tracer's regression parts (scripts/freecad/make_trace_regressions.py): no seam
     // ends open on any of them; what is left is issue 20's.
     (

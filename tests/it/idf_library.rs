@@ -88,7 +88,15 @@ const EXPECTED: &[(&str, &[(&str, usize)])] = &[
     ("SOT428_DPAK.stp", &[("verify:euler", 1)]),
     ("SOT_96.stp", &[("verify:degenerate_ends", 7)]),
     ("TSM_103_01_L_DV_A.stp", &[("verify:sheets_closed", 140)]),
-    ("TSM_104_01_L_DV_A.stp", &[("verify:sheets_closed", 178)]),
+    // A seam ends at the curvature limit of a pin's face F387 with r 0.232, where nothing
+    // near its touch points bends with that radius (`curvature_limits`, issue 19).
+    (
+        "TSM_104_01_L_DV_A.stp",
+        &[
+            ("verify:curvature_limits", 1),
+            ("verify:sheets_closed", 178),
+        ],
+    ),
 ];
 
 /// The library's STEP files.

@@ -1040,6 +1040,89 @@ fn a_seam_end_at_a_curvature_limit_that_does_not_osculate_fails() {
     );
 }
 
+/// On a boss whose foot edges' radius of curvature falls from 0.774 to 0.494 where two of them
+/// join (`samples/trace/boss_whose_foot_tightens_at_a_tangent_joint.step`), the seam under it
+/// ends at the second edge's curvature limit, r 0.50011 (within 0.01 of osculating it). With
+/// its last point dropped, the seam ends a step short, at r 0.5496 (where an earlier tracer
+/// ended it): a genuine seam ball, which every ball check passes, but no ball that osculates
+/// the boundary. Both checkers' `curvature_limits` fail it, and only that (as they fail the
+/// end of a face's limit moved likewise, and the name of a limit moved to a plane).
+#[test]
+fn a_seam_end_at_an_edges_curvature_limit_a_step_short_fails() {
+    let test = "verify::a_seam_end_at_an_edges_curvature_limit_a_step_short_fails";
+    let dir = tempfile::tempdir().unwrap();
+    let name = "trace/boss_whose_foot_tightens_at_a_tangent_joint.step";
+    let part = sample(name);
+    let report = genuine(name, dir.path());
+    let occt_present = require(&format!("{test} (OCCT half)"), &[Tool::Occt]);
+    let path = write(dir.path(), "genuine", &report);
+    assert_eq!(verify(&part, &path), (0, vec![]), "the genuine report");
+    if occt_present {
+        assert_eq!(occt(&part, &path), (0, vec![]), "the genuine report, OCCT");
+    }
+    let seams = report["mat"]["seams"].as_array().unwrap();
+    let k = seams
+        .iter()
+        .position(|s| {
+            let r = s["points"].as_array().unwrap().last().unwrap()["point"][3]
+                .as_f64()
+                .unwrap();
+            s["ends"][1]["curvature_limit"]["segment"]
+                .as_str()
+                .is_some_and(|g| g.starts_with('E'))
+                && r > 0.5
+                && r < 0.5005
+        })
+        .expect("the seam ending at the tightening edge's limit");
+    let mut short = report.clone();
+    let points = short["mat"]["seams"][k]["points"].as_array_mut().unwrap();
+    points.pop();
+    let r = points.last().unwrap()["point"][3].as_f64().unwrap();
+    assert!(r > 0.54, "the point before the end: r {r}");
+    let path = write(dir.path(), "short", &short);
+    let mut checkers = vec![("verify", verify(&part, &path))];
+    if occt_present {
+        checkers.push(("OCCT", occt(&part, &path)));
+    }
+    for (who, (code, failed)) in checkers {
+        assert_eq!(code, 1, "{who}: {failed:?}");
+        assert_eq!(failed, ["curvature_limits"], "{who}");
+    }
+
+    // The end at a face's limit moved along the elliptic boss's major axis (see
+    // `a_seam_end_at_a_curvature_limit_that_does_not_osculate_fails`), and a genuine end
+    // renamed for a plane: OCCT's check fails them too.
+    if occt_present {
+        let name = "trace/elliptic_boss_in_halves.step";
+        let part = sample(name);
+        let boss = genuine(name, dir.path());
+        let seams = boss["mat"]["seams"].as_array().unwrap();
+        let k = seams
+            .iter()
+            .position(|s| s["ends"][1].get("curvature_limit").is_some())
+            .unwrap();
+        let mut early = boss.clone();
+        let last = early["mat"]["seams"][k]["points"]
+            .as_array_mut()
+            .unwrap()
+            .last_mut()
+            .unwrap();
+        let x = last["point"][0].as_f64().unwrap();
+        let out = if x > 20.0 { 1.0 } else { -1.0 };
+        let d = 0.141;
+        let (cx, cz, r) = (x + out * d, 4.5 + d, 2.5 - d);
+        last["point"] = json!([cx, 15.0, cz, r]);
+        last["touch"] = json!([
+            [cx, 15.0, 7.0],
+            [cx + out * r, 15.0, cz],
+            [cx + out * r, 15.0, cz]
+        ]);
+        let path = write(dir.path(), "early", &early);
+        let (code, failed) = occt(&part, &path);
+        assert_eq!((code, failed), (1, vec!["curvature_limits".to_string()]));
+    }
+}
+
 /// The OCCT cross-check's count of failures of `check` on the sheet-mesh vertices of `obj`
 /// (`--mesh`), with the genuine report of `part`.
 fn occt_mesh_failures(part: &Path, report: &Path, obj: &Path, check: &str) -> u64 {

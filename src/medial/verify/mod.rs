@@ -43,6 +43,7 @@
 //! they are, and the worst errors; `ok` only when nothing failed.
 
 mod balls;
+mod limits;
 mod outcome;
 pub mod topology;
 

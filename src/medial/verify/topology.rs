@@ -289,7 +289,7 @@ pub(super) fn check_graph(
         }
     }
     check_skeletal_edges(model, axis, v);
-    check_curvature_limits(model, axis, v);
+    super::limits::check_curvature_limits(model, boundary, axis, v);
     check_degenerate_ends(model, boundary, axis, v);
     check_faces_touched(model, class, boundary, axis, v);
     check_convex_vertices(model, class, axis, v);
@@ -367,139 +367,6 @@ fn check_skeletal_edges(model: &Model, axis: &MedialAxis, v: &mut Verification) 
                     "skeletal edge {}: seam {s} end {end} is not a curvature limit or pinch \
                      at its first ball with touch points on {} and {} at V{}",
                     k.id, k.segments[0], k.segments[1], k.vertex
-                )
-            });
-        }
-    }
-}
-
-/// A seam end at a face's curvature limit has the radius of curvature of the face at one of
-/// its touch points within this many accuracies (plus the face's gap). The tracer locates
-/// the end by bisection to the accuracy along the centre's travel, where `r` changes about
-/// as fast, and takes a ball within an accuracy of osculating as osculating; the touch point
-/// is on the face to the accuracy, where the curvature is taken: four accuracies, and as
-/// many again for a margin.
-const CURVATURE_LIMIT_ACCURACIES: f64 = 8.0;
-
-/// Every seam end at the curvature limit of a face where two of its touch points have met
-/// (one place at the accuracy) is a ball that osculates the boundary there: `r` is the radius
-/// of curvature `1/κ1` (`κ1` the larger principal curvature towards the ball) of the face
-/// named, of a face next to it through that place or of an edge of it, at one of the two
-/// touch points or between them, or lies between two such radii of one element (where a
-/// B-spline's curvature jumps at a knot), or is the named face's radius of curvature at the
-/// foot of the ball's centre on it (the ball touching it there); to
-/// [`CURVATURE_LIMIT_ACCURACIES`]. A ball tangent to
-/// the face at one point with a smaller radius lies on a sheet, not at the end of a seam (two
-/// touch points taken to have met too early: a corrector converged to a ball tangent once,
-/// twice over). Ends whose touch points are still apart (the ball osculates the face beside
-/// them, at a ridge) and ends at an edge's or a vertex's limit are not checked here (the
-/// latter's skeletal edges are: `skeletal_edges`).
-fn check_curvature_limits(model: &Model, axis: &MedialAxis, v: &mut Verification) {
-    let a = v.accuracy;
-    for s in &axis.seams {
-        for end in 0..2 {
-            let SeamEnd::CurvatureLimit {
-                segment: Element::Face(f),
-            } = s.ends[end]
-            else {
-                continue;
-            };
-            let (Some(p), _) = s.at_end(end) else {
-                continue;
-            };
-            let Some(face) = model.faces.get(f) else {
-                continue;
-            };
-            let tol = CURVATURE_LIMIT_ACCURACIES * a + face.gap_mm();
-            let r = p.point[3];
-            // Where two touch points have met (one place at the accuracy): the end's claim.
-            // (Where none have, the end is where the ball first osculates the face beside
-            // its touch points, at a ridge of a B-spline face: not checked here.)
-            let touch: Vec<DVec3> = p.touch.iter().map(|t| DVec3::from_array(*t)).collect();
-            let apart = super::balls::separation(r, a);
-            // Each point of that place will do (the two touch points and the point between
-            // them): on a B-spline whose curvature peaks there, the ball osculates at one of
-            // the two, still a few thousandths apart.
-            let met: Vec<DVec3> = (0..touch.len())
-                .flat_map(|i| (i + 1..touch.len()).map(move |k| (i, k)))
-                .filter(|&(i, k)| touch[i].distance(touch[k]) <= apart)
-                .flat_map(|(i, k)| [touch[i], touch[k], touch[i].lerp(touch[k], 0.5)])
-                .collect();
-            if met.is_empty() {
-                continue;
-            }
-            // The face, a neighbour of it through the meeting place (a round beside it, where
-            // they met on their common edge) or an edge of it there, whose radius of curvature
-            // there is nearest the ball's: the end is named by a face the touch point was on
-            // or was handed to.
-            let edges: Vec<usize> = (0..model.edges.len())
-                .filter(|&e| model.edges[e].faces.contains(&f))
-                .collect();
-            let mut faces = vec![f];
-            for &g in edges.iter().flat_map(|&e| &model.edges[e].faces) {
-                if !faces.contains(&g) {
-                    faces.push(g);
-                }
-            }
-            let centre = DVec3::new(p.point[0], p.point[1], p.point[2]);
-            let on_faces = met.iter().flat_map(|t| faces.iter().map(move |&g| (g, *t)));
-            let on_faces = on_faces.filter_map(|(g, t)| {
-                let (_, rho, [u, v]) = osculating_ball(model, g, t)?;
-                // Through the meeting place: the point it projects to is the point.
-                let face = &model.faces[g];
-                let on = crate::geom::eval_face(face, u, v).p.distance(t) <= tol;
-                on.then_some((Element::Face(g), rho))
-            });
-            // Or an edge of the face there (two touch points on a reflex edge, met), whose
-            // radius of curvature towards the centre is `|C'|² / (−C''·n)`, `n` the outward
-            // normal there (from the centre to the point).
-            let on_edges = met.iter().flat_map(|t| edges.iter().map(move |&e| (e, *t)));
-            let on_edges = on_edges.filter_map(|(e, t)| {
-                let (at, x, d) = crate::geom::distance::nearest_on_edge(model, e, t, None);
-                let n = (x - centre).try_normalize()?;
-                let c = crate::geom::eval_curve(&model.edges[e].curve, at);
-                let bend = -c.d2.dot(n) / c.d1.length_squared();
-                (d <= tol && bend > 0.0 && bend.is_finite()).then(|| (Element::Edge(e), 1.0 / bend))
-            });
-            // Or the face named where the ball touches it, nearest its centre: where the
-            // touch points that met are elsewhere (two reflex edges' at their common vertex,
-            // on an IC package's corner), the ball may still osculate the face it was handed
-            // towards (the corner's round, of the ball's radius), which the end names.
-            let at_foot = osculating_ball(model, f, centre).and_then(|(_, rho, [u, v])| {
-                let foot = crate::geom::eval_face(&model.faces[f], u, v).p;
-                ((foot.distance(centre) - r).abs() <= tol).then_some((Element::Face(f), rho))
-            });
-            let radii: Vec<(Element, f64)> = on_faces.chain(on_edges).collect();
-            // Osculating there: `r` is one element's radius of curvature at a point of the
-            // place, or lies between two of them (a B-spline's curvature jumps at a knot: the
-            // limit is where `r` passes from one side's radius to the other's); or, at the
-            // foot, that radius itself (not a range with the place's).
-            let osculates = radii.iter().any(|&(g, _)| {
-                let (lo, hi) = radii
-                    .iter()
-                    .filter(|&&(h, _)| h == g)
-                    .fold((f64::INFINITY, 0.0f64), |(lo, hi), &(_, rho)| {
-                        (lo.min(rho), hi.max(rho))
-                    });
-                lo - tol <= r && r <= hi + tol
-            }) || at_foot.is_some_and(|(_, rho)| (rho - r).abs() <= tol);
-            let best = radii
-                .iter()
-                .chain(&at_foot)
-                .min_by(|x, y| (x.1 - r).abs().total_cmp(&(y.1 - r).abs()));
-            v.record("curvature_limits", osculates, || {
-                let what = match best {
-                    Some((g, rho)) => format!(
-                        "its ball's radius {r:.6} is not a radius of curvature there (the \
-                         nearest: {g}'s, {rho:.6}, where two of its touch points meet)"
-                    ),
-                    None => {
-                        format!("F{f} does not bend towards its ball where its touch points meet")
-                    }
-                };
-                format!(
-                    "seam {} end {end} at F{f}'s curvature limit: {what} (allowed {tol:.1e})",
-                    s.id
                 )
             });
         }
