@@ -46,7 +46,7 @@ const OSCULATION_NEAR_ACCURACIES: f64 = 2.0;
 
 /// The steps along the boundary from a touch point, in places (`√(8·r·a)`): fine steps over
 /// the first place (where two touch points about to meet lie less than a quarter place apart,
-/// a B-spline's curvature can peak between them), coarse ones beyond, out to 16 places.
+/// a B-spline's curvature can peak between them), coarse ones beyond, out to 17 places.
 const OSCULATION_FINE_STEP_PLACES: f64 = 1.0 / 64.0;
 const OSCULATION_COARSE_STEP_PLACES: f64 = 0.25;
 const OSCULATION_STEPS: usize = 64;
