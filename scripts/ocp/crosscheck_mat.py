@@ -1415,8 +1415,8 @@ def main():
             need = SEAM_PLACES
             if isinstance(end, dict) and "curvature_limit" in end:
                 need = CURVATURE_END_PLACES
-                segment = (end["curvature_limit"] or {}).get("segment") \
-                    if isinstance(end["curvature_limit"], dict) else None
+                limit = end["curvature_limit"]
+                segment = limit.get("segment") if isinstance(limit, dict) else None
                 check_curvature_limit(part, checks, f"seam {s['id']} point {k}", segment,
                                       p["point"][:3], p["point"][3], p["touch"], tol)
             elif isinstance(end, dict) and "pinch" in end:

@@ -1057,18 +1057,11 @@ fn a_seam_end_at_a_curvature_limit_that_does_not_osculate_fails() {
 /// the boundary. Both checkers' `curvature_limits` fail it, and only that.
 #[test]
 fn a_seam_end_at_an_edges_curvature_limit_a_step_short_fails() {
-    let test = "verify::a_seam_end_at_an_edges_curvature_limit_a_step_short_fails";
-    let dir = tempfile::tempdir().unwrap();
-    let name = "trace/boss_whose_foot_tightens_at_a_tangent_joint.step";
-    let part = sample(name);
-    let report = genuine(name, dir.path());
-    let occt_present = require(&format!("{test} (OCCT half)"), &[Tool::Occt]);
-    let path = write(dir.path(), "genuine", &report);
-    assert_eq!(verify(&part, &path), (0, vec![]), "the genuine report");
-    if occt_present {
-        assert_eq!(occt(&part, &path), (0, vec![]), "the genuine report, OCCT");
-    }
-    let seams = report["mat"]["seams"].as_array().unwrap();
+    let t = Tampered::new(
+        "trace/boss_whose_foot_tightens_at_a_tangent_joint.step",
+        "verify::a_seam_end_at_an_edges_curvature_limit_a_step_short_fails",
+    );
+    let seams = t.genuine["mat"]["seams"].as_array().unwrap();
     let k = seams
         .iter()
         .position(|s| {
@@ -1082,15 +1075,15 @@ fn a_seam_end_at_an_edges_curvature_limit_a_step_short_fails() {
                 && r < 0.5005
         })
         .expect("the seam ending at the tightening edge's limit");
-    let mut short = report.clone();
+    let mut short = t.genuine.clone();
     let points = short["mat"]["seams"][k]["points"].as_array_mut().unwrap();
     points.pop();
     let r = points.last().unwrap()["point"][3].as_f64().unwrap();
     assert!(r > 0.54, "the point before the end: r {r}");
-    let path = write(dir.path(), "short", &short);
-    let mut checkers = vec![("verify", verify(&part, &path))];
-    if occt_present {
-        checkers.push(("OCCT", occt(&part, &path)));
+    let path = write(t.dir.path(), "short", &short);
+    let mut checkers = vec![("verify", verify(&t.part, &path))];
+    if t.occt_present {
+        checkers.push(("OCCT", occt(&t.part, &path)));
     }
     for (who, (code, failed)) in checkers {
         assert_eq!(code, 1, "{who}: {failed:?}");

@@ -448,31 +448,29 @@ impl Tracer<'_> {
                 })
                 .map(|v| ([a, b], v))
         };
-        if n > 3 {
-            let mut pairs: Vec<([Element; 2], usize)> = vec![];
-            let mut used = vec![false; n];
-            for i in 0..n {
-                for k in i + 1..n {
-                    if used[i] || used[k] {
-                        continue;
-                    }
-                    if let Some((pair, v)) = met(i, k) {
-                        if pairs.iter().all(|&(_, w)| w != v) {
-                            pairs.push((pair, v));
-                            (used[i], used[k]) = (true, true);
-                        }
+        // The pairs that meet, in order of their slots, no slot in two of them and no vertex
+        // twice: the first is the first of any two slots that meets.
+        let mut pairs: Vec<([Element; 2], usize)> = vec![];
+        let mut used = vec![false; n];
+        for i in 0..n {
+            for k in i + 1..n {
+                if used[i] || used[k] {
+                    continue;
+                }
+                if let Some((pair, v)) = met(i, k) {
+                    if pairs.iter().all(|&(_, w)| w != v) {
+                        pairs.push((pair, v));
+                        (used[i], used[k]) = (true, true);
                     }
                 }
             }
-            if used.iter().all(|&u| u) {
-                return pairs;
-            }
         }
-        (0..n)
-            .flat_map(|i| (i + 1..n).map(move |k| (i, k)))
-            .find_map(|(i, k)| met(i, k))
-            .into_iter()
-            .collect()
+        // Every slot of a non-generic seam paired: an edge from each pair; otherwise the
+        // first pair's alone.
+        if !(n > 3 && used.iter().all(|&u| u)) {
+            pairs.truncate(1);
+        }
+        pairs
     }
 
     /// True when the balls touching vertex `v` alone, on the line from a ball where touch

@@ -175,11 +175,11 @@ fn osculation(
             .flatten()
             .collect();
         for radii in [on_faces, on_edges] {
-            let lo = radii.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = radii.iter().copied().fold(f64::NEG_INFINITY, f64::max);
             if radii.is_empty() {
                 continue;
             }
+            let lo = radii.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = radii.iter().copied().fold(f64::NEG_INFINITY, f64::max);
             if lo - allowed <= ball.r && ball.r <= hi + allowed {
                 return Ok(());
             }
