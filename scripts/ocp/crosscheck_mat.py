@@ -70,7 +70,9 @@ The report must describe a medial axis, not merely hold no wrong point:
                      touch points (or of the boundary points nearest its centre) where the
                      boundary stays within 2 tol (plus the file's gap there) of the ball's
                      sphere and is tangent to it -- rays in eight directions across each face
-                     there and both ways along each edge, a 64th of a place apart over the
+                     there and both ways along each edge, a 1024th of a place apart over the
+                     first 64th (touch points met at a B-spline's knot, its curvature peaking
+                     between them), a 64th of a place apart over the
                      first place (two touch points about to meet may lie closer than a quarter
                      place, a B-spline's curvature peaking between them) and a quarter place
                      apart beyond, out to 17 places -- the faces' radius of curvature towards
@@ -156,13 +158,18 @@ CURVATURE_END_PLACES = 2
 # must stay for its radius to count; the step (in places) and the reach (in steps) of the rays.
 CURVATURE_LIMIT_TOLS = 8.0
 OSCULATION_NEAR_TOLS = 2.0
+OSCULATION_FINEST_STEP_PLACES = 1.0 / 1024.0
+OSCULATION_FINEST_STEPS = 16
 OSCULATION_FINE_STEP_PLACES = 1.0 / 64.0
 OSCULATION_COARSE_STEP_PLACES = 0.25
 OSCULATION_STEPS = 64
-# The distances from a touch point (in places) at which the curvature is taken: fine steps over
-# the first place (two touch points about to meet may lie closer than a quarter place, and a
-# B-spline's curvature peak between them), coarse ones beyond.
-OSCULATION_OFFSETS = ([m * OSCULATION_FINE_STEP_PLACES for m in range(OSCULATION_STEPS + 1)]
+# The distances from a touch point (in places) at which the curvature is taken: finest steps
+# over the first 64th of a place (two touch points that have met at a B-spline's knot lie a few
+# accuracies apart, with the curvature's peak between them), fine steps over the first place (two
+# touch points about to meet may lie closer than a quarter place, and a B-spline's curvature peak
+# between them), coarse ones beyond.
+OSCULATION_OFFSETS = ([m * OSCULATION_FINEST_STEP_PLACES for m in range(OSCULATION_FINEST_STEPS + 1)]
+                      + [m * OSCULATION_FINE_STEP_PLACES for m in range(2, OSCULATION_STEPS + 1)]
                       + [OSCULATION_STEPS * OSCULATION_FINE_STEP_PLACES + m * OSCULATION_COARSE_STEP_PLACES
                          for m in range(1, OSCULATION_STEPS + 1)])
 PINCH_END_PLACES = 2

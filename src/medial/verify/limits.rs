@@ -9,9 +9,11 @@
 //! other, and the tracer puts it where its step ended. So the check looks along that
 //! stretch: from each touch point (and from the boundary points nearest the centre, which
 //! are touch points too), in eight directions across each face within reach of it and both
-//! ways along each edge, a 64th of a place at a time over the first place (two touch points
-//! about to meet may lie closer than a quarter place, and a B-spline's curvature peak
-//! between them) and a quarter place at a time beyond, out to 17 places, while the boundary
+//! ways along each edge, a 1024th of a place at a time over the first 64th (touch points met
+//! at a B-spline's knot, its curvature's peak between them), a 64th of a place at a time over
+//! the first place (two touch points about to meet may lie closer than a quarter place, and a
+//! B-spline's curvature peak between them) and a quarter place at a time beyond, out to 17
+//! places, while the boundary
 //! stays within [`OSCULATION_NEAR_ACCURACIES`] (plus the file's gap there) of the sphere. The
 //! radii of curvature of the faces there (`1/κ1`, the larger principal curvature where it
 //! bends towards the ball), or of the edges (`1/(K·u)`, `K` the curvature vector and `u` the
@@ -44,21 +46,29 @@ const CURVATURE_LIMIT_ACCURACIES: f64 = 8.0;
 /// must stay for its radius of curvature there to count.
 const OSCULATION_NEAR_ACCURACIES: f64 = 2.0;
 
-/// The steps along the boundary from a touch point, in places (`√(8·r·a)`): fine steps over
-/// the first place (where two touch points about to meet lie less than a quarter place apart,
-/// a B-spline's curvature can peak between them), coarse ones beyond, out to 17 places.
+/// The steps along the boundary from a touch point, in places (`√(8·r·a)`): finest steps
+/// over the first 64th of a place (two touch points that have met at a B-spline's knot lie a
+/// few accuracies apart, its curvature's peak between them: on the Revo hotend mount, 1.8e-4
+/// mm apart on an edge, its radius of curvature 1.73315 at the touch point and 1.73295 1.5e-4
+/// mm along, where the fine steps are 3.7e-4 mm), fine steps over the first place (where
+/// two touch points about to meet lie less than a quarter place apart, a B-spline's curvature
+/// can peak between them), coarse ones beyond, out to 17 places.
+const OSCULATION_FINEST_STEP_PLACES: f64 = 1.0 / 1024.0;
+const OSCULATION_FINEST_STEPS: usize = 16;
 const OSCULATION_FINE_STEP_PLACES: f64 = 1.0 / 64.0;
 const OSCULATION_COARSE_STEP_PLACES: f64 = 0.25;
 const OSCULATION_STEPS: usize = 64;
 
 /// The distances along the boundary from a touch point at which its curvature is taken, in
-/// places: 0, then [`OSCULATION_STEPS`] fine steps and as many coarse ones.
+/// places: 0, then [`OSCULATION_FINEST_STEPS`] finest steps (to the first fine step), the
+/// other [`OSCULATION_STEPS`] fine steps and as many coarse ones.
 fn osculation_offsets() -> impl Iterator<Item = f64> {
-    let fine = (0..=OSCULATION_STEPS).map(|m| m as f64 * OSCULATION_FINE_STEP_PLACES);
+    let finest = (0..=OSCULATION_FINEST_STEPS).map(|m| m as f64 * OSCULATION_FINEST_STEP_PLACES);
+    let fine = (2..=OSCULATION_STEPS).map(|m| m as f64 * OSCULATION_FINE_STEP_PLACES);
     let start = OSCULATION_STEPS as f64 * OSCULATION_FINE_STEP_PLACES;
     let coarse =
         (1..=OSCULATION_STEPS).map(move |m| start + m as f64 * OSCULATION_COARSE_STEP_PLACES);
-    fine.chain(coarse)
+    finest.chain(fine).chain(coarse)
 }
 
 /// Every seam end at a curvature limit: its ball osculates the boundary near one of its
