@@ -2000,6 +2000,56 @@ def body_between_rounded_caps():
     return capped_body()
 
 
+# The profile of a convex round on the Voron Revo hotend mount (its face F87): a cubic
+# B-spline of 19 poles from the wall x = 0 (leaving along +z) to the top z = 0 (arriving along
+# +x), the poles less the corner (5.093756, -19.711577), knots as written. Its radius of
+# curvature wanders from 0.26 to 0.62 and back along it: several peaks of curvature.
+WAVY_ROUND_POLES = [
+    (0.0, -0.444643), (0.000345, -0.426735), (0.001024, -0.391523), (0.01131, -0.340858),
+    (0.026774, -0.293612), (0.046979, -0.249122), (0.075026, -0.209161), (0.108919, -0.172461),
+    (0.149137, -0.139821), (0.195391, -0.1102), (0.246891, -0.08339), (0.305042, -0.060934),
+    (0.369199, -0.042953), (0.439012, -0.026179), (0.515294, -0.01546), (0.597431, -0.006225),
+    (0.685647, -0.000985), (0.746422, -0.000334), (0.777678, 0.0),
+]
+WAVY_ROUND_KNOTS = [
+    0.0, 0.053310374, 0.104825319, 0.153373354, 0.201407724, 0.249898953, 0.298251949,
+    0.349950005, 0.403855305, 0.461801763, 0.522774444, 0.58932927, 0.660365441, 0.736671322,
+    0.818792774, 0.906806342, 1.0,
+]
+WAVY_SIDE, WAVY_LENGTH = 30.0, 0.8
+
+
+@part("block_with_a_wavy_round",
+      "A block x 0..30, y 0..0.8, z -30..0 whose edge along y at x = 0, z = 0 is rounded by "
+      "a cubic B-spline profile (the Voron Revo hotend mount's round F87, 0.78 along x by "
+      "0.44 down z, 19 poles), whose curvature wanders: its radius of curvature has minima "
+      "at two knots, 0.29035 at t = 0.05331 and 0.26083 at t = 0.20141, and at t = 0.30 "
+      "(0.3506), 0.46 and beyond, whose osculating circles cross the profile elsewhere.",
+      None,
+      "Near each end cap, balls touch the cap and the round twice: where the two touch points "
+      "close in on the knot at t = 0.20141 the seam ends at its centre of curvature, r "
+      "0.26083, centre (0.27473, r, -0.37931) (and its mirror at y = 0.8 - r). (The steps "
+      "there once overshot onto balls tangent at one point twice over, and the seam ended "
+      "at r 0.3345, short of it.) The knot at t = 0.05331 is a curvature limit too (its "
+      "osculating circle lies inside), but no seam reaches it on this block (one does on the "
+      "same round 6 wide and 1 long): a junction of three touches on the round is missed "
+      "(issue 19).")
+def block_with_a_wavy_round():
+    c = Part.BSplineCurve()
+    mults = [4] + [1] * (len(WAVY_ROUND_KNOTS) - 2) + [4]
+    c.buildFromPolesMultsKnots([V(x, 0, z) for x, z in WAVY_ROUND_POLES], mults,
+                               WAVY_ROUND_KNOTS, False, 3)
+    end = WAVY_ROUND_POLES[0][1]
+    outline = Part.Wire([
+        c.toShape(),
+        Part.LineSegment(V(WAVY_ROUND_POLES[-1][0], 0, 0), V(WAVY_SIDE, 0, 0)).toShape(),
+        Part.LineSegment(V(WAVY_SIDE, 0, 0), V(WAVY_SIDE, 0, -WAVY_SIDE)).toShape(),
+        Part.LineSegment(V(WAVY_SIDE, 0, -WAVY_SIDE), V(0, 0, -WAVY_SIDE)).toShape(),
+        Part.LineSegment(V(0, 0, -WAVY_SIDE), V(0, 0, end)).toShape(),
+    ])
+    return Part.Face(outline).extrude(V(0, WAVY_LENGTH, 0))
+
+
 def main():
     args = L.parse_args(sys.argv[1:], os.path.join(L.SCRIPTS, "..", "samples", "trace"))
     out = os.path.abspath(args.outdir)

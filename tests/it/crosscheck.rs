@@ -72,13 +72,6 @@ const GAPS_ACCEPTED: &str = "a vertex 8.7e-3 mm off its curve, accepted within t
     radius of curvature of the B-spline round F5 is 0.2028 at the least (matrace's reaches \
     r: the round's curvature varies by a few percent; `curvature_limits`, issue 19)";
 
-/// Seam ends at curvature limits whose balls osculate nothing near their touch points
-/// (`curvature_limits`, both checkers since they check every such end: issue 19).
-const REVO_MOUNT: &str = "no seam ends open and every ball passes both checkers, but one \
-    seam ends at the curvature limit of a face its ball does not reach: r 0.312223, where the \
-    face's radius of curvature towards the ball is 0.3243 to 0.3644 along the stretch the \
-    ball touches (`curvature_limits`, in both: issue 19)";
-
 const DM1: &str = "seven I-DEAS solids: three solids' Euler characteristics differ (−2 for \
     0; issue 20)";
 
@@ -195,11 +188,6 @@ const EXPECTED_FAILURES: &[Expected] = &[
         MOTOR_PLATE,
     ),
     ("stepswift_dm1-id-214.stp", &[("verify:euler", 3)], DM1),
-    (
-        "voron0_Hotend_Mount_Revo_Voron.step",
-        &[("occt:curvature_limits", 1), ("verify:curvature_limits", 1)],
-        REVO_MOUNT,
-    ),
     // The tracer's regression parts (scripts/freecad/make_trace_regressions.py): no seam
     // ends open on any of them; what is left is issue 20's.
     (

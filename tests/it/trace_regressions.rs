@@ -1908,3 +1908,56 @@ fn a_seam_whose_touch_points_on_two_edges_meet_at_their_vertex_ends_there_in_any
         assert!(at, "no skeletal edge down to the corner {v:?}");
     }
 }
+
+/// The block with a wavy round (the Voron Revo hotend mount's B-spline round, an extrusion
+/// whose radius of curvature has minima at two knots, 0.26083 at t = 0.20141 and 0.29035 at
+/// t = 0.05331, with circles of curvature inside): near each cap, the seam of balls touching
+/// the cap and the round twice ends where its two touch points meet at the knot t = 0.20141,
+/// at its centre of curvature, r 0.26083 (the steps overshot onto balls tangent at one point
+/// twice over, and the seam ended short of it, at r 0.3345); and every end at the round's
+/// curvature limit is at one of the two knots' centres of curvature.
+#[test]
+fn a_seam_whose_two_touch_points_on_a_round_close_in_on_its_curvature_peak_ends_there() {
+    const KNOTS: [(f64, [f64; 2]); 2] = [
+        (0.2608266, [0.27473, -0.379309]),
+        (0.2903531, [0.291229, -0.423376]),
+    ];
+    let name = "block_with_a_wavy_round";
+    let (out, report) = trace_part(name, true);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let a = report["stats"]["accuracy"].as_f64().unwrap();
+    let mut at_peak = 0;
+    for (s, end, point) in seam_ends(&report) {
+        let Some(segment) = end["curvature_limit"]["segment"].as_str() else {
+            continue;
+        };
+        let index: usize = segment[1..].parse().unwrap();
+        assert_eq!(
+            report["model"]["faces"][index]["surface"], "extrusion",
+            "seam {}: {end}",
+            s["id"]
+        );
+        let ball = &point["point"];
+        let [x, y, z, r] = [0, 1, 2, 3].map(|k| ball[k].as_f64().unwrap());
+        let Some(k) = KNOTS.iter().position(|(rho, _)| (r - rho).abs() <= 4.0 * a) else {
+            panic!(
+                "seam {} ends at r {r}, at neither knot's radius of curvature",
+                s["id"]
+            );
+        };
+        let (_, [cx, cz]) = KNOTS[k];
+        assert!(
+            (x - cx).hypot(z - cz) <= 4.0 * a,
+            "seam {}: centre {x}, {z}",
+            s["id"]
+        );
+        // Touching the cap at y = 0 or y = 0.8.
+        assert!(y.min(0.8 - y) - r <= a, "seam {}: y {y}, r {r}", s["id"]);
+        at_peak += usize::from(k == 0);
+    }
+    assert_eq!(at_peak, 2, "one seam at the peak near each cap");
+}

@@ -118,6 +118,41 @@ impl Tracer<'_> {
         Some(self.poked_end(m, &before, i, reach))
     }
 
+    /// True when the march's step to `xn` is too long to locate the curvature limit it
+    /// passes: its ball pokes through a touched segment (or two touch points on one have met
+    /// or passed through each other), the step is longer than twice the accuracy, and the
+    /// last ball before the poke along it (see `poked_end`) is not near osculating that
+    /// segment (`r·κ` at every touch point on it more than [`NEAR_OSCULATION`] below 1). A
+    /// shorter step then follows the seam on towards the limit. (Where two touch points on one
+    /// face close in on the ridge between them, they move like the square root of the
+    /// centre's travel, and a long step's corrector lands on balls tangent at one point twice
+    /// over instead: on the Revo hotend mount, a step from r 0.332 landed on such a ball, the
+    /// balls along it did from r 0.312 on, and the seam ended there, 0.05 short of the
+    /// ridge's centre of curvature, r 0.264.) Where the limit is a jump of the curvature (at a
+    /// B-spline's knot, or a joint of two edges) no ball short of it nearly osculates: the
+    /// steps shrink to the accuracy, and the limit is located from there.
+    pub(super) fn step_past_limit_too_long(&mut self, m: &March, xn: &DVector<f64>) -> bool {
+        if 0.5 * m.h < self.opts.accuracy || self.coincident(&m.triplet, xn, false) {
+            return false;
+        }
+        let before = self.touches(&m.triplet, &m.x);
+        let Some(i) = self.poked(&m.triplet, &before, xn) else {
+            return false;
+        };
+        let model = self.model;
+        let near = |y: &DVector<f64>| {
+            (0..3).filter(|&k| m.triplet[k] == m.triplet[i]).any(|k| {
+                bending(model, m.triplet[k], slot(y, k))
+                    .is_some_and(|b| b * y[3] >= 1.0 - NEAR_OSCULATION)
+            })
+        };
+        if near(&m.x) {
+            return false;
+        }
+        let last = self.last_on_step(m, m.h, |t, xm| t.poked(&m.triplet, &before, xm).is_none());
+        !last.is_some_and(|xm| near(&xm))
+    }
+
     /// The curvature criterion at `xn`: the ball must not poke through a touched face. Where
     /// the ball touches a face twice, the two touch points must not meet (or pass through
     /// each other): where they meet the ball osculates the face, `r·κmax = 1`, and the seam

@@ -209,6 +209,10 @@ impl Tracer<'_> {
         if let Some(flow) = self.junction_end(m, &xn) {
             return flow;
         }
+        if self.step_past_limit_too_long(m, &xn) {
+            m.h *= 0.5;
+            return Flow::Next;
+        }
         if let Some(end) = self.curvature_end(m, &xn) {
             return Flow::End(end);
         }
