@@ -2016,7 +2016,7 @@ WAVY_ROUND_KNOTS = [
     0.349950005, 0.403855305, 0.461801763, 0.522774444, 0.58932927, 0.660365441, 0.736671322,
     0.818792774, 0.906806342, 1.0,
 ]
-WAVY_SIDE, WAVY_LENGTH = 30.0, 0.8
+WAVY_SIDE, WAVY_LENGTH, WAVY_LONG = 30.0, 0.8, 20.0
 
 
 @part("block_with_a_wavy_round",
@@ -2035,6 +2035,28 @@ WAVY_SIDE, WAVY_LENGTH = 30.0, 0.8
       "same round 6 wide and 1 long): a junction of three touches on the round is missed "
       "(issue 19).")
 def block_with_a_wavy_round():
+    return wavy_round_block(WAVY_LENGTH)
+
+
+@part("long_block_with_a_wavy_round",
+      "block_with_a_wavy_round 20 long (y 0..20).",
+      None,
+      "Near each cap, the seam of balls touching the cap and the round twice (from a junction "
+      "where they touch the wall x = 0 too) meets a junction where the round bulges into the "
+      "ball between its two touch points (r 0.3604, a third touch at t 0.105): one seam on "
+      "from there ends at the knot t = 0.20141's centre of curvature, r 0.26083, the other "
+      "at the knot t = 0.05331's, r 0.29035 (at r 0.2935: the tracer takes r·κ within 1 % of 1 "
+      "at the two touch points for nearly osculating, and the curvature peaks at the knot "
+      "between them; issue 19). (The nearest-point search settled in a "
+      "touched basin, the seam ran on past the junction through 26 balls the round pokes "
+      "into by up to 5e-4 mm, which OCCT rejected and verify did not, and ended at r 0.354, "
+      "no curvature limit.)")
+def long_block_with_a_wavy_round():
+    return wavy_round_block(WAVY_LONG)
+
+
+def wavy_round_block(length):
+    """The block of block_with_a_wavy_round, `length` long along y."""
     c = Part.BSplineCurve()
     mults = [4] + [1] * (len(WAVY_ROUND_KNOTS) - 2) + [4]
     c.buildFromPolesMultsKnots([V(x, 0, z) for x, z in WAVY_ROUND_POLES], mults,
@@ -2047,7 +2069,7 @@ def block_with_a_wavy_round():
         Part.LineSegment(V(WAVY_SIDE, 0, -WAVY_SIDE), V(0, 0, -WAVY_SIDE)).toShape(),
         Part.LineSegment(V(0, 0, -WAVY_SIDE), V(0, 0, end)).toShape(),
     ])
-    return Part.Face(outline).extrude(V(0, WAVY_LENGTH, 0))
+    return Part.Face(outline).extrude(V(0, length, 0))
 
 
 def main():

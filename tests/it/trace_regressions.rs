@@ -1961,3 +1961,62 @@ fn a_seam_whose_two_touch_points_on_a_round_close_in_on_its_curvature_peak_ends_
     }
     assert_eq!(at_peak, 2, "one seam at the peak near each cap");
 }
+
+/// The block with a wavy round, 20 mm long: near each cap, the seam of balls touching the cap
+/// and the round twice meets a junction where the round bulges into the ball between its two
+/// touch points (r 0.3604), and seams from there end at both knots' centres of curvature
+/// (r 0.26083; and 0.29035 to 2 %: they end at r 0.2935, where `r·κ` at the two touch points
+/// is within the 1 % of 1 the tracer takes for nearly osculating, the curvature peaking at
+/// the knot between them -- issue 19).
+/// No seam ball comes nearer the round than `r` (the round sampled at every 1e-4 of its
+/// parameter): the nearest-point search settled in a touched basin of the distance, and the
+/// seam ran on past the junction through 26 balls the round poked into by up to 5e-4 mm.
+#[test]
+fn a_face_bulging_into_the_ball_between_its_two_touch_points_is_a_junction() {
+    let name = "long_block_with_a_wavy_round";
+    let (out, report) = trace_part(name, true);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let a = report["stats"]["accuracy"].as_f64().unwrap();
+    let model = regression_model(name);
+    let round = (0..model.faces.len())
+        .find(|&f| report["model"]["faces"][f]["surface"] == "extrusion")
+        .unwrap();
+    let face = &model.faces[round];
+    let (u0, u1) = face.domain.u;
+    let v = 0.5 * (face.domain.v.0 + face.domain.v.1);
+    // The round is an extrusion along y: its profile in x, z.
+    let profile: Vec<[f64; 2]> = (0..=10_000)
+        .map(|k| {
+            let p = matrace::geom::surface_point(&face.surface, u0 + (u1 - u0) * k as f64 / 1e4, v);
+            [p.x, p.z]
+        })
+        .collect();
+    for s in report["mat"]["seams"].as_array().unwrap() {
+        for p in s["points"].as_array().unwrap() {
+            let [x, _, z, r] = [0, 1, 2, 3].map(|k| p["point"][k].as_f64().unwrap());
+            let near = profile
+                .iter()
+                .map(|q| (q[0] - x).hypot(q[1] - z))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                near >= r - a,
+                "seam {}: the round {near} from a ball of r {r}",
+                s["id"]
+            );
+        }
+    }
+    let mut ends = vec![];
+    for (s, end, point) in seam_ends(&report) {
+        if end["curvature_limit"]["segment"].as_str().is_some() {
+            ends.push((s["id"].clone(), point["point"][3].as_f64().unwrap()));
+        }
+    }
+    let at = |rho: f64, tol: f64| ends.iter().filter(|(_, r)| (r - rho).abs() <= tol).count();
+    assert_eq!(at(0.2608266, 4.0 * a), 2, "{ends:?}");
+    assert_eq!(at(0.2903531, 0.02 * 0.2903531), 2, "{ends:?}");
+    assert_eq!(ends.len(), 4, "{ends:?}");
+}

@@ -1195,3 +1195,42 @@ fn a_report_missing_a_sheet_fails_on_the_euler_characteristic() {
     sheet["loops"].as_array_mut().unwrap().pop();
     t.verify_fails("a hole fewer", &holed, &["euler", "sheets_listed"]);
 }
+
+/// A ball of the long wavy-round block's seam touching the cap and the round twice, just past
+/// the junction where the round bulges into it between its two touch points (the ball the
+/// tracer gave there when its nearest-point search settled in a touched basin: r 0.357604,
+/// the round 2.2e-4 mm nearer), put into that seam: both checkers fail it on `distance`.
+#[test]
+fn a_ball_whose_face_bulges_into_it_between_two_touch_points_fails() {
+    let t = Tampered::new(
+        "trace/long_block_with_a_wavy_round.step",
+        "verify::a_ball_whose_face_bulges_into_it_between_two_touch_points_fails",
+    );
+    let r = 0.357604299922072;
+    let ball = serde_json::json!({
+        "point": [0.3580846185748099, r, -0.43126603810066544, r],
+        "touch": [
+            [0.0009585373381689837, r, -0.4127782739530841],
+            [0.358084618574809, 0.0, -0.4312660381006648],
+            [0.14566680708188298, r, -0.14358651383223495],
+        ],
+    });
+    let mut bulged = t.genuine.clone();
+    let seam = bulged["mat"]["seams"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|s| {
+            s["segments"] == serde_json::json!(["F0", "F5", "F0"])
+                && s["points"][0]["point"][3].as_f64().unwrap() > r
+        })
+        .expect("the seam from the wall's junction at the cap y = 0");
+    seam["points"].as_array_mut().unwrap().insert(1, ball);
+    t.verify_fails("bulged", &bulged, &["distance"]);
+    if t.occt_present {
+        let path = write(t.dir.path(), "bulged", &bulged);
+        let (code, failed) = occt(&t.part, &path);
+        assert_eq!(code, 1, "OCCT: {failed:?}");
+        assert!(failed.iter().any(|f| f == "distance"), "OCCT: {failed:?}");
+    }
+}

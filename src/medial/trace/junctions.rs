@@ -8,7 +8,7 @@ use super::options::{
 };
 use super::tracer::{Start, Tracer};
 use super::unknowns::{seam_x, slot, sorted, sys_point, touches_meet, v3, Pairs};
-use crate::geom::{project_point, FaceHit};
+use crate::geom::{project_point, surface_point, FaceHit};
 use crate::medial::axis::{Junction, Node, OpenReason, SeamEnd};
 use crate::medial::equations::{vertex_angles, MedialSystem, NormalField};
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
@@ -16,6 +16,10 @@ use crate::medial::verify::{junction_unresolved, separation};
 use crate::model::Element;
 use glam::DVec3;
 use nalgebra::DVector;
+
+/// Points between two touch points on one face from which a bulge of the face into the ball
+/// between them is looked for (see `Tracer::bulge_between_touches`).
+const BULGE_SAMPLES: usize = 8;
 
 /// What a seam meets where another part of the boundary comes closer than `r`.
 pub(super) enum Meeting {
@@ -255,7 +259,9 @@ impl Tracer<'_> {
 
     /// The nearest boundary point of the solid to the seam point `y` when it is closer than
     /// `r` and not next to a touch point on the same face (that is the curvature
-    /// criterion's business): the face it was found on and the hit.
+    /// criterion's business): the face it was found on and the hit. Where the nearest is
+    /// not, a face touched twice may still bulge into the ball between its two touch points
+    /// (see [`Self::bulge_between_touches`]).
     pub(super) fn intrusion(
         &self,
         triplet: &[Element; 3],
@@ -263,13 +269,62 @@ impl Tracer<'_> {
         y: &DVector<f64>,
     ) -> Option<(usize, FaceHit)> {
         let r = y[3];
-        let (f, hit) = self.nearest_in_within(solid, v3(y), r - self.opts.accuracy)?;
-        let far = (0..3).all(|i| {
-            triplet[i] != Element::Face(f)
-                || sys_point(self.model, triplet[i], slot(y, i))
-                    .is_none_or(|p| p.distance(hit.point) > 0.05 * r)
-        });
-        far.then_some((f, hit))
+        let bound = r - self.opts.accuracy;
+        let far = |f: usize, hit: &FaceHit| {
+            (0..3).all(|i| {
+                triplet[i] != Element::Face(f)
+                    || sys_point(self.model, triplet[i], slot(y, i))
+                        .is_none_or(|p| p.distance(hit.point) > 0.05 * r)
+            })
+        };
+        if let Some((f, hit)) = self.nearest_in_within(solid, v3(y), bound) {
+            if far(f, &hit) {
+                return Some((f, hit));
+            }
+        }
+        self.bulge_between_touches(triplet, y, bound)
+            .filter(|(f, hit)| far(*f, hit))
+    }
+
+    /// The point of a face touched twice by the ball of `y` that is nearer its centre than
+    /// `bound` between the two touch points, when there is one: the nearest of
+    /// [`BULGE_SAMPLES`] points on the straight line between their parameters, descended
+    /// from. Where a face's curvature wanders, the distance from the centre has several
+    /// basins about as deep (two touch points are two of them), and the nearest-point search
+    /// may settle in a touched one while a third, between them, is nearer: on a B-spline
+    /// round taken from the Voron Revo mount, a seam of balls touching it twice ran on past
+    /// the junction where the round came 5e-4 mm nearer than `r` between its touch points
+    /// (`samples/trace/block_with_a_wavy_round.step`, 20 mm long).
+    fn bulge_between_touches(
+        &self,
+        triplet: &[Element; 3],
+        y: &DVector<f64>,
+        bound: f64,
+    ) -> Option<(usize, FaceHit)> {
+        let c = v3(y);
+        [(0, 1), (0, 2), (1, 2)].into_iter().find_map(|(i, k)| {
+            let Element::Face(f) = triplet[i] else {
+                return None;
+            };
+            if triplet[k] != triplet[i] {
+                return None;
+            }
+            let (a, b) = (slot(y, i), slot(y, k));
+            let surface = &self.model.faces[f].surface;
+            let start = (1..BULGE_SAMPLES)
+                .map(|j| {
+                    let t = j as f64 / BULGE_SAMPLES as f64;
+                    (a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]))
+                })
+                .min_by(|p, q| {
+                    let d = |uv: &(f64, f64)| surface_point(surface, uv.0, uv.1).distance(c);
+                    d(p).total_cmp(&d(q))
+                })?;
+            let hit = self
+                .boundary
+                .nearest_on_face(self.model, f, c, Some(start), bound)?;
+            Some((f, hit))
+        })
     }
 
     /// True when the nearest boundary point of solid `solid` to the seam point `y` is
