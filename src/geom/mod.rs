@@ -24,7 +24,7 @@ pub use bvh::Bvh;
 pub use curvature::{principal_curvatures, unit_normal, Curvature};
 pub use distance::{nearest_on_edge, nearest_on_face, Boundary, FaceHit};
 pub use eval::{eval_curve, eval_surface, surface_point, CurveDerivs, SurfaceDerivs};
-pub use project::project_point;
+pub use project::{nearest_sample_between, project_point};
 pub use surface::{
     closed_periods, eval_face, knot_vectors, parameter_range, surface_kind, surface_periods,
 };

@@ -32,6 +32,30 @@ pub const FALLBACK_SEED_GRID: usize = 12;
 /// relative to the size of the range's end.
 const RANGE_TOL_REL_END: f64 = 1e-12;
 
+/// Points on the straight line between two parameter pairs, both ends included, of which
+/// [`nearest_sample_between`] takes the inner ones.
+pub const BETWEEN_SAMPLES: usize = 8;
+
+/// Of the points strictly between parameters `a` and `b` of `surface` on the straight line
+/// between them (at `1/BETWEEN_SAMPLES` steps), the one nearest `p`: a start for a descent
+/// into a basin of the distance that lies between two touch points on one face (a face whose
+/// curvature wanders can bulge into a ball there while the nearest-point search settles in
+/// a touched basin).
+pub fn nearest_sample_between(
+    surface: &Surface,
+    p: DVec3,
+    a: (f64, f64),
+    b: (f64, f64),
+) -> Option<(f64, f64)> {
+    let at = |uv: &(f64, f64)| super::eval::surface_point(surface, uv.0, uv.1).distance(p);
+    (1..BETWEEN_SAMPLES)
+        .map(|k| {
+            let t = k as f64 / BETWEEN_SAMPLES as f64;
+            (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1))
+        })
+        .min_by(|x, y| at(x).total_cmp(&at(y)))
+}
+
 /// The foot point of `p` on `surface`, or `None` when no seed converges. `hint` is a nearby
 /// parameter (the previous foot point along a curve) and makes the common case a few Newton
 /// steps. The result is a local minimum of the distance; with a hint, the one nearest the

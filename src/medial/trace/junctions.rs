@@ -8,7 +8,7 @@ use super::options::{
 };
 use super::tracer::{Start, Tracer};
 use super::unknowns::{seam_x, slot, sorted, sys_point, touches_meet, v3, Pairs};
-use crate::geom::{project_point, surface_point, FaceHit};
+use crate::geom::{nearest_sample_between, project_point, FaceHit};
 use crate::medial::axis::{Junction, Node, OpenReason, SeamEnd};
 use crate::medial::equations::{vertex_angles, MedialSystem, NormalField};
 use crate::medial::solver::{solve, SolveOptions, SolveStatus};
@@ -16,10 +16,6 @@ use crate::medial::verify::{junction_unresolved, separation};
 use crate::model::Element;
 use glam::DVec3;
 use nalgebra::DVector;
-
-/// Points between two touch points on one face from which a bulge of the face into the ball
-/// between them is looked for (see `Tracer::bulge_between_touches`).
-const BULGE_SAMPLES: usize = 8;
 
 /// What a seam meets where another part of the boundary comes closer than `r`.
 pub(super) enum Meeting {
@@ -287,14 +283,14 @@ impl Tracer<'_> {
     }
 
     /// The point of a face touched twice by the ball of `y` that is nearer its centre than
-    /// `bound` between the two touch points, when there is one: the nearest of
-    /// [`BULGE_SAMPLES`] points on the straight line between their parameters, descended
-    /// from. Where a face's curvature wanders, the distance from the centre has several
-    /// basins about as deep (two touch points are two of them), and the nearest-point search
-    /// may settle in a touched one while a third, between them, is nearer: on a B-spline
-    /// round taken from the Voron Revo mount, a seam of balls touching it twice ran on past
-    /// the junction where the round came 5e-4 mm nearer than `r` between its touch points
-    /// (`samples/trace/block_with_a_wavy_round.step`, 20 mm long).
+    /// `bound` between the two touch points, when there is one: descended from the nearest
+    /// of the points on the straight line between their parameters
+    /// ([`nearest_sample_between`]). Where a face's curvature wanders, the distance from the
+    /// centre has several basins about as deep (two touch points are two of them), and the
+    /// nearest-point search may settle in a touched one while a third, between them, is
+    /// nearer: on a B-spline round taken from the Voron Revo mount, a seam of balls touching
+    /// it twice ran on past the junction where the round came 5e-4 mm nearer than `r`
+    /// between its touch points (`samples/trace/long_block_with_a_wavy_round.step`).
     fn bulge_between_touches(
         &self,
         triplet: &[Element; 3],
@@ -311,15 +307,7 @@ impl Tracer<'_> {
             }
             let (a, b) = (slot(y, i), slot(y, k));
             let surface = &self.model.faces[f].surface;
-            let start = (1..BULGE_SAMPLES)
-                .map(|j| {
-                    let t = j as f64 / BULGE_SAMPLES as f64;
-                    (a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]))
-                })
-                .min_by(|p, q| {
-                    let d = |uv: &(f64, f64)| surface_point(surface, uv.0, uv.1).distance(c);
-                    d(p).total_cmp(&d(q))
-                })?;
+            let start = nearest_sample_between(surface, c, (a[0], a[1]), (b[0], b[1]))?;
             let hit = self
                 .boundary
                 .nearest_on_face(self.model, f, c, Some(start), bound)?;

@@ -77,10 +77,6 @@ pub const FINEST_SEPARATION_REL_DIAGONAL: f64 = 1e-9;
 /// the edge bending round the ball.
 const CURL_SAMPLES: usize = 8;
 
-/// Points between two touch points on one curved face from which `distance` looks for a
-/// bulge of the face into the ball between them (see `bulge_between`).
-const BULGE_SAMPLES: usize = 8;
-
 /// Most subsets [`places`] tries: far more than the few touch points of a ball need.
 const PLACES_SEARCH_STEPS: usize = 100_000;
 
@@ -465,9 +461,9 @@ impl Checker<'_> {
     }
 
     /// `d`, or the distance from `b` of a curved face of `solid` that two of the ball's touch
-    /// points lie on, where it comes nearer between them: the nearest of [`BULGE_SAMPLES`]
-    /// points on the straight line between their parameters, descended from (as the tracer
-    /// looks for a junction there). Where a face's curvature wanders, the distance from the
+    /// points lie on, where it comes nearer between them: descended from the nearest of the
+    /// points on the straight line between their parameters
+    /// ([`crate::geom::nearest_sample_between`]), as the tracer looks for a junction there. Where a face's curvature wanders, the distance from the
     /// centre has several basins about as deep (two touch points are two of them), and the
     /// nearest-point search may settle in a touched one while a third, between them, is
     /// nearer: on a B-spline round taken from the Voron Revo mount, 26 balls of a seam poked
@@ -499,18 +495,7 @@ impl Checker<'_> {
                 else {
                     continue;
                 };
-                let (a, c) = (hi.uv, hj.uv);
-                let start = (1..BULGE_SAMPLES)
-                    .map(|k| {
-                        let t = k as f64 / BULGE_SAMPLES as f64;
-                        (a.0 + t * (c.0 - a.0), a.1 + t * (c.1 - a.1))
-                    })
-                    .min_by(|p, q| {
-                        let at = |uv: &(f64, f64)| {
-                            crate::geom::eval::surface_point(surface, uv.0, uv.1).distance(b)
-                        };
-                        at(p).total_cmp(&at(q))
-                    });
+                let start = crate::geom::nearest_sample_between(surface, b, hi.uv, hj.uv);
                 if let Some(h) =
                     start.and_then(|s| self.boundary.nearest_on_face(model, f, b, Some(s), best))
                 {
