@@ -463,11 +463,12 @@ impl Checker<'_> {
     /// `d`, or the distance from `b` of a curved face of `solid` that two of the ball's touch
     /// points lie on, where it comes nearer between them: descended from the nearest of the
     /// points on the straight line between their parameters
-    /// ([`crate::geom::nearest_sample_between`]), as the tracer looks for a junction there. Where a face's curvature wanders, the distance from the
-    /// centre has several basins about as deep (two touch points are two of them), and the
-    /// nearest-point search may settle in a touched one while a third, between them, is
-    /// nearer: on a B-spline round taken from the Voron Revo mount, 26 balls of a seam poked
-    /// into it by up to 5e-4 mm and passed (`samples/trace/long_block_with_a_wavy_round.step`).
+    /// ([`crate::geom::nearest_sample_between`]), as the tracer looks for a junction there.
+    /// Where a face's curvature wanders, the distance from the centre has several basins
+    /// about as deep (two touch points are two of them), and the nearest-point search may
+    /// settle in a touched one while a third, between them, is nearer: on a B-spline round
+    /// taken from the Voron Revo mount, 26 balls of a seam poked into it by up to 5e-4 mm and
+    /// passed (`samples/trace/long_block_with_a_wavy_round.step`).
     fn bulge_between(&self, solid: usize, b: DVec3, touch: &[DVec3], d: f64) -> f64 {
         let model = self.model;
         let mut best = d;

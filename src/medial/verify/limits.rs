@@ -13,16 +13,15 @@
 //! at a B-spline's knot, its curvature's peak between them), a 64th of a place at a time over
 //! the first place (two touch points about to meet may lie closer than a quarter place, and a
 //! B-spline's curvature peak between them) and a quarter place at a time beyond, out to 17
-//! places, while the boundary
-//! stays within [`OSCULATION_NEAR_ACCURACIES`] (plus the file's gap there) of the sphere. The
-//! radii of curvature of the faces there (`1/κ1`, the larger principal curvature where it
-//! bends towards the ball), or of the edges (`1/(K·u)`, `K` the curvature vector and `u` the
-//! unit vector to the centre), must come within [`CURVATURE_LIMIT_ACCURACIES`] (plus the gap)
-//! of `r`, or lie on both sides of it: where a B-spline's curvature jumps at a knot, or two
-//! edges or faces joined there bend differently, the limit is where `r` passes from one
-//! side's radius to the other's. At a vertex's limit (two touch points that met at a vertex,
-//! where a skeletal edge starts; `skeletal_edges` checks that edge) the ball touches a vertex
-//! of the part.
+//! places, while the boundary stays within [`OSCULATION_NEAR_ACCURACIES`] (plus the file's
+//! gap there) of the sphere. The radii of curvature of the faces there (`1/κ1`, the larger
+//! principal curvature where it bends towards the ball), or of the edges (`1/(K·u)`, `K` the
+//! curvature vector and `u` the unit vector to the centre), must come within
+//! [`CURVATURE_LIMIT_ACCURACIES`] (plus the gap) of `r`, or lie on both sides of it: where a
+//! B-spline's curvature jumps at a knot, or two edges or faces joined there bend differently,
+//! the limit is where `r` passes from one side's radius to the other's. At a vertex's limit
+//! (two touch points that met at a vertex, where a skeletal edge starts; `skeletal_edges`
+//! checks that edge) the ball touches a vertex of the part.
 //!
 //! A ball tangent to the boundary with a smaller radius than it bends with anywhere near lies
 //! on a sheet, not at the end of a seam: the check fails an end that stopped short, or that
@@ -61,7 +60,7 @@ const OSCULATION_STEPS: usize = 64;
 
 /// The distances along the boundary from a touch point at which its curvature is taken, in
 /// places: 0, then [`OSCULATION_FINEST_STEPS`] finest steps (to the first fine step), the
-/// other [`OSCULATION_STEPS`] fine steps and as many coarse ones.
+/// fine steps on to the [`OSCULATION_STEPS`]th, and as many coarse ones.
 fn osculation_offsets() -> impl Iterator<Item = f64> {
     let finest = (0..=OSCULATION_FINEST_STEPS).map(|m| m as f64 * OSCULATION_FINEST_STEP_PLACES);
     let fine = (2..=OSCULATION_STEPS).map(|m| m as f64 * OSCULATION_FINE_STEP_PLACES);
