@@ -2048,7 +2048,7 @@ def block_with_a_wavy_round():
       "at the knot t = 0.05331's, r 0.29035 (at r 0.2935: the tracer takes r·κ within 1 % of 1 "
       "at the two touch points for nearly osculating, and the curvature peaks at the knot "
       "between them; issue 19). (The nearest-point search settled in a "
-      "touched basin, the seam ran on past the junction through 26 balls the round pokes "
+      "touched basin, and the seams ran on past the junctions through 26 balls the round pokes "
       "into by up to 5e-4 mm, which OCCT rejected and verify did not, and ended at r 0.354, "
       "no curvature limit.)")
 def long_block_with_a_wavy_round():

@@ -1970,7 +1970,7 @@ fn a_seam_whose_two_touch_points_on_a_round_close_in_on_its_curvature_peak_ends_
 /// the knot between them -- issue 19).
 /// No seam ball comes nearer the round than `r` (the round sampled at every 1e-4 of its
 /// parameter): the nearest-point search settled in a touched basin of the distance, and the
-/// seam ran on past the junction through 26 balls the round poked into by up to 5e-4 mm.
+/// seams ran on past the junctions through 26 balls the round poked into by up to 5e-4 mm.
 #[test]
 fn a_face_bulging_into_the_ball_between_its_two_touch_points_is_a_junction() {
     let name = "long_block_with_a_wavy_round";

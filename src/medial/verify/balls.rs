@@ -467,7 +467,7 @@ impl Checker<'_> {
     /// Where a face's curvature wanders, the distance from the centre has several basins
     /// about as deep (two touch points are two of them), and the nearest-point search may
     /// settle in a touched one while a third, between them, is nearer: on a B-spline round
-    /// taken from the Voron Revo mount, 26 balls of a seam poked into it by up to 5e-4 mm and
+    /// taken from the Voron Revo mount, 26 balls of two seams poked into it by up to 5e-4 mm and
     /// passed (`samples/trace/long_block_with_a_wavy_round.step`).
     fn bulge_between(&self, solid: usize, b: DVec3, touch: &[DVec3], d: f64) -> f64 {
         let model = self.model;
