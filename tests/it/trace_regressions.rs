@@ -1909,6 +1909,14 @@ fn a_seam_whose_touch_points_on_two_edges_meet_at_their_vertex_ends_there_in_any
     }
 }
 
+/// The wavy round's two knots whose circles of curvature lie inside it
+/// (`make_trace_regressions.py`'s `WAVY_ROUND_KNOTS` at t = 0.20141 and 0.05331): the radius
+/// of curvature there and the centre of curvature in x, z.
+const WAVY_ROUND_KNOTS: [(f64, [f64; 2]); 2] = [
+    (0.2608266, [0.27473, -0.379309]),
+    (0.2903531, [0.291229, -0.423376]),
+];
+
 /// The block with a wavy round (the Voron Revo hotend mount's B-spline round, an extrusion
 /// whose radius of curvature has minima at two knots, 0.26083 at t = 0.20141 and 0.29035 at
 /// t = 0.05331, with circles of curvature inside): near each cap, the seam of balls touching
@@ -1918,17 +1926,7 @@ fn a_seam_whose_touch_points_on_two_edges_meet_at_their_vertex_ends_there_in_any
 /// curvature limit is at one of the two knots' centres of curvature.
 #[test]
 fn a_seam_whose_two_touch_points_on_a_round_close_in_on_its_curvature_peak_ends_there() {
-    const KNOTS: [(f64, [f64; 2]); 2] = [
-        (0.2608266, [0.27473, -0.379309]),
-        (0.2903531, [0.291229, -0.423376]),
-    ];
-    let name = "block_with_a_wavy_round";
-    let (out, report) = trace_part(name, true);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let report = traced_and_verified("block_with_a_wavy_round");
     let a = report["stats"]["accuracy"].as_f64().unwrap();
     let mut at_peak = 0;
     for (s, end, point) in seam_ends(&report) {
@@ -1943,13 +1941,16 @@ fn a_seam_whose_two_touch_points_on_a_round_close_in_on_its_curvature_peak_ends_
         );
         let ball = &point["point"];
         let [x, y, z, r] = [0, 1, 2, 3].map(|k| ball[k].as_f64().unwrap());
-        let Some(k) = KNOTS.iter().position(|(rho, _)| (r - rho).abs() <= 4.0 * a) else {
+        let Some(k) = WAVY_ROUND_KNOTS
+            .iter()
+            .position(|(rho, _)| (r - rho).abs() <= 4.0 * a)
+        else {
             panic!(
                 "seam {} ends at r {r}, at neither knot's radius of curvature",
                 s["id"]
             );
         };
-        let (_, [cx, cz]) = KNOTS[k];
+        let (_, [cx, cz]) = WAVY_ROUND_KNOTS[k];
         assert!(
             (x - cx).hypot(z - cz) <= 4.0 * a,
             "seam {}: centre {x}, {z}",
@@ -1974,12 +1975,7 @@ fn a_seam_whose_two_touch_points_on_a_round_close_in_on_its_curvature_peak_ends_
 #[test]
 fn a_face_bulging_into_the_ball_between_its_two_touch_points_is_a_junction() {
     let name = "long_block_with_a_wavy_round";
-    let (out, report) = trace_part(name, true);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let report = traced_and_verified(name);
     let a = report["stats"]["accuracy"].as_f64().unwrap();
     let model = regression_model(name);
     let round = (0..model.faces.len())
@@ -2016,7 +2012,8 @@ fn a_face_bulging_into_the_ball_between_its_two_touch_points_is_a_junction() {
         }
     }
     let at = |rho: f64, tol: f64| ends.iter().filter(|(_, r)| (r - rho).abs() <= tol).count();
-    assert_eq!(at(0.2608266, 4.0 * a), 2, "{ends:?}");
-    assert_eq!(at(0.2903531, 0.02 * 0.2903531), 2, "{ends:?}");
+    let [(tight, _), (loose, _)] = WAVY_ROUND_KNOTS;
+    assert_eq!(at(tight, 4.0 * a), 2, "{ends:?}");
+    assert_eq!(at(loose, 0.02 * loose), 2, "{ends:?}");
     assert_eq!(ends.len(), 4, "{ends:?}");
 }

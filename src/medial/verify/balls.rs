@@ -2,7 +2,7 @@
 //! module for the checks).
 
 use super::outcome::{nan_max, Verification};
-use crate::geom::Boundary;
+use crate::geom::{Boundary, FaceHit};
 use crate::medial::axis::{DegenerateEnd, Junction, MedialAxis, Seam, SeamEnd};
 use crate::model::{Element, Model};
 use glam::DVec3;
@@ -386,9 +386,14 @@ impl Checker<'_> {
 
     /// The distance from `p` to the boundary of `solid`.
     fn distance(&self, solid: usize, p: DVec3) -> f64 {
+        self.nearest(solid, p)
+            .map_or(f64::INFINITY, |(_, h)| h.distance)
+    }
+
+    /// The nearest point of `solid`'s boundary to `p`: its face and the hit.
+    fn nearest(&self, solid: usize, p: DVec3) -> Option<(usize, FaceHit)> {
         self.boundary
             .nearest_face_where(self.model, p, |f| self.model.solid_of_face(f) == solid)
-            .map_or(f64::INFINITY, |(_, h)| h.distance)
     }
 
     /// The faces of `solid` within the accuracy of `p` (at most four: a point on an edge is on
@@ -469,16 +474,21 @@ impl Checker<'_> {
     /// settle in a touched one while a third, between them, is nearer: on a B-spline round
     /// taken from the Voron Revo mount, 26 balls of two seams poked into it by up to 5e-4 mm and
     /// passed (`samples/trace/long_block_with_a_wavy_round.step`).
-    fn bulge_between(&self, solid: usize, b: DVec3, touch: &[DVec3], d: f64) -> f64 {
+    /// `feet` are the touch points' nearest boundary points ([`Self::nearest`]).
+    fn bulge_between(
+        &self,
+        b: DVec3,
+        touch: &[DVec3],
+        feet: &[Option<(usize, FaceHit)>],
+        d: f64,
+    ) -> f64 {
         let model = self.model;
         let mut best = d;
-        for (i, &ti) in touch.iter().enumerate() {
-            let Some((f, hi)) = self
-                .boundary
-                .nearest_face_where(model, ti, |f| model.solid_of_face(f) == solid)
-            else {
+        for (i, (&ti, foot)) in touch.iter().zip(feet).enumerate() {
+            let Some((f, hi)) = foot else {
                 continue;
             };
+            let (f, hi) = (*f, hi);
             let surface = &model.faces[f].surface;
             if hi.distance > self.accuracy
                 || hi.on != Element::Face(f)
@@ -550,7 +560,8 @@ impl Checker<'_> {
             });
         }
         let touch: Vec<DVec3> = ball.touch.iter().map(|t| DVec3::from_array(*t)).collect();
-        let d = self.bulge_between(ball.solid, b, &touch, self.distance(ball.solid, b));
+        let feet: Vec<_> = touch.iter().map(|t| self.nearest(ball.solid, *t)).collect();
+        let d = self.bulge_between(b, &touch, &feet, self.distance(ball.solid, b));
         let e = (d - r).abs();
         // The ball's own error: its distance's and its touch points' (off the ball, off the
         // boundary), for the separation below.
@@ -560,8 +571,8 @@ impl Checker<'_> {
         v.record("distance", ok, || {
             format!("{}: nearest boundary at {d:.9e}, r = {r:.9e}", at())
         });
-        for t in &touch {
-            let off = self.distance(ball.solid, *t);
+        for (t, foot) in touch.iter().zip(&feet) {
+            let off = foot.as_ref().map_or(f64::INFINITY, |(_, h)| h.distance);
             own_error = nan_max(own_error, off);
             v.worst_touch_off_boundary = nan_max(v.worst_touch_off_boundary, off);
             let ok = self.within(off, ball.solid, *t, 0.0, v);
