@@ -11,7 +11,9 @@ wall's parameter seam, a hole inscribed in a square pocket (seams that end at pi
 block with a shallow roof (seam points whose touch points the accuracy cannot separate), the
 same block with one roof plane moved off its edges (an exporter's gap beyond the accuracy), a
 box split into two blocks whose one top plane is moved off its edges (a ball that reaches into
-the moved plane by the gap, with no junction there), an L-bracket whose reflex edge is a
+the moved plane by the gap, with no junction there), the shallow roof written as two blocks with
+half of one roof plane moved off its edges (a seam in the slight crease whose ball the gap moves
+14 times as far where it crosses between the halves), an L-bracket whose reflex edge is a
 B-spline bowed off one face (the faces' normals tilted off its normal plane), a
 rib whose chamfered end meets its foot fillets tangentially at convex vertices, a blind hole
 with a drill point (its apex written two ways), a cube whose corner dips 0.02 mm into a plate,
@@ -476,6 +478,56 @@ def raise_narrow_top_plane(text):
       edit=raise_narrow_top_plane)
 def split_top_off_its_edge():
     return Part.makeBox(60, 10.1, 20).fuse(Part.makeBox(60, 29.9, 20, V(0, 10.1, 0)))
+
+
+CREASE_GAP = 3e-3
+
+
+def raise_front_half_of_a_roof_plane(text):
+    """Moves the plane of the roof face rising from x = 40 over y = 0..15 (the front half of
+    that roof plane) by CREASE_GAP along its normal, out of the material, leaving its edges
+    where they are, and declares an uncertainty of 1e-2 mm."""
+    n = (math.sin(math.radians(2)), 0.0, math.cos(math.radians(2)))
+
+    def offset(d, p):
+        if any(abs(a - b) > 1e-9 for a, b in zip(d, n)) or p[1] > 15 - 1e-9:
+            return None
+        return [CREASE_GAP * c for c in n]
+
+    return move_planes(text, "shallow_roof_with_its_front_half_off_its_edges", offset, "1.E-02")
+
+
+@part("shallow_roof_with_its_front_half_off_its_edges",
+      "The shallow roof's block (40x30x10, roof planes rising 2 degrees to a ridge at x = 20, "
+      "a convex crease of 176 degrees) written as two blocks 15 deep side by side (every face "
+      "split at y = 15, the halves of each meeting at a smooth edge), with the plane of the "
+      "front half (y = 0..15) of the roof face rising from x = 40 moved 3e-3 mm up along its "
+      "normal, its edges left where they were: an exporter's gap between a face and its edges "
+      "(59 times the default accuracy), within the declared uncertainty (1e-2 mm). The volume "
+      "is the unmoved solid's.",
+      40 * 30 * 10 + 0.5 * 40 * 20 * math.tan(math.radians(2)) * 30,
+      "As the shallow roof's, to the gap. The seam along the crease (its balls touching both "
+      "roof planes, 2 r sin 2 degrees apart, and the bottom; r about 5.2) crosses y = 15, where "
+      "one touch point passes from the moved half of its roof plane onto the other half across "
+      "their smooth edge: the ball there moves by the gap over twice the sine of 2 degrees "
+      "(4.3e-2 mm, 14 times the gap), the bisector of the two roof planes moving by that much. "
+      "Before, the hand-over refused the ball it found (moved more than the gap) and the seam "
+      "ended there from both sides (as the Prusa extruder motor plate's seams in a "
+      "177.4-degree crease did at a B-spline blend off its edges by 3.9e-3 mm). Near the "
+      "ridge's front end the ball is moved as far, and the unmoved plane's touch point lies "
+      "past its trim (the ridge) by up to 0.043 mm, its surface there within the gap of the "
+      "moved one: the seam from that vertex runs on to its junction (before, it ended at "
+      "r 0.75, taken for a curvature limit of the moved plane).",
+      volume_rel=1e-4,
+      edit=raise_front_half_of_a_roof_plane)
+def shallow_roof_with_its_front_half_off_its_edges():
+    h = 20 * math.tan(math.radians(2))
+    pts = [V(0, 0, 0), V(40, 0, 0), V(40, 0, 10), V(20, 0, 10 + h), V(0, 0, 10), V(0, 0, 0)]
+    profile = Part.Face(Part.makePolygon(pts))
+    front = profile.extrude(V(0, 15, 0))
+    back = profile.extrude(V(0, 15, 0))
+    back.translate(V(0, 15, 0))
+    return front.fuse(back)
 
 
 BOW = 3e-3

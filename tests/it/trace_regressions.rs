@@ -630,6 +630,65 @@ fn a_faces_gap_beyond_the_accuracy_is_reported_and_traced_across() {
     }
 }
 
+/// `samples/trace/shallow_roof_with_its_front_half_off_its_edges.step`: the shallow roof (a
+/// convex crease of 176 degrees at its ridge) written as two blocks side by side, the front
+/// half of one roof plane moved 3e-3 mm off its edges. The crease's seam (balls touching both
+/// roof planes and the bottom) crosses the smooth edge between the two halves, where the ball
+/// moves by the gap over twice the sine of 2 degrees (0.043 mm): it is one seam with its
+/// hand-over there, not two open ends. The seam from the ridge's front end, where the unmoved
+/// plane's touch point lies past its trim by less than the gap, runs to its junction, not to
+/// a curvature limit that is none. The medial axis is the unmoved roof's, to 0.05 mm.
+#[test]
+fn a_seam_in_a_slight_crease_crosses_onto_a_face_off_its_edges() {
+    let report = traced_and_verified("shallow_roof_with_its_front_half_off_its_edges");
+    let clean = traced_and_verified("shallow_roof");
+    assert_eq!(report["stats"]["open_ends"], 0);
+    for k in ["seams", "junctions"] {
+        assert_eq!(
+            report["mat"][k].as_array().unwrap().len(),
+            clean["mat"][k].as_array().unwrap().len(),
+            "{k}"
+        );
+    }
+    for (_, end, _) in seam_ends(&report) {
+        assert!(end.get("curvature_limit").is_none(), "{end}");
+    }
+    // The crease's seam: its balls on the ridge's plane x ≈ 20, from one crease junction
+    // (y ≈ 5.35) to the other (y ≈ 24.65), handed over at y = 15.
+    let crease: Vec<&Value> = seams(&report)
+        .iter()
+        .filter(|s| {
+            let y = |k: usize| end_point(s, k)["point"][1].as_f64().unwrap();
+            (y(0) - y(1)).abs() > 19.0
+                && s["points"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .all(|p| (p["point"][0].as_f64().unwrap() - 20.0).abs() < 0.05)
+        })
+        .collect();
+    assert_eq!(crease.len(), 1, "{crease:?}");
+    assert!(!crease[0]["handovers"].as_array().unwrap().is_empty());
+    let ball = |j: &Value| -> Vec<f64> {
+        let mut b: Vec<f64> = (0..3).map(|c| j["point"][c].as_f64().unwrap()).collect();
+        b.push(j["radius"].as_f64().unwrap());
+        b
+    };
+    for j in clean["mat"]["junctions"].as_array().unwrap() {
+        let want = ball(j);
+        let nearest = report["mat"]["junctions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|k| {
+                let b = ball(k);
+                (0..4).map(|c| (b[c] - want[c]).abs()).fold(0.0, f64::max)
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(nearest < 0.05, "junction {want:?}: nearest {nearest}");
+    }
+}
+
 /// `samples/trace/l_bracket_with_a_bowed_reflex_edge.step`: the L-bracket with its reflex edge
 /// written as a quadratic B-spline bowed 1.5e-3 mm off the leg's face, its tangent up to
 /// 2e-4 rad off the faces' line, so the faces' normals at the edge are perpendicular to it only

@@ -633,13 +633,18 @@ impl Tracer<'_> {
         let (slide, sink) = (xc[3] * kink.sin() * bend, xc[3] * (1.0 - kink.cos()));
         // Where the file's edge between the two follows one surface and not the other, the
         // ball moves by up to that gap as it passes from one to the other, and its foot on
-        // the new segment by as much again times the same factor.
+        // the new segment by as much again times the same factor; where the ball is held by
+        // faces meeting at a slight angle (touched on either side of a convex crease of a few
+        // degrees), many times as far: by as much as offsetting the new segment by the gap
+        // moves the solution.
         let file_gap = self.element_gap(seg).max(self.element_gap(to));
+        let (centre_by_gap, touch_by_gap) =
+            self.moved_by_offset(&sys, &sol.x, &row, c, i, file_gap);
         let same = sol.status == SolveStatus::Converged
-            && v3(&sol.x).distance(v3(&xc)) <= 2.0 * acc + 10.0 * gap + sink + file_gap
+            && v3(&sol.x).distance(v3(&xc)) <= 2.0 * acc + 10.0 * gap + sink + centre_by_gap
             && sys_point(self.model, to, slot(&sol.x, i)).is_some_and(|q| {
                 let d = q.distance(p);
-                let off = 2.0 * acc + 2.0 * gap + file_gap * bend;
+                let off = 2.0 * acc + 2.0 * gap + (file_gap * bend).max(touch_by_gap);
                 d <= off || (d <= off + slide && self.on_segment(to, slot(&sol.x, i)))
             });
         if !same {
@@ -667,7 +672,53 @@ impl Tracer<'_> {
         }
         Ok((to, sol.x))
     }
+
+    /// How far the ball `x` on `sys` (held to `row·x = c`) moves when its `i`-th segment is
+    /// offset towards it by `g`, to first order: its centre's move and the `i`-th touch
+    /// point's, each at least `g` and at most [`MAX_GAP_AMPLIFICATION`] times `g` (`g` where
+    /// the system is singular). Where the ball's touch points on two faces are close on
+    /// either side of a slight crease, the centre moves `g` over twice the sine of half the
+    /// crease's angle; where it nearly osculates a face, its touch point there runs
+    /// `1/(1 − r·κ)` times as far as the centre.
+    fn moved_by_offset(
+        &self,
+        sys: &MedialSystem,
+        x: &DVector<f64>,
+        row: &DVector<f64>,
+        c: f64,
+        i: usize,
+        g: f64,
+    ) -> (f64, f64) {
+        if g <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let (Some((_, j)), Some(e)) = (
+            sys.eval_with_row(self.model, x, row, c),
+            sys.segments[i].eval(self.model, slot(x, i)),
+        ) else {
+            return (g, g);
+        };
+        let mut rhs = DVector::zeros(x.len());
+        for k in 0..3 {
+            rhs[3 * i + k] = g * e.n[k];
+        }
+        let bound = |d: f64| {
+            if d.is_finite() {
+                d.clamp(g, MAX_GAP_AMPLIFICATION * g)
+            } else {
+                g
+            }
+        };
+        j.lu().solve(&rhs).map_or((g, g), |d| {
+            let touch = e.dp[0] * d[4 + 2 * i] + e.dp[1] * d[5 + 2 * i];
+            (bound(v3(&d).length()), bound(touch.length()))
+        })
+    }
 }
+
+/// The most a file's gap is taken to move a ball by (see `moved_by_offset`): a crease of
+/// 1.15 degrees between the two faces it touches.
+const MAX_GAP_AMPLIFICATION: f64 = 50.0;
 
 /// The least `1 − r·κ` the factor `1/(1 − r·κ)` by which a foot on a segment bending
 /// towards the ball runs farther than on a flat one is taken at (a hand-over's slide

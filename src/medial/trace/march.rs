@@ -13,7 +13,7 @@ use super::tracer::Tracer;
 use super::unknowns::{
     along_chord, new_triplet, slot, sys_point, to_chord, touches_meet, v3, Pairs,
 };
-use crate::classify::{EdgeKind, VertexKind};
+use crate::classify::VertexKind;
 use crate::geom::project_point;
 use crate::medial::axis::{Handover, OpenReason, SeamEnd, SeamPoint};
 use crate::medial::equations::MedialSystem;
@@ -599,10 +599,6 @@ impl Tracer<'_> {
                 return Flow::End(SeamEnd::CurvatureLimit { segment: to });
             }
         }
-        if let Some(segment) = self.meets_across_kink(m, &e, xc) {
-            m.points.push(self.seam_point(&m.sys, xc));
-            return Flow::End(SeamEnd::CurvatureLimit { segment });
-        }
         // A crossing where the ball has shrunk to nothing: back at a convex vertex whose
         // faces meet there at a small angle (r has its minimum, about 0, at the vertex, and the
         // step passed it).
@@ -775,46 +771,6 @@ impl Tracer<'_> {
                             || (d <= MERGING_SEPARATIONS * sep && apart(&before, i, k) > d))
                 })
         })
-    }
-
-    /// The face across the convex (or mixed) edge a touch point reached at the crossing `xc`
-    /// (the hand-over's error `e`), when another touch point is on that face and the two are
-    /// one place by `verify`'s separation at the accuracy plus the file's gap there: the
-    /// edge's kink is below what the file can tell (an edge written off two nearly tangent
-    /// surfaces by the gap lies off their crossing, along them, by the gap over the sine of
-    /// the kink), its rim sheet no part of the medial axis. The two touch points meet as on
-    /// one tangent surface: the seam's curvature limit, as where the solve fails at a smooth
-    /// crossing ([`Self::merges_at_crossing`]). Only in a file with gaps: where faces meet as
-    /// written, no touch point reaches a convex edge but with the ball shrunk to nothing.
-    fn meets_across_kink(
-        &self,
-        m: &March,
-        e: &HandOverError,
-        xc: &DVector<f64>,
-    ) -> Option<Element> {
-        let HandOverError::Stop(OpenReason::ReachedEdge {
-            element: Element::Face(f),
-            kind: EdgeKind::Convex | EdgeKind::Mixed,
-            edge,
-        }) = *e
-        else {
-            return None;
-        };
-        let faces = &self.model.edges[edge].faces;
-        let g = Element::Face(if faces[0] == f { faces[1] } else { faces[0] });
-        let gap = self.element_gap(Element::Face(f)).max(self.element_gap(g));
-        if gap <= 0.0 {
-            return None;
-        }
-        let at = self.touches(&m.triplet, xc);
-        let sep = crate::medial::verify::separation(xc[3], self.opts.accuracy + gap);
-        let i = m.triplet.iter().position(|&s| s == Element::Face(f))?;
-        let k = m.triplet.iter().position(|&s| s == g)?;
-        let close = at[i].zip(at[k]).is_some_and(|(a, b)| a.distance(b) <= sep);
-        let others_on = (0..3)
-            .filter(|&j| j != i)
-            .all(|j| self.on_segment(m.triplet[j], slot(xc, j)));
-        (close && others_on && self.ball_is_empty(m.solid, xc)).then_some(g)
     }
 
     /// The junction between `m.x` and `to`, if another part of the boundary comes closer than

@@ -502,16 +502,18 @@ impl<'a> Tracer<'a> {
 
     /// True when the point `p` of face `f`'s surface, outside the face's trim, is on the
     /// solid's boundary to the accuracy plus the file's gap there: on `f` or a face next to
-    /// it (sharing an edge), one of the two with edges off its surface by more than the
-    /// accuracy. Where an exporter wrote a face's edges along its neighbour's surface, the
-    /// corner of the two surfaces lies off the trim by the gap over the sine of the angle
-    /// between them, and a seam reaching that corner touches the surface there.
+    /// it (sharing an edge), within the gap about `f` ([`Self::gap_about`]). Where an
+    /// exporter wrote a face's edges along its neighbour's surface, the corner of the two
+    /// surfaces lies off the trim by the gap over the sine of the angle between them, and a
+    /// seam reaching that corner touches the surface there: either surface, past its own
+    /// trim, which may be the nearer boundary (the unmoved one of two roof planes meeting
+    /// at 4 degrees, the other moved off their ridge, where the ball is moved by the gap
+    /// over twice the sine of 2 degrees).
     fn on_boundary_within_gap(&self, f: usize, p: DVec3) -> bool {
-        let gap_f = self.face_gap[f];
         let Some((g, hit)) = self.nearest_in(self.face_solid[f], p) else {
             return false;
         };
-        let gap = gap_f.max(self.face_gap[g]);
+        let gap = self.gap_about(f);
         let next_to = g == f
             || self.model.faces[f]
                 .loops
