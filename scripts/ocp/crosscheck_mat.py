@@ -999,7 +999,8 @@ def check_curvature_limit(part, checks, what, segment, centre, r, touch, tol):
     towards the centre of the faces (or of the edges) there, where the boundary stays within
     OSCULATION_NEAR_TOLS of the sphere, come within CURVATURE_LIMIT_TOLS of r or lie on both
     sides of it; at a vertex's, the ball touches a vertex of the part. All plus the file's gap
-    near the touch point."""
+    near the touch point: of the faces no farther from it than the accuracy plus their own gap
+    (a touch point on a face past its trim by a neighbour's gap is that far from both)."""
     touch = [t for t in touch if t is not None and finite(t)]
     if not (finite(centre, r) and touch and isinstance(segment, str)):
         checks.record("curvature_limits", False, lambda: f"{what}: no ball or touch points")
@@ -1012,7 +1013,7 @@ def check_curvature_limit(part, checks, what, segment, centre, r, touch, tol):
     place = separation(r, tol)
     nearest = None
     for t in touch:
-        gap = part.gap_near(t, tol)
+        gap = part.gap_within_reach(t, tol)
         reach = tol + gap
         if segment.startswith("V"):
             # A vertex within its own tolerance (OCCT's, which the reader widens to cover
