@@ -2097,9 +2097,9 @@ def block_with_a_wavy_round():
       "where they touch the wall x = 0 too) meets a junction where the round bulges into the "
       "ball between its two touch points (r 0.3604, a third touch at t 0.105): one seam on "
       "from there ends at the knot t = 0.20141's centre of curvature, r 0.26083, the other "
-      "at the knot t = 0.05331's, r 0.29035 (at r 0.2935: the tracer takes r·κ within 1 % of 1 "
-      "at the two touch points for nearly osculating, and the curvature peaks at the knot "
-      "between them; issue 19). (The nearest-point search settled in a "
+      "at the knot t = 0.05331's, r 0.29035, where its two touch points meet on the knot line "
+      "(the curvature peaks there with a kink; the steps fail from r 0.2935 on, and the seam "
+      "ended there). (The nearest-point search settled in a "
       "touched basin, and the seams ran on past the junctions through 26 balls the round pokes "
       "into by up to 5e-4 mm, which OCCT rejected and verify did not, and ended at r 0.354, "
       "no curvature limit.)")

@@ -2025,9 +2025,10 @@ fn a_seam_whose_two_touch_points_on_a_round_close_in_on_its_curvature_peak_ends_
 /// The block with a wavy round, 20 mm long: near each cap, the seam of balls touching the cap
 /// and the round twice meets a junction where the round bulges into the ball between its two
 /// touch points (r 0.3604), and seams from there end at both knots' centres of curvature
-/// (r 0.26083; and 0.29035 to 2 %: they end at r 0.2935, where `r·κ` at the two touch points
-/// is within the 1 % of 1 the tracer takes for nearly osculating, the curvature peaking at
-/// the knot between them -- issue 19).
+/// (r 0.26083 and 0.29035; at the second the seam's steps fail from r 0.2935 on, the system
+/// too near singular as its touch points close in on the knot between them, where the
+/// curvature peaks with a kink: the ball where they meet on the knot line is solved for,
+/// `merged_at_knot`; it ended at r 0.2935 before).
 /// No seam ball comes nearer the round than `r` (the round sampled at every 1e-4 of its
 /// parameter): the nearest-point search settled in a touched basin of the distance, and the
 /// seams ran on past the junctions through 26 balls the round poked into by up to 5e-4 mm.
@@ -2073,6 +2074,6 @@ fn a_face_bulging_into_the_ball_between_its_two_touch_points_is_a_junction() {
     let at = |rho: f64, tol: f64| ends.iter().filter(|(_, r)| (r - rho).abs() <= tol).count();
     let [(tight, _), (loose, _)] = WAVY_ROUND_KNOTS;
     assert_eq!(at(tight, 4.0 * a), 2, "{ends:?}");
-    assert_eq!(at(loose, 0.02 * loose), 2, "{ends:?}");
+    assert_eq!(at(loose, 4.0 * a), 2, "{ends:?}");
     assert_eq!(ends.len(), 4, "{ends:?}");
 }

@@ -23,6 +23,29 @@ const NEAR_OSCULATION: f64 = 1e-2;
 /// The relative step of the central differences of `r·κ` in `osculating_near`.
 const OSCULATION_DIFF_STEP: f64 = 1e-6;
 
+/// The knot values of a surface's parameters, in u and in v: a B-spline or NURBS surface's
+/// knot vectors; an extrusion's or revolution's of a B-spline or NURBS profile, the profile's
+/// in u (none in v). `None` for a surface with no knots.
+fn knot_lines(surface: &crate::model::Surface) -> Option<(Vec<f64>, Vec<f64>)> {
+    use truck_stepio::r#in::alias::{Curve3D, SweptCurve};
+    if let Some((u, v)) = crate::geom::knot_vectors(surface) {
+        return Some((u.iter().copied().collect(), v.iter().copied().collect()));
+    }
+    let crate::model::Surface::SweptCurve(s) = surface else {
+        return None;
+    };
+    let curve = match s.as_ref() {
+        SweptCurve::ExtrudedCurve(e) => e.entity_curve(),
+        SweptCurve::RevolutedCurve(r) => r.entity().entity_curve(),
+    };
+    let k = match curve {
+        Curve3D::BSplineCurve(c) => c.knot_vec(),
+        Curve3D::NurbsCurve(c) => c.knot_vec(),
+        _ => return None,
+    };
+    Some((k.iter().copied().collect(), vec![]))
+}
+
 impl Tracer<'_> {
     /// True when the ball of seam point `x` osculates its `i`-th segment to the accuracy:
     /// the segment's radius of curvature towards the ball at the touch point (see
@@ -84,6 +107,118 @@ impl Tracer<'_> {
             && (0..3).all(|k| self.on_segment(sys.segments[k], slot(&y, k)))
             && self.ball_is_empty(solid, &y);
         ok.then_some((i, y))
+    }
+
+    /// The ball where two touch points of seam point `x` on one B-spline face, closing in on
+    /// a knot line between them along which the face's curvature towards the ball peaks,
+    /// meet: the knot line is then the ridge (a cubic's curvature is continuous across a
+    /// knot, its derivative not, so the ridge is no zero of a derivative for Newton to find)
+    /// and the ball osculates the face on it. Solved for with the third segment: the centre,
+    /// `r`, the parameter along the knot line and the third touch point, from the face's and
+    /// the third segment's contact equations and `r·κ = 1` on the knot line. The ball must
+    /// lie within a tenth of `r` of `x`, touch both segments on them, and be empty; returned
+    /// as a point of `sys` (both touch points on the face at the meeting), with the face's
+    /// first slot.
+    pub(super) fn merged_at_knot(
+        &mut self,
+        sys: &MedialSystem,
+        solid: usize,
+        x: &DVector<f64>,
+    ) -> Option<(usize, DVector<f64>)> {
+        let model = self.model;
+        let (i, k) = [(0, 1), (0, 2), (1, 2)].into_iter().find(|&(i, k)| {
+            sys.segments[i] == sys.segments[k] && matches!(sys.segments[i], Element::Face(_))
+        })?;
+        let Element::Face(f) = sys.segments[i] else {
+            return None;
+        };
+        let j = 3 - i - k;
+        let face = &model.faces[f];
+        let (ku, kv) = knot_lines(&face.surface)?;
+        let (ku, kv) = (&ku, &kv);
+        let (a, b) = (slot(x, i), slot(x, k));
+        let seg = sys.segments[i];
+        let kappa = |s: [f64; 2]| bending(model, seg, s).filter(|v| v.is_finite());
+        let (ka, kb) = (kappa(a)?, kappa(b)?);
+        // The knot lines strictly between the two touch points, in u (d = 0) and in v (d = 1),
+        // each with the curvature where the segment between the two crosses it.
+        let mut best: Option<(usize, f64, f64, f64)> = None;
+        for (d, knots) in [(0, ku), (1, kv)] {
+            let (lo, hi) = (a[d].min(b[d]), a[d].max(b[d]));
+            let mut last = f64::NAN;
+            for &t in knots.iter() {
+                if t <= lo || t >= hi || t == last {
+                    continue;
+                }
+                last = t;
+                let w = (t - a[d]) / (b[d] - a[d]);
+                let o = a[1 - d] + w * (b[1 - d] - a[1 - d]);
+                let mut s = [0.0; 2];
+                s[d] = t;
+                s[1 - d] = o;
+                let Some(kt) = kappa(s) else { continue };
+                if kt > ka.max(kb) && best.is_none_or(|bb| kt > bb.3) {
+                    best = Some((d, t, o, kt));
+                }
+            }
+        }
+        let (d, t, o, _) = best?;
+        // Unknowns: centre, r, the parameter along the knot line, the third touch point.
+        let pair = MedialSystem::new(vec![seg, sys.segments[j]]);
+        let full = |y: &DVector<f64>| {
+            let mut z = DVector::zeros(8);
+            z.rows_mut(0, 4).copy_from(&y.rows(0, 4));
+            z[4 + d] = t;
+            z[5 - d] = y[4];
+            z[6] = y[5];
+            z[7] = y[6];
+            z
+        };
+        let eval = |y: &DVector<f64>| {
+            let z = full(y);
+            let (f6, j8) = pair.eval(model, &z)?;
+            let mut fa = DVector::zeros(7);
+            fa.rows_mut(0, 6).copy_from(&f6);
+            let rk = |z: &DVector<f64>| kappa([z[4], z[5]]).map(|v| z[3] * v);
+            fa[6] = rk(&z)? - 1.0;
+            let mut ja = DMatrix::zeros(7, 7);
+            for row in 0..6 {
+                for (col, from) in [(0, 0), (1, 1), (2, 2), (3, 3), (4, 5 - d), (5, 6), (6, 7)] {
+                    ja[(row, col)] = j8[(row, from)];
+                }
+            }
+            for (col, from) in [(3, 3), (4, 5 - d)] {
+                let h = OSCULATION_DIFF_STEP * z[from].abs().max(1.0);
+                let (mut p, mut m) = (z.clone(), z.clone());
+                p[from] += h;
+                m[from] -= h;
+                ja[(6, col)] = (rk(&p)? - rk(&m)?) / (2.0 * h);
+            }
+            Some((fa, ja))
+        };
+        let mut y0 = DVector::zeros(7);
+        y0.rows_mut(0, 4).copy_from(&x.rows(0, 4));
+        y0[4] = o;
+        y0[5] = x[4 + 2 * j];
+        y0[6] = x[5 + 2 * j];
+        let sol = solve(eval, y0, &self.solve_opts());
+        self.stats.newton_iterations += sol.iterations;
+        let z = full(&sol.x);
+        let mut out = x.clone();
+        out.rows_mut(0, 4).copy_from(&z.rows(0, 4));
+        for slot_k in [i, k] {
+            out[4 + 2 * slot_k] = z[4];
+            out[5 + 2 * slot_k] = z[5];
+        }
+        out[4 + 2 * j] = z[6];
+        out[5 + 2 * j] = z[7];
+        let ok = sol.status == SolveStatus::Converged
+            && out[3] > 0.0
+            && v3(&out).distance(v3(x)) <= 0.1 * x[3]
+            && self.on_segment(seg, slot(&out, i))
+            && self.on_segment(sys.segments[j], slot(&out, j))
+            && self.ball_is_empty(solid, &out);
+        ok.then_some((i, out))
     }
 
     /// The seam's end at the curvature limit of an element touched twice, when the two touch
@@ -221,7 +356,19 @@ impl Tracer<'_> {
         // travel): the osculating ball itself, where it is solved for from there.
         let last = last.map(|xm| match self.osculating_near(&m.sys, m.solid, &xm) {
             Some((k, y)) if m.triplet[k] == m.triplet[i] => y,
-            _ => xm,
+            _ => match self.merged_at_knot(&m.sys, m.solid, &xm) {
+                Some((k, y)) if m.triplet[k] == m.triplet[i] => y,
+                _ => xm,
+            },
+        });
+        // No ball on the step short of the poke (the system too near singular past the march's
+        // point): two touch points closing in on a knot line where the curvature peaks may
+        // still meet beyond it.
+        let last = last.or_else(|| {
+            let x = m.x.clone();
+            self.merged_at_knot(&m.sys, m.solid, &x)
+                .filter(|&(k, _)| m.triplet[k] == m.triplet[i])
+                .map(|(_, y)| y)
         });
         if let Some(xm) = last {
             m.points.push(self.seam_point(&m.sys, &xm));
