@@ -615,7 +615,12 @@ impl Tracer<'_> {
             (Some(a), Some(b)) if !matches!(to, Element::Vertex(_)) => a.n.angle_between(b.n),
             _ => 0.0,
         };
-        let kink = if kink <= self.opts.tangent_angle_rad {
+        // Where the file has a gap `g` there, the faces may cross at a steeper angle than the
+        // tangent tolerance: a ball tilted by `δ` off one face's normal sinks `r·(1 − cos δ)`
+        // into the other, which the gap's tolerance admits up to `g`.
+        let file_gap = self.element_gap(seg).max(self.element_gap(to));
+        let gap_tilt = (1.0 - file_gap / xc[3]).clamp(-1.0, 1.0).acos();
+        let kink = if kink <= self.opts.tangent_angle_rad + gap_tilt {
             kink
         } else {
             0.0
@@ -637,7 +642,6 @@ impl Tracer<'_> {
         // faces meeting at a slight angle (touched on either side of a convex crease of a few
         // degrees), many times as far: by as much as offsetting the new segment by the gap
         // moves the solution.
-        let file_gap = self.element_gap(seg).max(self.element_gap(to));
         let (centre_by_gap, touch_by_gap) =
             self.moved_by_offset(&sys, &sol.x, &row, c, i, file_gap);
         let same = sol.status == SolveStatus::Converged

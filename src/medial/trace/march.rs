@@ -361,12 +361,17 @@ impl Tracer<'_> {
                 // one it is at: the halves of a split cylinder share two). Stay on this face,
                 // counting points within the accuracy (plus the face's gap) past that edge as
                 // on it; where it leaves the face, it leaves across another edge
-                // (`next_from_face`).
+                // (`next_from_face`). Where the file's gap there lets the faces meet at a
+                // slight convex crease (for the ball), the same ball's touch point on either
+                // face lies on the other's side, as far as the two touch points are apart:
+                // that far too.
                 if let (Element::Face(f), Element::Face(g)) = (from, to) {
                     let at = self.touches(&m.triplet, xc)[i];
                     let e = at.and_then(|p| self.smooth_edge_between_near(f, g, p));
-                    if let Some(e) = e.filter(|&e| !self.along.contains(&(f, e))) {
-                        self.along.push((f, e));
+                    if let Some(e) = e.filter(|&e| !self.runs_along(f, e)) {
+                        let margin =
+                            self.crease_margin(f, g, at, self.touches(&m.triplet, &xnew)[i], xc[3]);
+                        self.along.push((f, e, margin));
                         return Flow::Next;
                     }
                 }
@@ -375,8 +380,8 @@ impl Tracer<'_> {
                 // it). Back on the face, points within the accuracy of that edge count as on
                 // the face.
                 if let (Element::Edge(e), Element::Face(f)) = (from, to) {
-                    if self.model.edges[e].faces.contains(&f) && !self.along.contains(&(f, e)) {
-                        self.along.push((f, e));
+                    if self.model.edges[e].faces.contains(&f) && !self.runs_along(f, e) {
+                        self.along.push((f, e, 0.0));
                         m.handovers.push(Handover {
                             point: m.points.len(),
                             from,
@@ -392,6 +397,19 @@ impl Tracer<'_> {
                 }
                 Flow::End(SeamEnd::Open(OpenReason::Oscillates { from, to }))
             }
+        }
+    }
+
+    /// How far past the smooth edge between faces `f` and `g` a touch point on `f` that was
+    /// just handed to `g` and back still counts as on `f`: as far as the ball's touch points
+    /// on the two, `a` and `b`, are apart, where the file's gap there tilts one face against
+    /// the other (a ball tilted by δ off one face's normal sinks `r·(1 − cos δ)` into the
+    /// other, admitted up to the gap `g₀`: at most `√(2·g₀·r)`); else nothing.
+    fn crease_margin(&self, f: usize, g: usize, a: Option<DVec3>, b: Option<DVec3>, r: f64) -> f64 {
+        let gap = self.face_gap[f].max(self.face_gap[g]);
+        match (a, b) {
+            (Some(a), Some(b)) if gap > 0.0 => a.distance(b).min((2.0 * gap * r).sqrt()),
+            _ => 0.0,
         }
     }
 
@@ -587,6 +605,11 @@ impl Tracer<'_> {
         // seam's curvature limit, as `merged_end` finds where the solve still converges.
         // The touch point handed on is at the crossing, on `from`'s border (within the trim
         // test's tolerance, or just past it): only the others are held to their elements.
+        // Handed on from a vertex, the touch point is at that vertex, and the two meet there:
+        // the vertex is the segment named (on the Prusa adapter a touch point at a vertex
+        // and one on the straight edge ending there, 0.013 mm apart where the edge's curve
+        // ends 5.9e-4 mm off the vertex, were named that edge's curvature limit, which
+        // neither checker found).
         if let HandOverError::Stop(OpenReason::NoSeamPointAfterHandover { from, to, .. }) = e {
             let others_on = (0..3)
                 .filter(|&k| m.triplet[k] != from)
@@ -596,7 +619,11 @@ impl Tracer<'_> {
                 && self.ball_is_empty(m.solid, xc)
             {
                 m.points.push(self.seam_point(&m.sys, xc));
-                return Flow::End(SeamEnd::CurvatureLimit { segment: to });
+                let segment = match from {
+                    Element::Vertex(_) => from,
+                    _ => to,
+                };
+                return Flow::End(SeamEnd::CurvatureLimit { segment });
             }
         }
         // A crossing where the ball has shrunk to nothing: back at a convex vertex whose

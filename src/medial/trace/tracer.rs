@@ -67,8 +67,10 @@ pub(super) struct Tracer<'a> {
     pub(super) queue: VecDeque<Start>,
     pub(super) stats: TraceStats,
     /// In the current march: the faces and edges of theirs along which touch points run, a
-    /// smooth edge or a reflex edge they graze (see [`Tracer::stays_on`]).
-    pub(super) along: Vec<(usize, usize)>,
+    /// smooth edge or a reflex edge they graze (see [`Tracer::stays_on`]), each with how far
+    /// past the edge beyond the accuracy and the face's gap a point still counts as on the
+    /// face.
+    pub(super) along: Vec<(usize, usize, f64)>,
     /// In the current march: no ordinary step taken yet (the march is at its first ball).
     pub(super) at_start: bool,
     /// Each face's gap ([`crate::model::Face::gap_mm`]) where it is more than the accuracy,
@@ -360,8 +362,8 @@ impl<'a> Tracer<'a> {
     pub(super) fn edges_run_along(&self, f: usize) -> impl Iterator<Item = usize> + '_ {
         self.along
             .iter()
-            .filter(move |&&(g, _)| g == f)
-            .map(|&(_, e)| e)
+            .filter(move |&&(g, _, _)| g == f)
+            .map(|&(_, e, _)| e)
     }
 
     /// True when a touch point moving from parameters `from` to `to` stays on segment `seg`:
@@ -427,13 +429,23 @@ impl<'a> Tracer<'a> {
     }
 
     /// True when face `f`'s point at parameters `s` is within the accuracy plus the face's
-    /// gap of an edge a touch point runs along on it ([`Self::edges_run_along`]).
+    /// gap (plus the entry's own margin) of an edge a touch point runs along on it
+    /// ([`Self::edges_run_along`]).
     fn by_edge_run_along(&self, f: usize, s: [f64; 2]) -> bool {
         let tol = self.opts.accuracy + self.face_gap[f];
         sys_point(self.model, Element::Face(f), s).is_some_and(|p| {
-            self.edges_run_along(f)
-                .any(|e| crate::geom::nearest_on_edge(self.model, e, p, None).2 <= tol)
+            self.along
+                .iter()
+                .filter(|a| a.0 == f)
+                .any(|&(_, e, margin)| {
+                    crate::geom::nearest_on_edge(self.model, e, p, None).2 <= tol + margin
+                })
         })
+    }
+
+    /// True when a touch point on face `f` runs along its edge `e` in the current march.
+    pub(super) fn runs_along(&self, f: usize, e: usize) -> bool {
+        self.along.iter().any(|a| a.0 == f && a.1 == e)
     }
 
     /// The angle by which edge `g` turns away from edge `e` at their shared vertex `v`:
