@@ -296,7 +296,17 @@ fn maximal_ball(
         if hit.distance >= r - acc {
             // Settled. A nearest point inside the ball by less than the accuracy: the ball
             // through it (one more exact shrink, no query), so that both contacts are at r.
-            let (r, c, q) = match through(p, m, hit.point).filter(|&t| t < r) {
+            // Unless that shrinks the ball by more than the accuracy: where the ball nearly
+            // osculates the face it touches at `q`, a point inside by a tenth of the accuracy
+            // shrank it 6.7e-4 mm, and something else came nearer (on the Prusa adapter's
+            // 0.2 mm round, another point of the same face by 6e-5 mm): query again.
+            let through_hit = through(p, m, hit.point).filter(|&t| t < r);
+            if let Some(t) = through_hit.filter(|&t| hit.distance < r && r - t > acc) {
+                r = t;
+                second = Some(hit.point);
+                continue;
+            }
+            let (r, c, q) = match through_hit {
                 Some(t) if hit.distance < r => (t, p + m * t, hit.point),
                 _ => (r, c, second?),
             };
