@@ -297,7 +297,7 @@ fn maximal_ball(
             // Settled. A nearest point inside the ball by less than the accuracy: the ball
             // through it (one more exact shrink, no query), so that both contacts are at r.
             // Unless that shrinks the ball by more than the accuracy: where the ball nearly
-            // osculates the face it touches at `q`, a point inside by a tenth of the accuracy
+            // osculates the face it touches at `q`, a point inside by less than the accuracy
             // shrank it 6.7e-4 mm, and something else came nearer (on the Prusa adapter's
             // 0.2 mm round, another point of the same face by 6e-5 mm): query again.
             let through_hit = through(p, m, hit.point).filter(|&t| t < r);
