@@ -523,21 +523,6 @@ class Part:
                             out.append(t)
         return out
 
-    def nearer_on_faces(self, p, d, tol, solid=None):
-        """[(distance, face index from 1)] of the points of faces (of that solid) nearer to p
-        than d by more than tol: the extrema of the distance on each face's surface inside the
-        face (`surface_extrema`). OCCT's distance from a point to a shell can miss a B-spline
-        face's nearest point (a touch point 4e-15 mm from a periodic B-spline face's surface,
-        inside its trim by OCCT's own classifier, came out 0.029 mm from the shell); empty
-        when nothing is nearer."""
-        if not d > tol:
-            return []
-        out = []
-        for i in self.faces_by_box(p, d, solid):
-            for q in self.surface_extrema(i, p, d - tol):
-                out.append((dist3(p, q), i))
-        return out
-
     def surface_extrema(self, i, p, reach):
         """The extrema of the distance from `p` on face i's surface (GeomAPI_ProjectPointOnSurf)
         within `reach` of it and inside the face."""
@@ -787,10 +772,6 @@ def check_ball(part, checks, touched, what, centre, r, touch, need, unresolved=N
         on = set()
         for _, kind, support in sols:
             on.update(part.faces_of(kind, support))
-        closer = part.nearer_on_faces(t, dt, tol, k)
-        if closer:
-            dt = min(d for d, _ in closer)
-            on = {i for d, i in closer if d <= dt + tol}
         own_error = max(own_error, dt)
         checks.record("touch_on_boundary", checks.within(part, dt, t, 0.0, k),
                       lambda: f"{what}: touch point {t} is {dt:.3g} mm off the boundary")
